@@ -1,0 +1,69 @@
+#pragma once
+// Analyses are free functions of a model and a reusable Workspace. The workspace keeps what
+// depends only on topology (index maps, sparsity pattern, symbolic factorisation), so a model
+// whose numbers change but whose topology does not is solved without re-analysis.
+#include <memory>
+#include <string>
+
+#include "stiffmsa/model.hpp"
+#include "stiffmsa/result.hpp"
+
+namespace stiffmsa {
+
+enum class SolverKind { sparse_lu, umfpack, klu };
+const char* to_string(SolverKind s);
+std::optional<SolverKind> solver_kind_from_string(const std::string& s);
+bool solver_available(SolverKind s);
+
+struct SolveOptions {
+  SolverKind solver = SolverKind::sparse_lu;
+  // Below this reciprocal condition estimate of the equilibrated system, it is singular.
+  double singular_rcond = 1e-14;
+  // A solve whose relative residual stays above this after refinement is reported as failed.
+  double max_relative_residual = 1e-10;
+  // Iterative refinement steps with the same factorisation (Frame3DD-style).
+  int refinement_steps = 2;
+
+  // Throws UsageError with a sentence when an option is out of range.
+  void validate() const;
+};
+
+class Workspace {
+ public:
+  // Builds the topology of a validated model: unknown and equation numbering, element blocks
+  // and the sparsity pattern. Throws InputError on an invalid model.
+  explicit Workspace(const Model& model);
+  ~Workspace();
+  Workspace(Workspace&&) noexcept;
+  Workspace& operator=(Workspace&&) noexcept;
+
+  SystemSize size() const;
+
+  struct Impl;
+  Impl& impl() { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Validates, assembles and reports the system size without solving.
+SystemSize check(const Model& model);
+
+// Deflections, wrenches, compliance and stiffness of every end effector (model-format.md).
+// Throws InputError for invalid models and SingularModelError for mechanisms.
+Result solve(const Model& model, const SolveOptions& options = {});
+
+// The same with a workspace built for a model of identical topology: only numbers are
+// refilled and the factorisation is redone numerically.
+Result solve(Workspace& workspace, const Model& model, const SolveOptions& options = {});
+
+// Stiffness against a pure force (translational) and a pure moment (rotational): eigenvalues,
+// ascending, of the inverses of the 3×3 diagonal blocks of a compliance matrix. An entry is
+// +inf where that block is singular (a rigidly held direction).
+struct PrincipalStiffness {
+  Vec3 translational;
+  Vec3 rotational;
+};
+PrincipalStiffness principal_stiffness(const Mat6& compliance);
+
+}  // namespace stiffmsa

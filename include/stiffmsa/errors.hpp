@@ -1,0 +1,63 @@
+#pragma once
+// Typed errors. The library never prints or exits: every failure is one of these, carrying the
+// user's names and, for model files, the place in the file.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace stiffmsa {
+
+struct SourceLocation {
+  std::string file;  // empty when the model was built through the API
+  int line = 0;      // 1-based; 0 when unknown
+  int column = 0;    // 1-based; 0 when unknown
+};
+
+// One defect in the user's input: where it is, which key, and what would be valid.
+struct Diagnostic {
+  SourceLocation location;
+  std::string key_path;  // e.g. "joints.J3.axis"
+  std::string message;
+
+  // "file.yaml:12:5: joints.J3.axis: ..." (parts that are unknown are left out).
+  std::string to_string() const;
+};
+
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The model (file or API input) is invalid; every defect found is listed.
+class InputError : public Error {
+ public:
+  explicit InputError(std::vector<Diagnostic> diagnostics);
+  const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+
+ private:
+  std::vector<Diagnostic> diagnostics_;
+};
+
+// The model is valid but cannot be solved: it is a mechanism, or numerically singular.
+class SingularModelError : public Error {
+ public:
+  SingularModelError(std::string summary, std::vector<std::string> details);
+  const std::vector<std::string>& details() const { return details_; }
+
+ private:
+  std::vector<std::string> details_;
+};
+
+// Reading or writing a file failed (not a defect of the model's content).
+class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+// Invalid options or API misuse (e.g. a solver not built in).
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace stiffmsa

@@ -1,0 +1,9 @@
+#pragma once
+// The whole public API of stiffmsa.
+#include "stiffmsa/analysis.hpp"
+#include "stiffmsa/errors.hpp"
+#include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/model.hpp"
+#include "stiffmsa/result.hpp"
+#include "stiffmsa/validate.hpp"

@@ -1,0 +1,34 @@
+#pragma once
+// Which link end sits at a named point: the one rule that loads, end effectors, joints,
+// supports and the topology all use.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "stiffmsa/model.hpp"
+
+namespace stiffmsa::detail {
+
+struct LinkEndRef {
+  int link = -1;  // index into Model::links
+  LinkEnd end = LinkEnd::from;
+  int id() const { return 2 * link + static_cast<int>(end); }
+  bool operator==(const LinkEndRef&) const = default;
+};
+
+// The ends of `link` at `point`: none, one, or both (a link from a point to itself).
+std::vector<LinkEndRef> ends_of_link_at(const Model& model, int link, const std::string& point);
+
+// Every link end at `point`, in link order.
+std::vector<LinkEndRef> ends_at_point(const Model& model, const std::string& point);
+
+// The link end meant by `{at: point, link: name}` (name optional). Sets `problem` to a sentence
+// and returns nullopt when there is no such end or the choice is ambiguous.
+std::optional<LinkEndRef> resolve_link_end(const Model& model, const std::string& point,
+                                           const std::optional<std::string>& link_name,
+                                           std::string& problem);
+
+// Index of the link named `name` in model.links, or -1.
+int link_index(const Model& model, const std::string& name);
+
+}  // namespace stiffmsa::detail
