@@ -32,6 +32,8 @@ class Error : public std::runtime_error {
 class InputError : public Error {
  public:
   explicit InputError(std::vector<Diagnostic> diagnostics);
+  // A single defect.
+  InputError(SourceLocation location, std::string key_path, std::string message);
   const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
 
  private:

@@ -31,6 +31,9 @@ struct JointResult {
   std::optional<std::vector<VecX>> relative_deflection;
   std::optional<Vec6> wrench;  // applied by the joint to the first link end listed
   std::optional<VecX> effort;  // actuated joints: generalised force along the free directions
+  // Whether the joint is actuated, so that a result file can tell an undetermined effort
+  // (null) from a joint that has none (no "effort" key).
+  bool actuated = false;
 };
 
 struct SupportResult {

@@ -1,6 +1,7 @@
 #pragma once
 // Dense linear-algebra vocabulary shared by the whole library.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace stiffmsa {
 

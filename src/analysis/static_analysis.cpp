@@ -1,1 +1,324 @@
-// placeholder until written
+// The analyses of model-format.md: deflections and wrenches under the model's loads, and the
+// compliance and Cartesian stiffness (paper eqs. 20–21) at every end effector.
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+#include <sstream>
+
+#include "analysis/cartesian.hpp"
+#include "analysis/free_motion.hpp"
+#include "assembly/assembler.hpp"
+#include "elements/free_directions.hpp"
+#include "solver/sparse_solver.hpp"
+#include "stiffmsa/analysis.hpp"
+#include "stiffmsa/config.hpp"
+#include "stiffmsa/validate.hpp"
+
+namespace stiffmsa {
+
+using detail::Index;
+
+bool solver_available(SolverKind s) {
+  return s == SolverKind::sparse_lu || STIFFMSA_HAVE_SUITESPARSE;
+}
+
+void SolveOptions::validate() const {
+  if (!solver_available(solver))
+    throw UsageError(std::string("the solver '") + to_string(solver) + "' is not built into this stiffmsa");
+  if (!(singular_rcond >= 0 && singular_rcond < 1))
+    throw UsageError("singular_rcond must be in [0, 1)");
+  if (!(max_relative_residual > 0))
+    throw UsageError("max_relative_residual must be positive");
+  if (refinement_steps < 0 || refinement_steps > 20)
+    throw UsageError("refinement_steps must be between 0 and 20");
+}
+
+struct Workspace::Impl {
+  detail::Topology topology;
+  std::unique_ptr<detail::Assembler> assembler;
+  detail::SparseMatrix matrix;
+  std::unique_ptr<detail::FactorizedSystem> system;
+  SolverKind solver_kind = SolverKind::sparse_lu;
+};
+
+Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
+  stiffmsa::validate(model);
+  impl_->topology = detail::build_topology(model);
+  const auto blocks = detail::make_blocks(model, impl_->topology);
+  impl_->assembler = std::make_unique<detail::Assembler>(blocks, impl_->topology.unknowns());
+}
+Workspace::~Workspace() = default;
+Workspace::Workspace(Workspace&&) noexcept = default;
+Workspace& Workspace::operator=(Workspace&&) noexcept = default;
+
+SystemSize Workspace::size() const { return impl_->assembler->size(); }
+
+namespace {
+
+using detail::deflection_column;
+using detail::wrench_column;
+
+Vec6 deflection_of(const VecX& x, int end) { return x.segment<6>(deflection_column(end)); }
+Vec6 wrench_of(const VecX& x, int end) { return x.segment<6>(wrench_column(end)); }
+
+const Vec3& end_position(const Model& model, int end) {
+  const Link& link = model.links[static_cast<std::size_t>(end / 2)];
+  return model.find_point(end % 2 == 0 ? link.from : link.to)->position;
+}
+
+long count_nonzero_values(const detail::SparseMatrix& a) {
+  long count = 0;
+  for (Index k = 0; k < a.nonZeros(); ++k) count += a.valuePtr()[k] != 0.0;
+  return count;
+}
+
+// Everything one solve needs: the model's blocks, assembled and factorised.
+struct Problem {
+  const Model& model;
+  Workspace::Impl& ws;
+  const SolveOptions& options;
+  detail::Blocks blocks;
+  std::vector<Vec6> external;  // per link end: sum of the model's loads there
+  bool loaded = false;         // any nonzero load or preload
+
+  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o) : model(m), ws(w), options(o) {
+    const detail::Topology topology = detail::build_topology(model);
+    if (!(topology == ws.topology))
+      throw InputError({}, "", "the model's topology differs from the one this workspace was built for");
+    blocks = detail::make_blocks(model, ws.topology);
+    ws.assembler->fill(blocks, ws.matrix);
+    external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
+    for (std::size_t i = 0; i < model.loads.size(); ++i) {
+      external[static_cast<std::size_t>(ws.topology.load_ends[i])] += model.loads[i].wrench;
+      loaded |= !model.loads[i].wrench.isZero(0);
+    }
+    for (const auto& j : model.joints)
+      loaded |= j.connection.preload && !j.connection.preload->isZero(0);
+    for (const auto& s : model.supports)
+      loaded |= s.connection.preload && !s.connection.preload->isZero(0);
+  }
+
+  VecX load_rhs() const {
+    std::vector<std::pair<int, Vec6>> wrenches;
+    for (std::size_t e = 0; e < external.size(); ++e)
+      if (!external[e].isZero(0)) wrenches.emplace_back(static_cast<int>(e), external[e]);
+    return ws.assembler->right_hand_side(blocks, ws.topology, wrenches, true);
+  }
+
+  // Columns: the right-hand sides of a unit wrench at `end` in each of the 6 directions.
+  MatX unit_wrench_rhs(int end) const {
+    MatX b = MatX::Zero(ws.topology.unknowns(), 6);
+    for (int c = 0; c < 6; ++c) {
+      VecX column = VecX::Zero(ws.topology.unknowns());
+      ws.assembler->add_wrench(blocks, ws.topology, end, Vec6::Unit(c), column);
+      b.col(c) = column;
+    }
+    return b;
+  }
+};
+
+void fill_state_results(const Problem& problem, const VecX& x, Result& result) {
+  const Model& model = problem.model;
+  const detail::Topology& t = problem.ws.topology;
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    const int from = 2 * static_cast<int>(l), to = from + 1;
+    result.links[l].from = {deflection_of(x, from), wrench_of(x, from)};
+    result.links[l].to = {deflection_of(x, to), wrench_of(x, to)};
+  }
+  for (const auto& group : t.groups) {
+    if (group.kind == detail::ConnectionGroup::Kind::joint) {
+      const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
+      const auto directions = detail::free_directions(joint.connection.kinematics);
+      JointResult& r = result.joints[static_cast<std::size_t>(group.source)];
+      const int first = group.ends.front();
+      std::vector<VecX> q;
+      for (std::size_t k = 1; k < group.ends.size(); ++k)
+        q.push_back(directions.free * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
+      r.relative_deflection = q;
+      r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
+      if (joint.connection.actuated)
+        r.effort = VecX(directions.gram().ldlt().solve(directions.free * *r.wrench));
+    } else if (group.kind == detail::ConnectionGroup::Kind::support) {
+      Vec6 reaction = Vec6::Zero();
+      for (int end : group.ends) reaction += wrench_of(x, end) - problem.external[static_cast<std::size_t>(end)];
+      result.supports[static_cast<std::size_t>(group.source)].reaction = reaction;
+    }
+  }
+  for (std::size_t e = 0; e < model.end_effectors.size(); ++e)
+    result.end_effectors[e].deflection = deflection_of(x, t.effector_ends[e]);
+}
+
+// ‖Σ reactions + Σ loads‖, forces and moments (about the origin) each relative to their scale.
+double equilibrium_error(const Problem& problem, const Result& result) {
+  Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
+  double force_scale = 0, moment_scale = 0;
+  auto add = [&](const Vec3& at, const Vec6& w) {
+    force += w.head<3>();
+    const Vec3 m = w.tail<3>() + at.cross(w.head<3>());
+    moment += m;
+    force_scale += w.head<3>().norm();
+    moment_scale += w.tail<3>().norm() + at.norm() * w.head<3>().norm();
+  };
+  for (std::size_t e = 0; e < problem.external.size(); ++e)
+    if (!problem.external[e].isZero(0)) add(end_position(problem.model, static_cast<int>(e)), problem.external[e]);
+  for (const auto& group : problem.ws.topology.groups)
+    if (group.kind == detail::ConnectionGroup::Kind::support) {
+      const auto& reaction = result.supports[static_cast<std::size_t>(group.source)].reaction;
+      if (reaction) add(end_position(problem.model, group.ends.front()), *reaction);
+    }
+  double error = 0;
+  if (force_scale > 0) error = std::max(error, force.norm() / force_scale);
+  if (moment_scale > 0) error = std::max(error, moment.norm() / moment_scale);
+  return error;
+}
+
+Result empty_result(const Model& model, const Workspace::Impl& ws) {
+  Result result;
+  result.model = model.name;
+  for (const auto& l : model.links) result.links.push_back({l.name, {}, {}});
+  for (const auto& j : model.joints) result.joints.push_back({j.name, std::nullopt, std::nullopt, std::nullopt});
+  for (const auto& s : model.supports) result.supports.push_back({s.name, std::nullopt});
+  for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
+    const auto& effector = model.end_effectors[e];
+    const int end = ws.topology.effector_ends[e];
+    result.end_effectors.push_back({effector.name, effector.at, model.links[static_cast<std::size_t>(end / 2)].name,
+                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt});
+  }
+  return result;
+}
+
+void check_accuracy(const SolveOptions& options, Result& result) {
+  std::ostringstream text;
+  if (result.report.relative_residual > options.max_relative_residual) {
+    text << "the relative residual " << result.report.relative_residual << " exceeds "
+         << options.max_relative_residual << "; results may be inaccurate";
+    result.report.warnings.push_back(text.str());
+  }
+  if (result.report.equilibrium_error > 1e-8) {
+    text.str("");
+    text << "loads and support reactions balance only to " << result.report.equilibrium_error
+         << " relative; results may be inaccurate";
+    result.report.warnings.push_back(text.str());
+  }
+}
+
+void solve_regular(Problem& problem, Result& result) {
+  const auto& t = problem.ws.topology;
+  const Index n = t.unknowns();
+  const std::size_t effectors = problem.model.end_effectors.size();
+  MatX rhs(n, 1 + 6 * static_cast<Index>(effectors));
+  rhs.col(0) = problem.load_rhs();
+  for (std::size_t e = 0; e < effectors; ++e)
+    rhs.middleCols<6>(1 + 6 * static_cast<Index>(e)) = problem.unit_wrench_rhs(t.effector_ends[e]);
+  double residual = 0;
+  const MatX x = problem.ws.system->solve(rhs, problem.options.refinement_steps, residual);
+  result.report.relative_residual = residual;
+
+  fill_state_results(problem, x.col(0), result);
+  const double length = detail::characteristic_length(problem.model);
+  for (std::size_t e = 0; e < effectors; ++e) {
+    const Mat6 compliance = x.block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));
+    auto& r = result.end_effectors[e];
+    r.compliance = compliance;
+    r.stiffness = detail::stiffness_from_compliance(compliance, length);
+    if (!r.stiffness)
+      result.report.notes.push_back("end effector '" + r.name +
+                                    "' is held rigidly in some direction: its stiffness is unbounded (null)");
+  }
+  result.report.equilibrium_error = equilibrium_error(problem, result);
+  check_accuracy(problem.options, result);
+}
+
+// Eq. (21) without an inverse: Δt_e becomes prescribed and W_ext,e unknown. Regular where
+// prescribing Δt_e removes every free motion.
+std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int end, double& residual,
+                                                    double& rcond) {
+  const Index n = problem.ws.topology.unknowns();
+  const MatX b = problem.unit_wrench_rhs(end);
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(problem.ws.matrix.nonZeros()) + 48);
+  for (Index j = 0; j < problem.ws.matrix.outerSize(); ++j)
+    for (detail::SparseMatrix::InnerIterator e(problem.ws.matrix, j); e; ++e)
+      entries.emplace_back(static_cast<int>(e.row()), static_cast<int>(j), e.value());
+  for (Index c = 0; c < 6; ++c) {
+    for (Index i = 0; i < n; ++i)
+      if (b(i, c) != 0) entries.emplace_back(static_cast<int>(i), static_cast<int>(n + c), -b(i, c));
+    entries.emplace_back(static_cast<int>(n + c), static_cast<int>(deflection_column(end) + c), 1.0);
+  }
+  detail::SparseMatrix augmented(n + 6, n + 6);
+  augmented.setFromTriplets(entries.begin(), entries.end());
+  augmented.makeCompressed();
+  detail::FactorizedSystem system(problem.options.solver);
+  const bool regular = system.factorize(augmented, problem.options.singular_rcond);
+  rcond = system.reciprocal_condition();
+  if (!regular) return std::nullopt;
+  MatX rhs = MatX::Zero(n + 6, 6);
+  rhs.bottomRows<6>().setIdentity();
+  const MatX x = system.solve(rhs, problem.options.refinement_steps, residual);
+  return Mat6(x.bottomRows<6>());
+}
+
+void solve_free_structure(Problem& problem, Result& result) {
+  const auto motions = detail::describe_free_motions(problem.model, problem.ws.topology, problem.ws.matrix);
+  std::vector<std::string> details = motions.descriptions;
+  if (problem.loaded)
+    throw SingularModelError("the model is a mechanism and carries a load or preload it cannot hold", details);
+  bool any = false;
+  for (std::size_t e = 0; e < problem.model.end_effectors.size(); ++e) {
+    double residual = 0, rcond = 0;
+    auto stiffness = prescribed_deflection_stiffness(problem, problem.ws.topology.effector_ends[e], residual, rcond);
+    if (!stiffness) continue;
+    any = true;
+    result.end_effectors[e].stiffness = stiffness;
+    result.report.relative_residual = std::max(result.report.relative_residual, residual);
+    result.report.reciprocal_condition = std::max(result.report.reciprocal_condition, rcond);
+  }
+  if (!any)
+    throw SingularModelError("the model is a mechanism: no end effector holds its free motions", details);
+  result.report.notes.push_back(
+      "the structure can move freely; only the stiffness of the end effectors that stop every free motion "
+      "is reported, everything else is null");
+  for (const auto& d : details) result.report.notes.push_back(d);
+  check_accuracy(problem.options, result);
+}
+
+}  // namespace
+
+SystemSize check(const Model& model) {
+  Workspace workspace(model);
+  auto& ws = workspace.impl();
+  const auto blocks = detail::make_blocks(model, ws.topology);
+  ws.assembler->fill(blocks, ws.matrix);
+  SystemSize size = ws.assembler->size();
+  size.nonzeros = count_nonzero_values(ws.matrix);
+  return size;
+}
+
+Result solve(const Model& model, const SolveOptions& options) {
+  options.validate();
+  Workspace workspace(model);
+  return solve(workspace, model, options);
+}
+
+Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
+  options.validate();
+  auto& ws = workspace.impl();
+  if (!ws.system || ws.solver_kind != options.solver) {
+    ws.system = std::make_unique<detail::FactorizedSystem>(options.solver);
+    ws.solver_kind = options.solver;
+  }
+  Problem problem(model, ws, options);
+  Result result = empty_result(model, ws);
+  result.system = ws.assembler->size();
+  result.system.nonzeros = count_nonzero_values(ws.matrix);
+  result.report.solver = ws.system->solver_name();
+  const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
+  result.report.reciprocal_condition = ws.system->reciprocal_condition();
+  if (regular)
+    solve_regular(problem, result);
+  else
+    solve_free_structure(problem, result);
+  return result;
+}
+
+}  // namespace stiffmsa

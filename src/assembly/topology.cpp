@@ -1,1 +1,186 @@
-// placeholder until written
+#include "assembly/topology.hpp"
+
+#include <map>
+#include <type_traits>
+
+#include "elements/beam_element.hpp"
+#include "elements/cad_link.hpp"
+#include "elements/connection_blocks.hpp"
+#include "elements/link_blocks.hpp"
+#include "model/link_ends.hpp"
+
+namespace stiffmsa::detail {
+
+namespace {
+
+[[noreturn]] void fail(const Origin& origin, std::string key_path, std::string message) {
+  throw InputError(origin.location, std::move(key_path), std::move(message));
+}
+
+std::vector<int> named_ends(const Model& model, const std::string& point,
+                            const std::vector<std::string>& link_names, const Origin& origin,
+                            const std::string& key_path) {
+  std::vector<int> ends;
+  if (link_names.empty()) {
+    for (const auto& e : ends_at_point(model, point)) ends.push_back(e.id());
+    if (ends.empty()) fail(origin, key_path, "no link end is at point '" + point + "'");
+    return ends;
+  }
+  for (const auto& name : link_names) {
+    std::string problem;
+    const auto end = resolve_link_end(model, point, name, problem);
+    if (!end) fail(origin, key_path + ".links", problem);
+    ends.push_back(end->id());
+  }
+  return ends;
+}
+
+int end_of(const Model& model, const std::string& point, const std::optional<std::string>& link,
+           const Origin& origin, const std::string& key_path) {
+  std::string problem;
+  const auto end = resolve_link_end(model, point, link, problem);
+  if (!end) fail(origin, key_path, problem);
+  return end->id();
+}
+
+}  // namespace
+
+Topology build_topology(const Model& model) {
+  Topology t;
+  t.link_count = static_cast<int>(model.links.size());
+  t.group_of_end.assign(static_cast<std::size_t>(t.end_count()), -1);
+
+  auto claim = [&](ConnectionGroup group, const Origin& origin, const std::string& key_path) {
+    const int index = static_cast<int>(t.groups.size());
+    for (int end : group.ends) {
+      int& owner = t.group_of_end[static_cast<std::size_t>(end)];
+      if (owner >= 0)
+        fail(origin, key_path, "the end of link '" + model.links[static_cast<std::size_t>(end / 2)].name +
+                                   "' at '" + group.point + "' is already held by another joint or support");
+      owner = index;
+    }
+    t.groups.push_back(std::move(group));
+  };
+
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const Joint& joint = model.joints[j];
+    const std::string path = "joints." + joint.name;
+    claim({ConnectionGroup::Kind::joint, static_cast<int>(j), joint.at,
+           named_ends(model, joint.at, joint.links, joint.origin, path)},
+          joint.origin, path);
+  }
+  for (std::size_t s = 0; s < model.supports.size(); ++s) {
+    const Support& support = model.supports[s];
+    const std::string path = "supports." + support.name;
+    claim({ConnectionGroup::Kind::support, static_cast<int>(s), support.at,
+           named_ends(model, support.at, support.links, support.origin, path)},
+          support.origin, path);
+  }
+
+  // Link ends named nowhere: rigidly connected at their point, or free when alone there.
+  std::map<std::string, std::vector<int>> unnamed_by_point;
+  std::vector<std::string> point_order;
+  for (int end = 0; end < t.end_count(); ++end) {
+    if (t.group_of_end[static_cast<std::size_t>(end)] >= 0) continue;
+    const Link& link = model.links[static_cast<std::size_t>(end / 2)];
+    const std::string& point = (end % 2 == 0) ? link.from : link.to;
+    auto [it, inserted] = unnamed_by_point.try_emplace(point);
+    if (inserted) point_order.push_back(point);
+    it->second.push_back(end);
+  }
+  for (const auto& point : point_order) {
+    std::vector<int> ends = unnamed_by_point[point];
+    for (const auto& e : ends_at_point(model, point))
+      if (t.group_of_end[static_cast<std::size_t>(e.id())] >= 0) {
+        const Point* p = model.find_point(point);
+        fail(p ? p->origin : Origin{}, "points." + point,
+             "some link ends at this point are held by a joint or support and others (link '" +
+                 model.links[static_cast<std::size_t>(ends.front() / 2)].name +
+                 "') by nothing; name every end at the point in a joint or support");
+      }
+    const auto kind = ends.size() == 1 ? ConnectionGroup::Kind::free_end
+                                       : ConnectionGroup::Kind::rigid_connection;
+    claim({kind, -1, point, std::move(ends)}, {}, "points." + point);
+  }
+
+  for (std::size_t i = 0; i < model.loads.size(); ++i) {
+    const Load& load = model.loads[i];
+    t.load_ends.push_back(end_of(model, load.at, load.link, load.origin,
+                                 "loads[" + std::to_string(i) + "]"));
+  }
+  for (const auto& effector : model.end_effectors)
+    t.effector_ends.push_back(end_of(model, effector.at, effector.link, effector.origin,
+                                     "end_effectors." + effector.name));
+  return t;
+}
+
+namespace {
+
+const Vec3& position(const Model& model, const std::string& point) {
+  const Point* p = model.find_point(point);
+  if (!p) throw InputError({}, "points", "no point named '" + point + "'");
+  return p->position;
+}
+
+std::unique_ptr<ElementBlock> make_link_block(const Model& model, int index) {
+  const Link& link = model.links[static_cast<std::size_t>(index)];
+  const Vec3& from = position(model, link.from);
+  const Vec3& to = position(model, link.to);
+  const int i = 2 * index, j = 2 * index + 1;
+  return std::visit(
+      [&](const auto& kind) -> std::unique_ptr<ElementBlock> {
+        using Kind = std::decay_t<decltype(kind)>;
+        if constexpr (std::is_same_v<Kind, RigidLink>)
+          return std::make_unique<RigidLinkBlock>(i, j, to - from);
+        else if constexpr (std::is_same_v<Kind, BeamLink>)
+          return std::make_unique<FlexibleLinkBlock>(i, j, beam_global_stiffness(kind, from, to));
+        else if constexpr (std::is_same_v<Kind, MatrixLink>)
+          return std::make_unique<FlexibleLinkBlock>(i, j, matrix_link_global_stiffness(kind, from, to));
+        else
+          return std::make_unique<FlexibleLinkBlock>(i, j, compliance_link_global_stiffness(kind, from, to));
+      },
+      link.kind);
+}
+
+FreeDirections locked() { return free_directions(Kinematics::rigid()); }
+
+std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const ConnectionGroup& g) {
+  switch (g.kind) {
+    case ConnectionGroup::Kind::free_end:
+      return std::make_unique<FreeEndBlock>(g.ends.front());
+    case ConnectionGroup::Kind::rigid_connection:
+      return std::make_unique<ConstraintJointBlock>(g.ends, locked(), std::nullopt);
+    case ConnectionGroup::Kind::joint: {
+      const Connection& c = model.joints[static_cast<std::size_t>(g.source)].connection;
+      if (c.stiffness) {
+        if (g.ends.size() != 2)
+          throw InputError(model.joints[static_cast<std::size_t>(g.source)].origin.location,
+                                       "joints." + model.joints[static_cast<std::size_t>(g.source)].name,
+                                       "an elastic joint connects exactly two link ends");
+        return std::make_unique<ElasticJointBlock>(g.ends[0], g.ends[1], free_directions(c.kinematics),
+                                                   *c.stiffness, c.preload);
+      }
+      if (c.actuated) return std::make_unique<ConstraintJointBlock>(g.ends, locked(), std::nullopt);
+      return std::make_unique<ConstraintJointBlock>(g.ends, free_directions(c.kinematics), c.preload);
+    }
+    case ConnectionGroup::Kind::support: {
+      const Connection& c = model.supports[static_cast<std::size_t>(g.source)].connection;
+      if (c.actuated && !c.stiffness)
+        return std::make_unique<SupportBlock>(g.ends, locked(), std::nullopt, std::nullopt);
+      return std::make_unique<SupportBlock>(g.ends, free_directions(c.kinematics), c.stiffness, c.preload);
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology) {
+  std::vector<std::unique_ptr<ElementBlock>> blocks;
+  blocks.reserve(static_cast<std::size_t>(topology.link_count) + topology.groups.size());
+  for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, l));
+  for (const auto& group : topology.groups) blocks.push_back(make_connection_block(model, group));
+  return blocks;
+}
+
+}  // namespace stiffmsa::detail

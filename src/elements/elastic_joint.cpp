@@ -1,1 +1,46 @@
-// placeholder until written
+#include <utility>
+
+#include "elements/connection_blocks.hpp"
+
+namespace stiffmsa::detail {
+
+ElasticJointBlock::ElasticJointBlock(int end_1, int end_2, FreeDirections directions,
+                                     MatX stiffness, std::optional<VecX> preload)
+    : end_1_(end_1),
+      end_2_(end_2),
+      directions_(std::move(directions)),
+      stiffness_(std::move(stiffness)),
+      preload_(std::move(preload)) {}
+
+void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
+  const MatX& lr = directions_.constrained;
+  const MatX& lp = directions_.free;
+  out.add_identity(row, wrench_column(end_1_), 6);
+  out.add_identity(row, wrench_column(end_2_), 6);
+  row += 6;
+  out.add_block(row, deflection_column(end_1_), lr);
+  out.add_block(row, deflection_column(end_2_), -lr);
+  row += lr.rows();
+  // The spring resists q = Λ_p·(Δt_2 − Δt_1): it pulls end 1 along +q.
+  const MatX spring = directions_.gram() * stiffness_ * lp;
+  out.add_block(row, wrench_column(end_1_), lp);
+  out.add_block(row, deflection_column(end_1_), spring);
+  out.add_block(row, deflection_column(end_2_), -spring);
+}
+
+void ElasticJointBlock::add_external_wrench(Index row, int end_id, const Vec6& wrench,
+                                            VecX& rhs) const {
+  rhs.segment<6>(row) += wrench;
+  if (end_id == end_1_) {
+    const Index spring_row = row + 6 + directions_.constrained.rows();
+    rhs.segment(spring_row, directions_.free.rows()) += directions_.free * wrench;
+  }
+}
+
+void ElasticJointBlock::add_preload(Index row, VecX& rhs) const {
+  if (!preload_) return;
+  const Index spring_row = row + 6 + directions_.constrained.rows();
+  rhs.segment(spring_row, directions_.free.rows()) += directions_.gram() * *preload_;
+}
+
+}  // namespace stiffmsa::detail

@@ -1,1 +1,91 @@
-// placeholder until written
+#include "elements/free_directions.hpp"
+
+#include "elements/element_block.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <cmath>
+
+namespace stiffmsa::detail {
+
+
+namespace {
+
+Vec3 unit(const Vec3& v, const char* what) {
+  const double n = v.norm();
+  if (!(n > 0) || !std::isfinite(n))
+    throw InputError({}, what, "must be a nonzero finite 3-vector");
+  return v / n;
+}
+
+Vec6 translation_row(const Vec3& a) {
+  Vec6 r = Vec6::Zero();
+  r.head<3>() = a;
+  return r;
+}
+Vec6 rotation_row(const Vec3& a) {
+  Vec6 r = Vec6::Zero();
+  r.tail<3>() = a;
+  return r;
+}
+
+}  // namespace
+
+void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
+  const Vec3 n = unit(normal, "normal");
+  // The global axis least aligned with n; the first of x, y, z on a tie.
+  int least = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(n[i]) < std::abs(n[least])) least = i;
+  const Vec3 g = Vec3::Unit(least);
+  t1 = n.cross(g).normalized();
+  t2 = n.cross(t1);
+}
+
+FreeDirections free_directions(const Kinematics& k) {
+  std::vector<Vec6> rows;
+  switch (k.type) {
+    case JointType::rigid: break;
+    case JointType::revolute: rows = {rotation_row(unit(k.axis, "axis"))}; break;
+    case JointType::prismatic: rows = {translation_row(unit(k.axis, "axis"))}; break;
+    case JointType::cylindrical: {
+      const Vec3 a = unit(k.axis, "axis");
+      rows = {translation_row(a), rotation_row(a)};
+      break;
+    }
+    case JointType::universal:
+      rows = {rotation_row(unit(k.axis, "axes[0]")), rotation_row(unit(k.axis_b, "axes[1]"))};
+      break;
+    case JointType::spherical:
+      rows = {rotation_row(Vec3::UnitX()), rotation_row(Vec3::UnitY()), rotation_row(Vec3::UnitZ())};
+      break;
+    case JointType::planar: {
+      Vec3 t1, t2;
+      planar_axes(k.normal, t1, t2);
+      rows = {translation_row(t1), translation_row(t2), rotation_row(unit(k.normal, "normal"))};
+      break;
+    }
+    case JointType::custom: rows = k.free_rows; break;
+  }
+  const Index p = static_cast<Index>(rows.size());
+  FreeDirections d;
+  d.free.resize(p, 6);
+  for (Index i = 0; i < p; ++i) d.free.row(i) = rows[static_cast<std::size_t>(i)].transpose();
+  if (p == 0) {
+    d.constrained = MatX::Identity(6, 6);
+    return d;
+  }
+  if (p > 6)
+    throw InputError({}, "free", "at most 6 free directions can be given");
+  const Eigen::JacobiSVD<MatX> svd(d.free);
+  const auto& s = svd.singularValues();
+  if (!(s(p - 1) > 1e-9 * s(0)))
+    throw InputError({}, "free", "the free directions are linearly dependent");
+  // The last 6−p columns of a full QR of Λ_pᵀ span the orthogonal complement of its rows.
+  const Eigen::HouseholderQR<MatX> qr(d.free.transpose());
+  const MatX q = qr.householderQ() * MatX::Identity(6, 6);
+  d.constrained = q.rightCols(6 - p).transpose();
+  return d;
+}
+
+}  // namespace stiffmsa::detail

@@ -36,6 +36,10 @@ std::string join_diagnostics(const std::vector<Diagnostic>& diagnostics) {
 InputError::InputError(std::vector<Diagnostic> diagnostics)
     : Error(join_diagnostics(diagnostics)), diagnostics_(std::move(diagnostics)) {}
 
+InputError::InputError(SourceLocation location, std::string key_path, std::string message)
+    : InputError(std::vector<Diagnostic>{
+          Diagnostic{std::move(location), std::move(key_path), std::move(message)}}) {}
+
 SingularModelError::SingularModelError(std::string summary, std::vector<std::string> details)
     : Error(std::move(summary)), details_(std::move(details)) {}
 

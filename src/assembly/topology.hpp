@@ -1,0 +1,41 @@
+#pragma once
+// How the link ends of a model are connected: which joint, support, default rigid connection or
+// free end holds each link end, and where loads and end effectors sit. Depends on names and
+// connectivity only, never on numbers.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "elements/element_block.hpp"
+#include "stiffmsa/model.hpp"
+
+namespace stiffmsa::detail {
+
+struct ConnectionGroup {
+  enum class Kind { joint, support, rigid_connection, free_end };
+  Kind kind = Kind::free_end;
+  int source = -1;          // index into model.joints / model.supports
+  std::string point;
+  std::vector<int> ends;    // link end ids; the first is "end 1"
+  bool operator==(const ConnectionGroup&) const = default;
+};
+
+struct Topology {
+  int link_count = 0;
+  std::vector<ConnectionGroup> groups;
+  std::vector<int> group_of_end;   // per link end id
+  std::vector<int> load_ends;      // per model.loads
+  std::vector<int> effector_ends;  // per model.end_effectors
+
+  int end_count() const { return 2 * link_count; }
+  Index unknowns() const { return 12 * static_cast<Index>(end_count()); }
+  bool operator==(const Topology&) const = default;
+};
+
+// The topology of a validated model. Throws InputError where the connection rules are broken.
+Topology build_topology(const Model& model);
+
+// The element blocks of a model in assembly order: one per link, then one per connection group.
+std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology);
+
+}  // namespace stiffmsa::detail

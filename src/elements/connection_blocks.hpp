@@ -1,0 +1,86 @@
+#pragma once
+// Connection blocks hold link ends: joints, supports and free ends. Together with the link
+// blocks they give exactly 12 equations per link end. External loads enter through them.
+#include <optional>
+#include <vector>
+
+#include "elements/element_block.hpp"
+#include "elements/free_directions.hpp"
+
+namespace stiffmsa::detail {
+
+// A rigid or passive joint over m >= 2 link ends (paper eqs. 4–8); rigid is p = 0, and so is a
+// locked actuator. 6m equations:
+//   Λ_r·(Δt_1 − Δt_k) = 0, k = 2..m                     r(m−1)
+//   Λ_r·Σ W_k = Λ_r·Σ W_ext,k                            r
+//   Λ_p·W_k = Λ_p·W_ext,k (± Λ_pΛ_pᵀ·w_0 on ends 1, 2)   p·m
+class ConstraintJointBlock final : public ElementBlock {
+ public:
+  ConstraintJointBlock(std::vector<int> ends, FreeDirections directions,
+                       std::optional<VecX> preload);
+  Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
+  void write_equations(Index first_row, EquationWriter& out) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_preload(Index first_row, VecX& rhs) const override;
+
+ private:
+  Index r() const { return directions_.constrained.rows(); }
+  Index p() const { return directions_.free.rows(); }
+  std::vector<int> ends_;
+  FreeDirections directions_;
+  std::optional<VecX> preload_;
+};
+
+// An elastic joint between two link ends (paper eqs. 9–11, spring sign per theory-notes):
+//   W_1 + W_2 = W_ext,1 + W_ext,2                                       6
+//   Λ_r·(Δt_1 − Δt_2) = 0                                               r
+//   Λ_p·W_1 − G·K·Λ_p·(Δt_2 − Δt_1) = Λ_p·W_ext,1 + G·w_0, G = Λ_pΛ_pᵀ    p
+class ElasticJointBlock final : public ElementBlock {
+ public:
+  ElasticJointBlock(int end_1, int end_2, FreeDirections directions, MatX stiffness,
+                    std::optional<VecX> preload);
+  Index equation_count() const override { return 12; }
+  void write_equations(Index first_row, EquationWriter& out) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_preload(Index first_row, VecX& rhs) const override;
+
+ private:
+  int end_1_, end_2_;
+  FreeDirections directions_;
+  MatX stiffness_;
+  std::optional<VecX> preload_;
+};
+
+// A support over m >= 1 link ends, first joined rigidly, then held as one (paper eqs. 12–16):
+//   Δt_1 − Δt_k = 0, k = 2..m                                  6(m−1)
+//   Λ_r·Δt_1 = 0                                               r
+//   Λ_p·Σ W_k + G·K·Λ_p·Δt_1 = Λ_p·Σ W_ext,k + G·w_0            p  (K = 0 when not elastic)
+class SupportBlock final : public ElementBlock {
+ public:
+  SupportBlock(std::vector<int> ends, FreeDirections directions, std::optional<MatX> stiffness,
+               std::optional<VecX> preload);
+  Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
+  void write_equations(Index first_row, EquationWriter& out) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_preload(Index first_row, VecX& rhs) const override;
+
+ private:
+  std::vector<int> ends_;
+  FreeDirections directions_;
+  std::optional<MatX> stiffness_;
+  std::optional<VecX> preload_;
+};
+
+// A link end alone at its point and named nowhere: W = W_ext.
+class FreeEndBlock final : public ElementBlock {
+ public:
+  explicit FreeEndBlock(int end) : end_(end) {}
+  Index equation_count() const override { return 6; }
+  void write_equations(Index first_row, EquationWriter& out) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+
+ private:
+  int end_;
+};
+
+}  // namespace stiffmsa::detail

@@ -1,0 +1,22 @@
+#pragma once
+// The free and constrained directions of a joint or support (model-format.md table).
+#include "stiffmsa/model.hpp"
+
+namespace stiffmsa::detail {
+
+struct FreeDirections {
+  MatX free;         // Λ_p, p×6, rows in the documented order (custom rows as given)
+  MatX constrained;  // Λ_r, (6−p)×6, orthonormal rows spanning the complement of Λ_p's rows
+  // Λ_p·Λ_pᵀ: maps a generalised force along q to its projection Λ_p·w (identity for the
+  // built-in types, whose rows are orthonormal).
+  MatX gram() const { return free * free.transpose(); }
+};
+
+// Throws InputError (no location) when the kinematics are degenerate; validate() reports the
+// same defects with their place in the file before a solve gets here.
+FreeDirections free_directions(const Kinematics& kinematics);
+
+// The in-plane axes t1, t2 of a planar joint with normal n (model-format.md).
+void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2);
+
+}  // namespace stiffmsa::detail

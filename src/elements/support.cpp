@@ -1,0 +1,47 @@
+#include <utility>
+
+#include "elements/connection_blocks.hpp"
+
+namespace stiffmsa::detail {
+
+SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
+                           std::optional<MatX> stiffness, std::optional<VecX> preload)
+    : ends_(std::move(ends)),
+      directions_(std::move(directions)),
+      stiffness_(std::move(stiffness)),
+      preload_(std::move(preload)) {}
+
+void SupportBlock::write_equations(Index row, EquationWriter& out) const {
+  const MatX& lr = directions_.constrained;
+  const MatX& lp = directions_.free;
+  const Index r = lr.rows(), p = lp.rows();
+  const int first = ends_.front();
+  for (std::size_t k = 1; k < ends_.size(); ++k) {
+    out.add_identity(row, deflection_column(first), 6);
+    out.add_identity(row, deflection_column(ends_[k]), 6, -1.0);
+    row += 6;
+  }
+  if (p == 0)
+    out.add_identity(row, deflection_column(first), 6);
+  else
+    out.add_block(row, deflection_column(first), lr);
+  row += r;
+  if (p == 0) return;
+  for (int end : ends_) out.add_block(row, wrench_column(end), lp);
+  if (stiffness_) out.add_block(row, deflection_column(first), directions_.gram() * *stiffness_ * lp);
+}
+
+void SupportBlock::add_external_wrench(Index row, int, const Vec6& wrench, VecX& rhs) const {
+  const Index p = directions_.free.rows();
+  const Index held = row + 6 * static_cast<Index>(ends_.size()) - p;
+  rhs.segment(held, p) += directions_.free * wrench;
+}
+
+void SupportBlock::add_preload(Index row, VecX& rhs) const {
+  if (!preload_) return;
+  const Index p = directions_.free.rows();
+  const Index held = row + 6 * static_cast<Index>(ends_.size()) - p;
+  rhs.segment(held, p) += directions_.gram() * *preload_;
+}
+
+}  // namespace stiffmsa::detail

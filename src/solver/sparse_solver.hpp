@@ -1,0 +1,70 @@
+#pragma once
+// Sparse direct solvers behind one interface, and the equilibrated, refined solve that the
+// analyses use. The mixed system holds stiffness entries near 1e9 beside identity entries of
+// 1, so it is scaled before factorisation; residuals are measured on the unscaled system.
+#include <memory>
+
+#include "assembly/assembler.hpp"
+#include "stiffmsa/analysis.hpp"
+
+namespace stiffmsa::detail {
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Symbolic analysis (ordering) of a pattern; kept while only values change.
+  virtual void analyze(const SparseMatrix& a) = 0;
+  // Numeric factorisation; false when a pivot is exactly zero (structurally singular).
+  virtual bool factorize(const SparseMatrix& a) = 0;
+  // In-place solves with A or Aᵀ for every column of b.
+  virtual void solve(MatX& b) const = 0;
+  virtual void solve_transposed(MatX& b) const = 0;
+  virtual const char* name() const = 0;
+};
+
+std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
+
+// Row and column scaling by powers of two (so scaling itself adds no rounding) that brings
+// every row and column of |A| to a largest entry near 1.
+struct Equilibration {
+  VecX row, column;
+};
+Equilibration equilibrate(const SparseMatrix& a, int iterations = 8);
+
+// A factorised system: scaling, factorisation, condition estimate and refined solves.
+class FactorizedSystem {
+ public:
+  explicit FactorizedSystem(SolverKind kind);
+
+  // Analyses the pattern on the first call, or when the pattern changes.
+  // Returns false when the matrix is singular to working precision (exact zero pivot or
+  // reciprocal condition below `singular_rcond`).
+  bool factorize(const SparseMatrix& a, double singular_rcond);
+
+  double reciprocal_condition() const { return rcond_; }
+  const char* solver_name() const { return solver_->name(); }
+
+  // Solves A·X = B with iterative refinement; `relative_residual` gets the largest normwise
+  // backward error over the columns.
+  MatX solve(const MatX& b, int refinement_steps, double& relative_residual) const;
+
+  // Solves without refinement, on the scaled system (for null-space probing).
+  const SparseMatrix& matrix() const { return *a_; }
+
+ private:
+  double estimate_inverse_norm1() const;
+  MatX solve_once(const MatX& b) const;
+
+  std::unique_ptr<LinearSolver> solver_;
+  const SparseMatrix* a_ = nullptr;
+  SparseMatrix scaled_;
+  Equilibration scaling_;
+  bool analyzed_ = false;
+  std::vector<int> analyzed_outer_, analyzed_inner_;
+  double rcond_ = 0;
+};
+
+// ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞), per column, the largest.
+double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b);
+
+}  // namespace stiffmsa::detail
