@@ -17,28 +17,28 @@ namespace {
   throw InputError(origin.location, std::move(key_path), std::move(message));
 }
 
-std::vector<int> named_ends(const Model& model, const std::string& point,
+std::vector<int> named_ends(const ModelIndex& index, const std::string& point,
                             const std::vector<std::string>& link_names, const Origin& origin,
                             const std::string& key_path) {
   std::vector<int> ends;
   if (link_names.empty()) {
-    for (const auto& e : ends_at_point(model, point)) ends.push_back(e.id());
+    for (const auto& e : index.ends_at(point)) ends.push_back(e.id());
     if (ends.empty()) fail(origin, key_path, "no link end is at point '" + point + "'");
     return ends;
   }
   for (const auto& name : link_names) {
     std::string problem;
-    const auto end = resolve_link_end(model, point, name, problem);
+    const auto end = index.resolve(point, name, problem);
     if (!end) fail(origin, key_path + ".links", problem);
     ends.push_back(end->id());
   }
   return ends;
 }
 
-int end_of(const Model& model, const std::string& point, const std::optional<std::string>& link,
+int end_of(const ModelIndex& index, const std::string& point, const std::optional<std::string>& link,
            const Origin& origin, const std::string& key_path) {
   std::string problem;
-  const auto end = resolve_link_end(model, point, link, problem);
+  const auto end = index.resolve(point, link, problem);
   if (!end) fail(origin, key_path, problem);
   return end->id();
 }
@@ -46,6 +46,7 @@ int end_of(const Model& model, const std::string& point, const std::optional<std
 }  // namespace
 
 Topology build_topology(const Model& model) {
+  const ModelIndex index(model);
   Topology t;
   t.link_count = static_cast<int>(model.links.size());
   t.group_of_end.assign(static_cast<std::size_t>(t.end_count()), -1);
@@ -66,14 +67,14 @@ Topology build_topology(const Model& model) {
     const Joint& joint = model.joints[j];
     const std::string path = "joints." + joint.name;
     claim({ConnectionGroup::Kind::joint, static_cast<int>(j), joint.at,
-           named_ends(model, joint.at, joint.links, joint.origin, path)},
+           named_ends(index, joint.at, joint.links, joint.origin, path)},
           joint.origin, path);
   }
   for (std::size_t s = 0; s < model.supports.size(); ++s) {
     const Support& support = model.supports[s];
     const std::string path = "supports." + support.name;
     claim({ConnectionGroup::Kind::support, static_cast<int>(s), support.at,
-           named_ends(model, support.at, support.links, support.origin, path)},
+           named_ends(index, support.at, support.links, support.origin, path)},
           support.origin, path);
   }
 
@@ -90,9 +91,9 @@ Topology build_topology(const Model& model) {
   }
   for (const auto& point : point_order) {
     std::vector<int> ends = unnamed_by_point[point];
-    for (const auto& e : ends_at_point(model, point))
+    for (const auto& e : index.ends_at(point))
       if (t.group_of_end[static_cast<std::size_t>(e.id())] >= 0) {
-        const Point* p = model.find_point(point);
+        const Point* p = index.point(point);
         fail(p ? p->origin : Origin{}, "points." + point,
              "some link ends at this point are held by a joint or support and others (link '" +
                  model.links[static_cast<std::size_t>(ends.front() / 2)].name +
@@ -105,39 +106,43 @@ Topology build_topology(const Model& model) {
 
   for (std::size_t i = 0; i < model.loads.size(); ++i) {
     const Load& load = model.loads[i];
-    t.load_ends.push_back(end_of(model, load.at, load.link, load.origin,
+    t.load_ends.push_back(end_of(index, load.at, load.link, load.origin,
                                  "loads[" + std::to_string(i) + "]"));
   }
   for (const auto& effector : model.end_effectors)
-    t.effector_ends.push_back(end_of(model, effector.at, effector.link, effector.origin,
+    t.effector_ends.push_back(end_of(index, effector.at, effector.link, effector.origin,
                                      "end_effectors." + effector.name));
   return t;
 }
 
 namespace {
 
-const Vec3& position(const Model& model, const std::string& point) {
-  const Point* p = model.find_point(point);
+const Vec3& position(const ModelIndex& index, const std::string& point) {
+  const Point* p = index.point(point);
   if (!p) throw InputError({}, "points", "no point named '" + point + "'");
   return p->position;
 }
 
-std::unique_ptr<ElementBlock> make_link_block(const Model& model, int index) {
-  const Link& link = model.links[static_cast<std::size_t>(index)];
-  const Vec3& from = position(model, link.from);
-  const Vec3& to = position(model, link.to);
-  const int i = 2 * index, j = 2 * index + 1;
+std::unique_ptr<ElementBlock> make_link_block(const Model& model, const ModelIndex& index, int link_number) {
+  const Link& link = model.links[static_cast<std::size_t>(link_number)];
+  const Vec3& from = position(index, link.from);
+  const Vec3& to = position(index, link.to);
+  const int i = 2 * link_number, j = 2 * link_number + 1;
+  const Vec3 d = to - from;
   return std::visit(
       [&](const auto& kind) -> std::unique_ptr<ElementBlock> {
         using Kind = std::decay_t<decltype(kind)>;
-        if constexpr (std::is_same_v<Kind, RigidLink>)
-          return std::make_unique<RigidLinkBlock>(i, j, to - from);
-        else if constexpr (std::is_same_v<Kind, BeamLink>)
-          return std::make_unique<FlexibleLinkBlock>(i, j, beam_global_stiffness(kind, from, to));
-        else if constexpr (std::is_same_v<Kind, MatrixLink>)
-          return std::make_unique<FlexibleLinkBlock>(i, j, matrix_link_global_stiffness(kind, from, to));
-        else
-          return std::make_unique<FlexibleLinkBlock>(i, j, compliance_link_global_stiffness(kind, from, to));
+        if constexpr (std::is_same_v<Kind, RigidLink>) {
+          return std::make_unique<LinkBlock>(i, j, d, std::nullopt);
+        } else if constexpr (std::is_same_v<Kind, BeamLink>) {
+          return std::make_unique<LinkBlock>(i, j, d, beam_global_compliance(kind, from, to));
+        } else if constexpr (std::is_same_v<Kind, ComplianceLink>) {
+          return std::make_unique<LinkBlock>(i, j, d, compliance_link_global_compliance(kind, from, to));
+        } else {
+          const Mat12 K = matrix_link_global_stiffness(kind, from, to);
+          if (auto compliance = clamped_compliance(K)) return std::make_unique<LinkBlock>(i, j, d, *compliance);
+          return std::make_unique<StiffnessLinkBlock>(i, j, K);
+        }
       },
       link.kind);
 }
@@ -178,7 +183,8 @@ std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const Co
 std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology) {
   std::vector<std::unique_ptr<ElementBlock>> blocks;
   blocks.reserve(static_cast<std::size_t>(topology.link_count) + topology.groups.size());
-  for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, l));
+  const ModelIndex index(model);
+  for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, index, l));
   for (const auto& group : topology.groups) blocks.push_back(make_connection_block(model, group));
   return blocks;
 }

@@ -76,6 +76,33 @@ Mat12 beam_local_stiffness(const BeamConstants& c) {
   return k;
 }
 
+Mat6 beam_local_compliance(const BeamConstants& c) {
+  const double L = c.length, L2 = L * L;
+  Mat6 f = Mat6::Zero();
+  f(0, 0) = L / (c.E * c.A);
+  f(3, 3) = L / (c.G * c.J);
+  // x-y plane (v, θz, Iz): v' = θz. x-z plane (w, θy, Iy): w' = −θy. Shear adds φ·L³/(12EI).
+  f(1, 1) = L2 * L / (3 * c.E * c.Iz) * (1 + c.phi_y / 4);
+  f(5, 5) = L / (c.E * c.Iz);
+  f(1, 5) = f(5, 1) = L2 / (2 * c.E * c.Iz);
+  f(2, 2) = L2 * L / (3 * c.E * c.Iy) * (1 + c.phi_z / 4);
+  f(4, 4) = L / (c.E * c.Iy);
+  f(2, 4) = f(4, 2) = -L2 / (2 * c.E * c.Iy);
+  return f;
+}
+
+Mat6 rotation6(const Mat3& axes) {
+  Mat6 r = Mat6::Zero();
+  r.block<3, 3>(0, 0) = axes;
+  r.block<3, 3>(3, 3) = axes;
+  return r;
+}
+
+Mat6 beam_global_compliance(const BeamLink& beam, const Vec3& from, const Vec3& to) {
+  const Mat6 R = rotation6(link_axes(from, to, beam.zref));
+  return R.transpose() * beam_local_compliance(beam_constants(beam, (to - from).norm())) * R;
+}
+
 Mat12 beam_global_stiffness(const BeamLink& beam, const Vec3& from, const Vec3& to) {
   const Mat12 T = link_rotation12(link_axes(from, to, beam.zref));
   const Mat12 local = beam_local_stiffness(beam_constants(beam, (to - from).norm()));

@@ -26,7 +26,17 @@ BeamConstants beam_constants(const BeamLink& beam, double length);
 // Local free-free stiffness, order per end [u, v, w, θx, θy, θz].
 Mat12 beam_local_stiffness(const BeamConstants& c);
 
-// Global 12×12 stiffness of a beam link between two points.
+// Global 12×12 free-free stiffness of a beam link between two points.
 Mat12 beam_global_stiffness(const BeamLink& beam, const Vec3& from, const Vec3& to);
+
+// Compliance of the `to` end with the `from` end clamped, local axes: the inverse of the
+// stiffness's `to` block, written in closed form so that no inversion rounds it.
+Mat6 beam_local_compliance(const BeamConstants& c);
+
+// The same in global axes.
+Mat6 beam_global_compliance(const BeamLink& beam, const Vec3& from, const Vec3& to);
+
+// diag(R, R) for a 3×3 rotation R.
+Mat6 rotation6(const Mat3& axes);
 
 }  // namespace stiffmsa::detail

@@ -1,6 +1,7 @@
 #include "elements/cad_link.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "elements/beam_element.hpp"
 
@@ -12,28 +13,29 @@ Mat12 matrix_link_global_stiffness(const MatrixLink& link, const Vec3& from, con
   return T.transpose() * link.K * T;
 }
 
-Mat12 compliance_link_global_stiffness(const ComplianceLink& link, const Vec3& from,
-                                       const Vec3& to) {
-  Mat6 C = link.C;
-  if (link.frame == LinkFrame::local) {
-    const Mat3 R = link_axes(from, to, link.zref);
-    Mat6 R6 = Mat6::Zero();
-    R6.block<3, 3>(0, 0) = R;
-    R6.block<3, 3>(3, 3) = R;
-    C = R6.transpose() * C * R6;
-  }
-  const Eigen::LDLT<Mat6> ldlt(C);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive())
-    throw InputError({}, "C", "the compliance matrix must be symmetric positive definite");
-  const Mat6 K = ldlt.solve(Mat6::Identity());
-  // End `to` deflects by Δt_to − D·Δt_from relative to the clamped end carried rigidly.
-  const Mat6 D = rigid_transport(to - from);
+Mat6 compliance_link_global_compliance(const ComplianceLink& link, const Vec3& from, const Vec3& to) {
+  if (link.frame == LinkFrame::global) return link.C;
+  const Mat6 R = rotation6(link_axes(from, to, link.zref));
+  return R.transpose() * link.C * R;
+}
+
+Mat12 free_free_stiffness(const Mat6& compliance, const Vec3& d) {
+  const Mat6 K = compliance.ldlt().solve(Mat6::Identity());
+  const Mat6 D = rigid_transport(d);
   Mat12 K12;
   K12.block<6, 6>(0, 0) = D.transpose() * K * D;
   K12.block<6, 6>(0, 6) = -D.transpose() * K;
   K12.block<6, 6>(6, 0) = -K * D;
   K12.block<6, 6>(6, 6) = K;
   return K12;
+}
+
+std::optional<Mat6> clamped_compliance(const Mat12& free_free) {
+  const Mat6 K22 = 0.5 * (free_free.bottomRightCorner<6, 6>() + free_free.bottomRightCorner<6, 6>().transpose());
+  const Eigen::SelfAdjointEigenSolver<Mat6> eigen(K22, Eigen::EigenvaluesOnly);
+  const Vec6& k = eigen.eigenvalues();
+  if (!(k(5) > 0) || !(k(0) > 1e-12 * k(5))) return std::nullopt;
+  return Mat6(K22.llt().solve(Mat6::Identity()));
 }
 
 }  // namespace stiffmsa::detail

@@ -3,6 +3,7 @@
 // supports and the topology all use.
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "stiffmsa/model.hpp"
@@ -30,5 +31,24 @@ std::optional<LinkEndRef> resolve_link_end(const Model& model, const std::string
 
 // Index of the link named `name` in model.links, or -1.
 int link_index(const Model& model, const std::string& name);
+
+// Name lookups of a model built once, for work that would otherwise scan the model per item
+// (large models have 100 000 links). Refers to the model, which must outlive it.
+class ModelIndex {
+ public:
+  explicit ModelIndex(const Model& model);
+  const Point* point(const std::string& name) const;
+  int link(const std::string& name) const;  // −1 when absent
+  // Every link end at `point`, in link order.
+  const std::vector<LinkEndRef>& ends_at(const std::string& point) const;
+  // As resolve_link_end() above.
+  std::optional<LinkEndRef> resolve(const std::string& point, const std::optional<std::string>& link_name,
+                                    std::string& problem) const;
+
+ private:
+  const Model& model_;
+  std::unordered_map<std::string, int> points_, links_;
+  std::unordered_map<std::string, std::vector<LinkEndRef>> ends_;
+};
 
 }  // namespace stiffmsa::detail

@@ -2,7 +2,7 @@
 
 namespace stiffmsa::detail {
 
-void FlexibleLinkBlock::write_equations(Index row, EquationWriter& out) const {
+void StiffnessLinkBlock::write_equations(Index row, EquationWriter& out) const {
   out.add_identity(row, wrench_column(end_i_), 6);
   out.add_identity(row + 6, wrench_column(end_j_), 6);
   const Mat12 minus_k = -stiffness_;
