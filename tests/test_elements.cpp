@@ -1,0 +1,261 @@
+// Each element block on its own: its matrices and its equations, against independent facts
+// (symmetry, rigid-body null spaces, eq. (1) equivalence, spring signs, row counts).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "closed_forms.hpp"
+#include "elements/beam_element.hpp"
+#include "elements/cad_link.hpp"
+#include "elements/connection_blocks.hpp"
+#include "elements/free_directions.hpp"
+#include "elements/link_blocks.hpp"
+
+using namespace stiffmsa;
+using namespace stiffmsa::detail;
+
+namespace {
+
+// Writes a block's equations into a dense matrix over the unknowns of `ends` link ends.
+class DenseWriter final : public EquationWriter {
+ public:
+  DenseWriter(Index rows, int ends) : matrix(MatX::Zero(rows, 12 * ends)) {}
+  void add(Index row, Index column, double value) override { matrix(row, column) += value; }
+  MatX matrix;
+};
+
+MatX equations_of(const ElementBlock& block, int ends) {
+  DenseWriter writer(block.equation_count(), ends);
+  block.write_equations(0, writer);
+  return writer.matrix;
+}
+
+// Unknown vector of `ends` link ends from per-end deflections and wrenches.
+VecX unknowns(const std::vector<Vec6>& deflections, const std::vector<Vec6>& wrenches) {
+  VecX x(12 * static_cast<Index>(deflections.size()));
+  for (std::size_t k = 0; k < deflections.size(); ++k) {
+    x.segment<6>(12 * static_cast<Index>(k)) = deflections[k];
+    x.segment<6>(12 * static_cast<Index>(k) + 6) = wrenches[k];
+  }
+  return x;
+}
+
+// The small rigid motion with translation u at the origin and rotation w, seen at point p.
+Vec6 rigid_motion(const Vec3& u, const Vec3& w, const Vec3& p) {
+  Vec6 t;
+  t << u + w.cross(p), w;
+  return t;
+}
+
+BeamLink sample_beam(bool shear) {
+  BeamLink beam;
+  beam.material = Material{7.0e10, 0.33, std::nullopt};
+  beam.section = Section::rect_tube(0.06, 0.09, 0.004);
+  beam.shear = shear;
+  beam.zref = Vec3(0.1, 0.3, 1.0);
+  return beam;
+}
+
+const Vec3 kFrom(0.2, -0.1, 0.3), kTo(0.9, 0.4, 0.1);
+
+}  // namespace
+
+TEST(BeamElement, LocalStiffnessIsSymmetricWithSixRigidBodyModes) {
+  for (bool shear : {false, true}) {
+    const BeamConstants c = beam_constants(sample_beam(shear), 0.8);
+    const Mat12 k = beam_local_stiffness(c);
+    EXPECT_LT((k - k.transpose()).cwiseAbs().maxCoeff(), 1e-12 * k.cwiseAbs().maxCoeff());
+    const Eigen::SelfAdjointEigenSolver<Mat12> eigen(k);
+    EXPECT_LT(std::abs(eigen.eigenvalues()(5)), 1e-9 * eigen.eigenvalues()(11));
+    EXPECT_GT(eigen.eigenvalues()(6), 1e-9 * eigen.eigenvalues()(11));
+  }
+}
+
+TEST(BeamElement, ClampedComplianceIsTheInverseOfTheTipBlockAndMatchesTextbook) {
+  for (bool shear : {false, true}) {
+    const BeamLink beam = sample_beam(shear);
+    const BeamConstants c = beam_constants(beam, 0.8);
+    const Mat6 from_stiffness = beam_local_stiffness(c).bottomRightCorner<6, 6>().inverse();
+    EXPECT_LT(reference::relative_difference_scaled(beam_local_compliance(c), from_stiffness), 1e-12);
+    const SectionProperties s = section_properties(beam.section);
+    const Mat6 textbook = reference::cantilever_compliance(0.8, c.E, c.G, s.A, s.Iy, s.Iz, s.J,
+                                                           shear ? *s.Asy : 0.0, shear ? *s.Asz : 0.0);
+    EXPECT_LT(reference::relative_difference_scaled(beam_local_compliance(c), textbook), 1e-13);
+  }
+}
+
+TEST(BeamElement, LocalAxesFollowZref) {
+  // Default zref is global Z: a beam along x has local y = Z × x = y, local z = Z.
+  const Mat3 horizontal = link_axes(Vec3::Zero(), Vec3(2, 0, 0), std::nullopt);
+  EXPECT_LT((horizontal - Mat3::Identity()).norm(), 1e-15);
+  // A vertical beam uses global X instead: y = X × Z = −Y, z = x × y = Z × −Y = X.
+  const Mat3 vertical = link_axes(Vec3::Zero(), Vec3(0, 0, 3), std::nullopt);
+  EXPECT_LT((vertical.row(1) - Vec3(0, -1, 0).transpose()).norm(), 1e-15);
+  EXPECT_LT((vertical.row(2) - Vec3(1, 0, 0).transpose()).norm(), 1e-15);
+  EXPECT_THROW(link_axes(Vec3::Zero(), Vec3(1, 0, 0), Vec3(2, 0, 0)), InputError);
+}
+
+TEST(BeamElement, GlobalStiffnessHasTheRigidMotionsOfItsEndsInItsNullSpace) {
+  const Mat12 K = beam_global_stiffness(sample_beam(true), kFrom, kTo);
+  for (int c = 0; c < 6; ++c) {
+    const Vec3 u = c < 3 ? Vec3(Vec3::Unit(c)) : Vec3::Zero();
+    const Vec3 w = c >= 3 ? Vec3(Vec3::Unit(c - 3)) : Vec3::Zero();
+    Eigen::Matrix<double, 12, 1> motion;
+    motion << rigid_motion(u, w, kFrom), rigid_motion(u, w, kTo);
+    EXPECT_LT((K * motion).norm(), 1e-9 * K.norm());
+  }
+  // K22 inverted is the global clamped compliance.
+  const Mat6 C = beam_global_compliance(sample_beam(true), kFrom, kTo);
+  EXPECT_LT(reference::relative_difference_scaled(*clamped_compliance(K), C), 1e-11);
+}
+
+TEST(CadLink, FreeFreeStiffnessFromComplianceRoundTrips) {
+  const Mat6 C = beam_global_compliance(sample_beam(false), kFrom, kTo);
+  const Mat12 K = free_free_stiffness(C, kTo - kFrom);
+  EXPECT_LT(reference::relative_difference(K, beam_global_stiffness(sample_beam(false), kFrom, kTo)), 1e-10);
+  EXPECT_LT(reference::relative_difference_scaled(*clamped_compliance(K), C), 1e-11);
+  // A matrix whose clamped block is singular has no compliance.
+  Mat12 bar = Mat12::Zero();
+  bar(0, 0) = bar(6, 6) = 1e8;
+  bar(0, 6) = bar(6, 0) = -1e8;
+  EXPECT_FALSE(clamped_compliance(bar).has_value());
+}
+
+TEST(CadLink, LocalFrameComplianceIsRotatedIntoGlobalAxes) {
+  ComplianceLink link;
+  link.C = beam_local_compliance(beam_constants(sample_beam(false), (kTo - kFrom).norm()));
+  link.frame = LinkFrame::local;
+  link.zref = sample_beam(false).zref;
+  EXPECT_LT(reference::relative_difference_scaled(compliance_link_global_compliance(link, kFrom, kTo),
+                                                  beam_global_compliance(sample_beam(false), kFrom, kTo)), 1e-13);
+}
+
+// The compliance form of a flexible link holds exactly where eq. (1) holds.
+TEST(LinkBlock, FlexibleEquationsAreSatisfiedByEveryStateOfEquationOne) {
+  const Vec3 d = kTo - kFrom;
+  const Mat6 C = beam_global_compliance(sample_beam(true), kFrom, kTo);
+  const Mat12 K = free_free_stiffness(C, d);
+  const LinkBlock block(0, 1, d, C);
+  const MatX A = equations_of(block, 2);
+  ASSERT_EQ(A.rows(), 12);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::Matrix<double, 12, 1> deflection = Eigen::Matrix<double, 12, 1>::Random() * 1e-4;
+    const Eigen::Matrix<double, 12, 1> wrench = K * deflection;  // eq. (1)
+    const VecX x = unknowns({deflection.head<6>(), deflection.tail<6>()}, {wrench.head<6>(), wrench.tail<6>()});
+    EXPECT_LT((A * x).norm(), 1e-10 * wrench.norm());
+  }
+  // And the 12 rows are independent: the link leaves 12 of its 24 unknowns free.
+  Eigen::FullPivLU<MatX> lu(A);
+  EXPECT_EQ(lu.rank(), 12);
+}
+
+TEST(LinkBlock, RigidLinkCarriesRigidMotionsAndBalancedWrenches) {
+  const Vec3 d = kTo - kFrom;
+  const LinkBlock block(0, 1, d, std::nullopt);
+  const MatX A = equations_of(block, 2);
+  const Vec3 u(1e-3, -2e-3, 5e-4), w(3e-3, 1e-3, -2e-3);
+  Vec6 tip_wrench;
+  tip_wrench << 10, -4, 7, 1.5, -2, 0.5;
+  // The wrench at i that balances W_j on a rigid body: W_i = −Dᵀ W_j (moments about each end).
+  Vec6 root_wrench;
+  root_wrench << -tip_wrench.head<3>(), -tip_wrench.tail<3>() - d.cross(tip_wrench.head<3>());
+  const VecX x = unknowns({rigid_motion(u, w, kFrom), rigid_motion(u, w, kTo)}, {root_wrench, tip_wrench});
+  EXPECT_LT((A * x).norm(), 1e-13);
+}
+
+TEST(StiffnessLinkBlock, WritesEquationOneAsPrinted) {
+  const Mat12 K = beam_global_stiffness(sample_beam(false), kFrom, kTo);
+  const MatX A = equations_of(StiffnessLinkBlock(0, 1, K), 2);
+  const Eigen::Matrix<double, 12, 1> deflection = Eigen::Matrix<double, 12, 1>::Random() * 1e-4;
+  const Eigen::Matrix<double, 12, 1> wrench = K * deflection;
+  const VecX x = unknowns({deflection.head<6>(), deflection.tail<6>()}, {wrench.head<6>(), wrench.tail<6>()});
+  EXPECT_LT((A * x).norm(), 1e-12 * wrench.norm());
+}
+
+TEST(FreeDirections, RowsFollowTheDocumentedOrderAndTheComplementIsOrthonormal) {
+  const FreeDirections cylindrical = free_directions(Kinematics::cylindrical(Vec3(0, 0, 2)));
+  ASSERT_EQ(cylindrical.free.rows(), 2);
+  EXPECT_EQ(Vec6(cylindrical.free.row(0).transpose()), (Vec6() << 0, 0, 1, 0, 0, 0).finished());
+  EXPECT_EQ(Vec6(cylindrical.free.row(1).transpose()), (Vec6() << 0, 0, 0, 0, 0, 1).finished());
+
+  // Planar with normal z: g = x (first on a tie), t1 = z × x = y, t2 = z × y = −x.
+  const FreeDirections planar = free_directions(Kinematics::planar(Vec3(0, 0, 5)));
+  EXPECT_LT((planar.free.row(0).transpose() - (Vec6() << 0, 1, 0, 0, 0, 0).finished()).norm(), 1e-15);
+  EXPECT_LT((planar.free.row(1).transpose() - (Vec6() << -1, 0, 0, 0, 0, 0).finished()).norm(), 1e-15);
+  EXPECT_LT((planar.free.row(2).transpose() - (Vec6() << 0, 0, 0, 0, 0, 1).finished()).norm(), 1e-15);
+
+  for (const Kinematics& k : {Kinematics::rigid(), Kinematics::revolute(Vec3(1, 2, 3)), Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)),
+                              Kinematics::spherical(), Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()})}) {
+    const FreeDirections d = free_directions(k);
+    EXPECT_EQ(d.free.rows() + d.constrained.rows(), 6);
+    EXPECT_LT((d.constrained * d.constrained.transpose() - MatX::Identity(d.constrained.rows(), d.constrained.rows())).norm(), 1e-14);
+    if (d.free.rows() > 0) EXPECT_LT((d.constrained * d.free.transpose()).norm(), 1e-14);
+  }
+  EXPECT_THROW(free_directions(Kinematics::revolute(Vec3::Zero())), InputError);
+  EXPECT_THROW(free_directions(Kinematics::custom({Vec6::Ones(), 2 * Vec6::Ones()})), InputError);
+}
+
+TEST(ConstraintJoint, PassiveRevoluteLetsOnlyTheAxisTurnAndPassesNoTorqueAlongIt) {
+  const Vec3 axis = Vec3(1, 1, 0).normalized();
+  const ConstraintJointBlock block({0, 1, 2}, free_directions(Kinematics::revolute(axis)), std::nullopt);
+  EXPECT_EQ(block.equation_count(), 18);
+  const MatX A = equations_of(block, 3);
+  const Vec6 common = (Vec6() << 1e-3, 2e-3, 0, 0, 1e-3, 0).finished();
+  Vec6 turn = common;
+  turn.tail<3>() += 4e-3 * axis;
+  // Wrenches free of moment along the axis and summing to zero.
+  Vec6 w1 = (Vec6() << 5, 0, 1, axis.y(), -axis.x(), 2).finished();
+  Vec6 w2 = (Vec6() << -2, 3, 0, 0, 0, -1).finished();
+  w2.tail<3>() -= axis.dot(w2.tail<3>()) * axis;
+  w1.tail<3>() -= axis.dot(w1.tail<3>()) * axis;
+  const Vec6 w3 = -w1 - w2;
+  EXPECT_LT((A * unknowns({common, turn, common}, {w1, w2, w3})).norm(), 1e-13);
+  // Turning about another axis breaks compatibility; a torque along the axis breaks passivity.
+  Vec6 bent = common;
+  bent(3) += 1e-3;
+  EXPECT_GT((A * unknowns({common, bent, common}, {w1, w2, w3})).norm(), 1e-4);
+  Vec6 torqued = w1;
+  torqued.tail<3>() += axis;
+  EXPECT_GT((A * unknowns({common, turn, common}, {torqued, w2, -torqued - w2})).norm(), 0.5);
+}
+
+TEST(ElasticJoint, SpringPullsTheFirstEndTowardTheSecond) {
+  const double k = 3e4;
+  const ElasticJointBlock block(0, 1, free_directions(Kinematics::prismatic(Vec3::UnitX())), MatX::Constant(1, 1, k), std::nullopt);
+  const MatX A = equations_of(block, 2);
+  // End 2 moved +q along x relative to end 1: the joint pushes end 1 by +k·q and end 2 by −k·q.
+  const double q = 2e-4;
+  const Vec6 t1 = Vec6::Zero(), t2 = (Vec6() << q, 0, 0, 0, 0, 0).finished();
+  const Vec6 w1 = (Vec6() << k * q, 0, 0, 0, 0, 0).finished();
+  EXPECT_LT((A * unknowns({t1, t2}, {w1, -w1})).norm(), 1e-12);
+  EXPECT_GT((A * unknowns({t1, t2}, {-w1, w1})).norm(), 1.0);
+}
+
+TEST(Support, ElasticSupportResistsWithMinusKQ) {
+  const double k = 800;
+  const SupportBlock block({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())), MatX::Constant(1, 1, k), std::nullopt);
+  EXPECT_EQ(block.equation_count(), 6);
+  const MatX A = equations_of(block, 1);
+  const Vec6 t = (Vec6() << 0, 0, 0, 0, 0, 0.01).finished();
+  const Vec6 ground_wrench = (Vec6() << 3, -2, 1, 4, 5, -k * 0.01).finished();
+  EXPECT_LT((A * unknowns({t}, {ground_wrench})).norm(), 1e-12);
+}
+
+TEST(Support, SeveralEndsAreJoinedRigidlyFirst) {
+  const SupportBlock block({0, 1, 2}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt);
+  EXPECT_EQ(block.equation_count(), 18);
+  const MatX A = equations_of(block, 3);
+  Eigen::FullPivLU<MatX> lu(A);
+  EXPECT_EQ(lu.rank(), 18);
+  // Every deflection zero, any wrenches: satisfied.
+  EXPECT_LT((A * unknowns({Vec6::Zero(), Vec6::Zero(), Vec6::Zero()}, {Vec6::Ones(), -Vec6::Ones(), Vec6::Constant(7)})).norm(), 1e-15);
+}
+
+TEST(FreeEnd, WrenchEqualsTheLoad) {
+  const FreeEndBlock block(0);
+  const MatX A = equations_of(block, 1);
+  VecX rhs = VecX::Zero(6);
+  const Vec6 load = (Vec6() << 1, 2, 3, 4, 5, 6).finished();
+  block.add_external_wrench(0, 0, load, rhs);
+  EXPECT_LT((A * unknowns({Vec6::Random()}, {load}) - rhs).norm(), 1e-15);
+}
