@@ -1,1 +1,1019 @@
-// placeholder until written
+// Model files (model-format.md) read with yaml-cpp; JSON is read by the same parser, since YAML
+// is a superset of it. The loader checks what only the file shows (syntax, keys, types, sizes)
+// and leaves every check that an API-built model needs too to find_defects().
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include "model/suggest.hpp"
+#include "model/value_checks.hpp"
+#include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/validate.hpp"
+
+namespace stiffmsa {
+namespace {
+
+using KeyList = std::vector<std::string>;
+
+constexpr const char* kFormat = "stiffmsa/1";
+
+const KeyList kTopKeys{"format", "name",   "materials", "sections", "points",
+                       "links",  "joints", "supports",  "loads",    "end_effectors"};
+const KeyList kMaterialKeys{"E", "nu", "G"};
+const KeyList kSectionKeys{"shape", "D", "t", "b", "h", "A", "Iy", "Iz", "J", "Asy", "Asz"};
+const KeyList kLinkTypes{"beam", "rigid", "matrix", "compliance"};
+const KeyList kLinkKeys{"type",  "from", "to", "material", "section",
+                        "shear", "zref", "K",  "C",        "frame"};
+const KeyList kFrames{"global", "local"};
+const KeyList kSpringKeys{"stiffness", "preload", "actuated"};
+const KeyList kLoadKeys{"at", "link", "wrench"};
+const KeyList kEndEffectorKeys{"at", "link"};
+
+KeyList operator+(KeyList a, const KeyList& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+bool contains(const KeyList& list, const std::string& key) {
+  return std::find(list.begin(), list.end(), key) != list.end();
+}
+
+KeyList link_keys(const std::string& type) {
+  const KeyList common{"type", "from", "to"};
+  if (type == "beam") return common + KeyList{"material", "section", "shear", "zref"};
+  if (type == "matrix") return common + KeyList{"K", "frame", "zref"};
+  if (type == "compliance") return common + KeyList{"C", "frame", "zref"};
+  return common;
+}
+
+// The keys that give a joint type its free directions.
+KeyList parameter_keys(JointType type) {
+  switch (type) {
+    case JointType::revolute:
+    case JointType::prismatic:
+    case JointType::cylindrical:
+      return {"axis"};
+    case JointType::universal:
+      return {"axes"};
+    case JointType::planar:
+      return {"normal"};
+    case JointType::custom:
+      return {"free"};
+    case JointType::rigid:
+    case JointType::spherical:
+      return {};
+  }
+  return {};
+}
+
+KeyList joint_type_names() {
+  KeyList names;
+  for (auto t :
+       {JointType::rigid, JointType::revolute, JointType::prismatic, JointType::cylindrical,
+        JointType::universal, JointType::spherical, JointType::planar, JointType::custom})
+    names.push_back(to_string(t));
+  return names;
+}
+
+KeyList section_shape_names() {
+  KeyList names;
+  for (auto s : {SectionShape::circle, SectionShape::tube, SectionShape::rect,
+                 SectionShape::rect_tube, SectionShape::generic})
+    names.push_back(to_string(s));
+  return names;
+}
+
+// yaml-cpp marks are 0-based, and -1 where a node has no place in the text.
+SourceLocation location_in(const std::string& file, const YAML::Mark& mark) {
+  if (mark.line < 0) return {file, 0, 0};
+  return {file, mark.line + 1, mark.column + 1};
+}
+
+std::string describe(const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a mapping";
+    case YAML::NodeType::Scalar:
+      return (node.Tag() == "!" ? "the quoted text '" : "'") + node.Scalar() + "'";
+    default:
+      return "nothing";
+  }
+}
+
+// A value in the file with what a message about it needs: its key path and where it is.
+struct Value {
+  YAML::Node node;
+  std::string path;
+  SourceLocation at;
+};
+
+// One `key: value` of a mapping.
+struct Entry {
+  std::string key;
+  SourceLocation key_at;
+  Value value;
+};
+
+const Entry* find(const std::vector<Entry>& entries, const std::string& key) {
+  for (const auto& e : entries)
+    if (e.key == key) return &e;
+  return nullptr;
+}
+
+// A key path that validation sees but the file spells differently: a support's single `link`
+// is "supports.S1.links[0]" in the model.
+struct PathAlias {
+  std::string model_path;
+  std::string file_path;
+};
+
+// A material or section defined by name, for beams to refer to.
+template <class T>
+struct Definition {
+  T value;
+  Origin origin;  // location of the name, key_locations per key
+};
+
+class Loader {
+ public:
+  explicit Loader(std::string file) : file_(std::move(file)) {}
+
+  Model read(const YAML::Node& root);
+
+  // Adds find_defects()'s diagnostics to the loader's own, leaving out those about values the
+  // loader already found wrong or could not read, and returns them all in file order.
+  std::vector<Diagnostic> merge(std::vector<Diagnostic> defects);
+
+ private:
+  // ---- reporting -------------------------------------------------------------------------
+
+  void fail(const SourceLocation& at, const std::string& path, std::string message) {
+    diagnostics_.push_back({at, path, std::move(message)});
+  }
+  // A value that could not be read: the model holds a default in its place.
+  void fail(const Value& v, std::string message) {
+    fail(v.at, v.path, std::move(message));
+    spoil(v.path);
+  }
+
+  // Marks a part of the model that holds defaults in place of what the file could not give,
+  // so validation's findings about those defaults are not reported.
+  void spoil(const std::string& path) { spoiled_.insert(path); }
+
+  SourceLocation where(const YAML::Node& node) const { return location_in(file_, node.Mark()); }
+
+  Value item(const Value& list, std::size_t i) const {
+    const YAML::Node node = list.node[i];
+    return {node, list.path + "[" + std::to_string(i) + "]", where(node)};
+  }
+
+  // ---- mappings and keys -----------------------------------------------------------------
+
+  std::optional<std::vector<Entry>> mapping(const Value& v, bool notes_allowed);
+  std::vector<Entry> fixed_mapping(const Value& v);
+  std::vector<Entry> named_mapping(const Entry& top);
+  void check_keys(const std::vector<Entry>& entries, const std::string& path, const KeyList& valid,
+                  const KeyList& known, const std::string& what);
+  const Entry* required(const std::vector<Entry>& entries, const Value& owner,
+                        const std::string& key);
+  static void record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix);
+  void record_items(Origin& origin, const std::string& key, const Value& list) const;
+
+  // ---- scalars, vectors and matrices -----------------------------------------------------
+
+  std::optional<double> number(const Value& v);
+  double given_number(const Value& v);
+  std::optional<bool> boolean(const Value& v);
+  std::optional<std::string> text(const Value& v);
+  std::optional<std::string> choice(const Value& v, const KeyList& choices,
+                                    const std::string& what);
+  std::optional<VecX> list(const Value& v);
+  std::optional<MatX> matrix(const Value& v);
+  std::optional<VecX> vector(const Value& v, int n, const std::string& shape);
+  template <int N>
+  std::optional<Eigen::Matrix<double, N, 1>> fixed_vector(const Value& v, const std::string& shape);
+  template <int N>
+  std::optional<std::vector<Eigen::Matrix<double, N, 1>>> vector_list(const Entry& entry,
+                                                                      Origin& origin,
+                                                                      const std::string& shape);
+  template <int N>
+  std::optional<Eigen::Matrix<double, N, N>> square_matrix(const Value& v);
+
+  // Checks the values of every named material and section once, where it is defined, used or
+  // not; the beams that use one are not checked again.
+  void check_definitions();
+
+  // ---- model parts -----------------------------------------------------------------------
+
+  void read_format(const std::vector<Entry>& top, const Value& root);
+  void read_name(const std::vector<Entry>& top);
+  void read_materials(const Entry& section);
+  void read_sections(const Entry& section);
+  void read_points(const Entry& section);
+  void read_links(const Entry& section);
+  void read_joints(const Entry& section);
+  void read_supports(const Entry& section);
+  void read_loads(const Entry& section);
+  void read_end_effectors(const Entry& section);
+
+  Material read_material(const Value& v, Origin& origin, const std::string& prefix);
+  Section read_section(const Value& v, Origin& origin, const std::string& prefix);
+  Link read_link(const Entry& named);
+  LinkKind read_link_kind(const std::string& type, const std::vector<Entry>& e, const Value& v,
+                          Link& link);
+  BeamLink read_beam(const std::vector<Entry>& e, const Value& v, Link& link);
+  template <class Kind>
+  void read_frame(const std::vector<Entry>& e, Kind& kind);
+  template <class T>
+  using ReadInline = T (Loader::*)(const Value&, Origin&, const std::string&);
+  template <class T>
+  T named_or_inline(const Entry& entry, const std::map<std::string, Definition<T>>& named,
+                    const std::string& plural, Link& link, ReadInline<T> read_inline);
+
+  struct Site {
+    std::string at;
+    std::vector<std::string> links;
+    Connection connection;
+    Origin origin;
+  };
+  Site read_site(const Entry& named, bool is_support);
+  std::optional<JointType> read_site_type(const std::vector<Entry>& e, const Value& v,
+                                          const std::string& noun, bool is_support);
+  std::vector<std::string> read_site_links(const std::vector<Entry>& e, const Value& v,
+                                           bool is_support, Origin& origin);
+  std::optional<Kinematics> read_kinematics(JointType type, const std::vector<Entry>& e,
+                                            const Value& owner, Origin& origin);
+  void read_springs(const std::vector<Entry>& e, int p, const std::string& what, Connection& c);
+  std::optional<MatX> read_stiffness(const Value& v, int p, const std::string& what);
+  std::optional<VecX> read_preload(const Value& v, int p, const std::string& what);
+  std::vector<std::string> read_link_names(const Entry& entry, Origin& origin);
+  void read_link_end(const std::vector<Entry>& e, const Value& v, std::string& at,
+                     std::optional<std::string>& link);
+
+  std::string file_;
+  Model model_;
+  std::vector<Diagnostic> diagnostics_;
+  std::set<std::string> spoiled_;
+  std::map<std::string, Definition<Material>> materials_;
+  std::map<std::string, Definition<Section>> sections_;
+  std::vector<PathAlias> aliases_;
+  std::vector<Diagnostic> definition_defects_;
+};
+
+// ---- mappings and keys -------------------------------------------------------------------
+
+std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_allowed) {
+  if (!v.node.IsMap()) {
+    fail(v, "expected a mapping of key: value, got " + describe(v.node));
+    return std::nullopt;
+  }
+  std::vector<Entry> entries;
+  for (auto it = v.node.begin(); it != v.node.end(); ++it) {
+    const YAML::Node key = it->first;
+    const SourceLocation key_at = where(key);
+    if (!key.IsScalar() || key.Scalar().empty()) {
+      fail(key_at, v.path, "a key must be a non-empty name, got " + describe(key));
+      continue;
+    }
+    const std::string name = key.Scalar();
+    const std::string path = v.path.empty() ? name : v.path + "." + name;
+    if (const Entry* first = find(entries, name)) {
+      fail(key_at, path,
+           "duplicate key '" + name + "' (first given at line " +
+               std::to_string(first->key_at.line) + "); give each key once");
+      continue;
+    }
+    if (notes_allowed && name.rfind("x-", 0) == 0) continue;
+    const YAML::Node value = it->second;
+    // A key with nothing after it has a value placed on the following line; the key is where
+    // the user looks.
+    entries.push_back({name, key_at, {value, path, value.IsNull() ? key_at : where(value)}});
+  }
+  return entries;
+}
+
+// A mapping whose keys the format fixes: `x-` keys are the user's notes.
+std::vector<Entry> Loader::fixed_mapping(const Value& v) {
+  return mapping(v, true).value_or(std::vector<Entry>{});
+}
+
+// A top-level mapping of user-chosen names (points, links, ...); left out or empty is none.
+std::vector<Entry> Loader::named_mapping(const Entry& top) {
+  if (top.value.node.IsNull()) return {};
+  return mapping(top.value, false).value_or(std::vector<Entry>{});
+}
+
+void Loader::check_keys(const std::vector<Entry>& entries, const std::string& path,
+                        const KeyList& valid, const KeyList& known, const std::string& what) {
+  for (const auto& e : entries) {
+    if (contains(valid, e.key)) continue;
+    const std::string key_path = path.empty() ? e.key : path + "." + e.key;
+    if (contains(known, e.key))
+      fail(e.key_at, key_path,
+           "key '" + e.key + "' does not apply to " + what +
+               "; valid keys are: " + detail::comma_list(valid));
+    else
+      fail(e.key_at, key_path,
+           "unknown key '" + e.key + "'" + detail::suggestion(e.key, valid, "valid keys are"));
+  }
+}
+
+const Entry* Loader::required(const std::vector<Entry>& entries, const Value& owner,
+                              const std::string& key) {
+  if (const Entry* e = find(entries, key)) return e;
+  const std::string path = owner.path.empty() ? key : owner.path + "." + key;
+  fail(owner.at, path, "missing key '" + key + "'");
+  spoil(path);
+  return nullptr;
+}
+
+void Loader::record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix) {
+  for (const auto& e : entries) origin.key_locations[prefix + e.key] = e.key_at;
+}
+
+void Loader::record_items(Origin& origin, const std::string& key, const Value& list) const {
+  if (!list.node.IsSequence()) return;
+  for (std::size_t i = 0; i < list.node.size(); ++i)
+    origin.key_locations[key + "[" + std::to_string(i) + "]"] = item(list, i).at;
+}
+
+// ---- scalars, vectors and matrices -------------------------------------------------------
+
+std::optional<double> Loader::number(const Value& v) {
+  // A quoted "2e11" is text: accepting it would hide a value meant as something else.
+  if (!v.node.IsScalar() || v.node.Tag() == "!") {
+    fail(v, "expected a number, got " + describe(v.node));
+    return std::nullopt;
+  }
+  const std::string& text = v.node.Scalar();
+  const char* begin = text.data() + (text.rfind('+', 0) == 0 ? 1 : 0);
+  const char* end = text.data() + text.size();
+  double value = 0;
+  const auto [stop, error] = std::from_chars(begin, end, value);
+  // YAML spells them .nan and .inf; from_chars reads nan and inf.
+  const bool yaml_special =
+      text.find(".nan") != std::string::npos || text.find(".NaN") != std::string::npos ||
+      text.find(".NAN") != std::string::npos || text.find(".inf") != std::string::npos ||
+      text.find(".Inf") != std::string::npos || text.find(".INF") != std::string::npos;
+  if (yaml_special || (error == std::errc() && stop == end && !std::isfinite(value))) {
+    fail(v, "expected a finite number, got '" + text + "'");
+    return std::nullopt;
+  }
+  if (error == std::errc::result_out_of_range) {
+    fail(v, "the number '" + text + "' is out of range");
+    return std::nullopt;
+  }
+  if (error != std::errc() || stop != end) {
+    fail(v, "expected a number, got " + describe(v.node));
+    return std::nullopt;
+  }
+  return value;
+}
+
+// A number whose key is given: NaN where it cannot be read, so that the model shows the key
+// was there (an unreadable nu is still "nu given", not "neither nu nor G").
+double Loader::given_number(const Value& v) {
+  return number(v).value_or(std::numeric_limits<double>::quiet_NaN());
+}
+
+std::optional<bool> Loader::boolean(const Value& v) {
+  if (v.node.IsScalar() && v.node.Tag() != "!") {
+    const std::string& s = v.node.Scalar();
+    if (s == "true" || s == "True" || s == "TRUE") return true;
+    if (s == "false" || s == "False" || s == "FALSE") return false;
+  }
+  fail(v, "expected true or false, got " + describe(v.node));
+  return std::nullopt;
+}
+
+std::optional<std::string> Loader::text(const Value& v) {
+  if (v.node.IsScalar() && !v.node.Scalar().empty()) return v.node.Scalar();
+  fail(v, "expected a name, got " + describe(v.node));
+  return std::nullopt;
+}
+
+std::optional<std::string> Loader::choice(const Value& v, const KeyList& choices,
+                                          const std::string& what) {
+  const auto chosen = text(v);
+  if (!chosen) return std::nullopt;
+  if (contains(choices, *chosen)) return chosen;
+  fail(v, "unknown " + what + " '" + *chosen + "'" +
+              detail::suggestion(*chosen, choices, "valid values are"));
+  return std::nullopt;
+}
+
+// A list of numbers of any length; every bad entry is reported.
+std::optional<VecX> Loader::list(const Value& v) {
+  if (!v.node.IsSequence()) {
+    fail(v, "expected a list of numbers, got " + describe(v.node));
+    return std::nullopt;
+  }
+  VecX values(static_cast<Eigen::Index>(v.node.size()));
+  bool all_read = true;
+  for (std::size_t i = 0; i < v.node.size(); ++i) {
+    const auto x = number(item(v, i));
+    if (x) values(static_cast<Eigen::Index>(i)) = *x;
+    all_read = all_read && x.has_value();
+  }
+  if (!all_read) {
+    spoil(v.path);
+    return std::nullopt;
+  }
+  return values;
+}
+
+// A list of rows of numbers, all of one length.
+std::optional<MatX> Loader::matrix(const Value& v) {
+  if (!v.node.IsSequence() || v.node.size() == 0 || !v.node[0].IsSequence()) {
+    fail(v, "expected a matrix (a list of rows, each a list of numbers), got " + describe(v.node));
+    return std::nullopt;
+  }
+  const auto rows = static_cast<Eigen::Index>(v.node.size());
+  const auto cols = static_cast<Eigen::Index>(v.node[0].size());
+  MatX m(rows, cols);
+  bool all_read = true;
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const Value row_value = item(v, static_cast<std::size_t>(i));
+    const auto row = list(row_value);
+    if (row && row->size() != cols) {
+      fail(row_value, "row " + std::to_string(i) + " has " + std::to_string(row->size()) +
+                          " values, row 0 has " + std::to_string(cols));
+      all_read = false;
+    } else if (row) {
+      m.row(i) = row->transpose();
+    }
+    all_read = all_read && row.has_value();
+  }
+  if (!all_read) {
+    spoil(v.path);
+    return std::nullopt;
+  }
+  return m;
+}
+
+// `shape` says in a message what the n values are, e.g. "[x, y, z]".
+std::optional<VecX> Loader::vector(const Value& v, int n, const std::string& shape) {
+  if (!v.node.IsSequence()) {
+    fail(v, "expected a list of " + std::to_string(n) + " numbers " + shape + ", got " +
+                describe(v.node));
+    return std::nullopt;
+  }
+  if (v.node.size() != static_cast<std::size_t>(n)) {
+    fail(v, "expected " + std::to_string(n) + " numbers " + shape + ", got " +
+                std::to_string(v.node.size()));
+    list(v);  // its entries may be wrong too
+    return std::nullopt;
+  }
+  return list(v);
+}
+
+template <int N>
+std::optional<Eigen::Matrix<double, N, 1>> Loader::fixed_vector(const Value& v,
+                                                                const std::string& shape) {
+  if (auto values = vector(v, N, shape)) return Eigen::Matrix<double, N, 1>(*values);
+  return std::nullopt;
+}
+
+// A list of N-vectors, such as a universal joint's axes; the origin gets each one's location
+// under the list's key.
+template <int N>
+std::optional<std::vector<Eigen::Matrix<double, N, 1>>> Loader::vector_list(
+    const Entry& entry, Origin& origin, const std::string& shape) {
+  const Value& v = entry.value;
+  if (!v.node.IsSequence()) {
+    fail(v, "expected a list of vectors " + shape + ", got " + describe(v.node));
+    return std::nullopt;
+  }
+  record_items(origin, entry.key, v);
+  std::vector<Eigen::Matrix<double, N, 1>> vectors;
+  for (std::size_t i = 0; i < v.node.size(); ++i)
+    if (auto x = fixed_vector<N>(item(v, i), shape)) vectors.push_back(*x);
+  if (vectors.size() != v.node.size()) return std::nullopt;
+  return vectors;
+}
+
+template <int N>
+std::optional<Eigen::Matrix<double, N, N>> Loader::square_matrix(const Value& v) {
+  auto m = matrix(v);
+  if (!m) return std::nullopt;
+  if (m->rows() != N || m->cols() != N) {
+    fail(v, "expected a " + std::to_string(N) + "×" + std::to_string(N) + " matrix, got " +
+                std::to_string(m->rows()) + "×" + std::to_string(m->cols()));
+    return std::nullopt;
+  }
+  return Eigen::Matrix<double, N, N>(*m);
+}
+
+// ---- the model ---------------------------------------------------------------------------
+
+Model Loader::read(const YAML::Node& root) {
+  model_.source_file = file_;
+  const Value whole{root, "", where(root)};
+  if (!root.IsMap()) {
+    const std::string start =
+        std::string("a model file is a mapping that starts with `format: ") + kFormat + "`";
+    if (root.IsNull())
+      fail({file_, 1, 1}, "", "the file is empty; " + start);
+    else
+      fail(whole, start + "; got " + describe(root));
+    spoil("");
+    return std::move(model_);
+  }
+  const auto top = fixed_mapping(whole);
+  check_keys(top, "", kTopKeys, {}, "a model");
+  read_format(top, whole);
+  read_name(top);
+  // Materials and sections first: links refer to them wherever they stand in the file.
+  using Part = void (Loader::*)(const Entry&);
+  const std::pair<const char*, Part> parts[] = {
+      {"materials", &Loader::read_materials}, {"sections", &Loader::read_sections},
+      {"points", &Loader::read_points},       {"links", &Loader::read_links},
+      {"joints", &Loader::read_joints},       {"supports", &Loader::read_supports},
+      {"loads", &Loader::read_loads},         {"end_effectors", &Loader::read_end_effectors}};
+  for (const auto& [key, read_part] : parts)
+    if (const Entry* e = find(top, key)) (this->*read_part)(*e);
+  check_definitions();
+  return std::move(model_);
+}
+
+void Loader::read_format(const std::vector<Entry>& top, const Value& root) {
+  const Entry* e = find(top, "format");
+  if (!e) {
+    fail(root.at, "format",
+         std::string("missing key 'format'; a model file declares `format: ") + kFormat + "`");
+    return;
+  }
+  const auto format = text(e->value);
+  if (format && *format != kFormat)
+    fail(e->value,
+         "unsupported format '" + *format + "'; this version reads `format: " + kFormat + "`");
+}
+
+void Loader::read_name(const std::vector<Entry>& top) {
+  if (const Entry* e = find(top, "name")) {
+    if (auto name = text(e->value)) model_.name = *name;
+    return;
+  }
+  const std::string stem = std::filesystem::path(file_).stem().string();
+  if (!stem.empty()) model_.name = stem;
+}
+
+// ---- materials and sections --------------------------------------------------------------
+
+Material Loader::read_material(const Value& v, Origin& origin, const std::string& prefix) {
+  Material m;
+  const auto e = fixed_mapping(v);
+  check_keys(e, v.path, kMaterialKeys, {}, "a material");
+  record(origin, e, prefix);
+  if (const Entry* E = required(e, v, "E")) m.E = given_number(E->value);
+  if (const Entry* nu = find(e, "nu")) m.nu = given_number(nu->value);
+  if (const Entry* G = find(e, "G")) m.G = given_number(G->value);
+  return m;
+}
+
+Section Loader::read_section(const Value& v, Origin& origin, const std::string& prefix) {
+  Section s;
+  const auto e = fixed_mapping(v);
+  record(origin, e, prefix);
+  if (const Entry* shape = find(e, "shape")) {
+    const auto name = choice(shape->value, section_shape_names(), "section shape");
+    if (!name) {
+      // Which dimensions belong here is unknown, so only unknown keys can be told.
+      check_keys(e, v.path, kSectionKeys, {}, "a section");
+      spoil(v.path);
+      return s;
+    }
+    s.shape = *section_shape_from_string(*name);
+  }
+  KeyList valid{"shape"};
+  for (const auto& dimension : detail::section_dimensions(s.shape)) valid.push_back(dimension.key);
+  valid = valid + KeyList{"Asy", "Asz"};
+  check_keys(e, v.path, valid, kSectionKeys, std::string("a ") + to_string(s.shape) + " section");
+  for (const auto& dimension : detail::section_dimensions(s.shape))
+    if (const Entry* d = required(e, v, dimension.key)) s.*dimension.value = given_number(d->value);
+  if (const Entry* a = find(e, "Asy")) s.Asy = given_number(a->value);
+  if (const Entry* a = find(e, "Asz")) s.Asz = given_number(a->value);
+  return s;
+}
+
+void Loader::read_materials(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    Definition<Material> material;
+    material.origin.location = named.key_at;
+    material.value = read_material(named.value, material.origin, "");
+    materials_.emplace(named.key, std::move(material));
+  }
+}
+
+void Loader::read_sections(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    Definition<Section> s;
+    s.origin.location = named.key_at;
+    s.value = read_section(named.value, s.origin, "");
+    sections_.emplace(named.key, std::move(s));
+  }
+}
+
+// ---- points and links --------------------------------------------------------------------
+
+void Loader::read_points(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    const auto position = fixed_vector<3>(named.value, "[x, y, z]");
+    // An unreadable position is left undefined so that validation measures nothing from it.
+    model_.points.push_back(
+        {named.key, position.value_or(Vec3::Constant(std::numeric_limits<double>::quiet_NaN())),
+         Origin{named.key_at, {}}});
+  }
+}
+
+void Loader::read_links(const Entry& section) {
+  for (const auto& named : named_mapping(section)) model_.links.push_back(read_link(named));
+}
+
+Link Loader::read_link(const Entry& named) {
+  Link link;
+  link.name = named.key;
+  link.kind = RigidLink{};  // stands in when the type cannot be read
+  link.origin.location = named.key_at;
+  const Value& v = named.value;
+  const auto e = fixed_mapping(v);
+  record(link.origin, e, "");
+  if (!v.node.IsMap()) return link;
+  std::optional<std::string> type;
+  if (const Entry* t = required(e, v, "type")) type = choice(t->value, kLinkTypes, "link type");
+  check_keys(e, v.path, type ? link_keys(*type) : kLinkKeys, kLinkKeys,
+             type ? "a " + *type + " link" : "a link");
+  if (const Entry* from = required(e, v, "from")) link.from = text(from->value).value_or("");
+  if (const Entry* to = required(e, v, "to")) link.to = text(to->value).value_or("");
+  if (type) link.kind = read_link_kind(*type, e, v, link);
+  return link;
+}
+
+LinkKind Loader::read_link_kind(const std::string& type, const std::vector<Entry>& e,
+                                const Value& v, Link& link) {
+  if (type == "beam") return read_beam(e, v, link);
+  if (type == "matrix") {
+    MatrixLink m;
+    if (const Entry* K = required(e, v, "K")) m.K = square_matrix<12>(K->value).value_or(m.K);
+    read_frame(e, m);
+    return m;
+  }
+  if (type == "compliance") {
+    ComplianceLink c;
+    if (const Entry* C = required(e, v, "C")) c.C = square_matrix<6>(C->value).value_or(c.C);
+    read_frame(e, c);
+    return c;
+  }
+  return RigidLink{};
+}
+
+// `frame` and `zref` of a matrix or compliance link.
+template <class Kind>
+void Loader::read_frame(const std::vector<Entry>& e, Kind& kind) {
+  if (const Entry* f = find(e, "frame"))
+    if (auto frame = choice(f->value, kFrames, "frame"))
+      kind.frame = *frame == "local" ? LinkFrame::local : LinkFrame::global;
+  if (const Entry* z = find(e, "zref")) {
+    if (kind.frame != LinkFrame::local)
+      fail(z->key_at, z->value.path,
+           "zref applies only with frame: local (it fixes the local axes)");
+    else
+      kind.zref = fixed_vector<3>(z->value, "[x, y, z]");
+  }
+}
+
+BeamLink Loader::read_beam(const std::vector<Entry>& e, const Value& v, Link& link) {
+  BeamLink beam;
+  if (const Entry* m = required(e, v, "material"))
+    beam.material = named_or_inline(*m, materials_, "materials", link, &Loader::read_material);
+  if (const Entry* s = required(e, v, "section"))
+    beam.section = named_or_inline(*s, sections_, "sections", link, &Loader::read_section);
+  if (const Entry* shear = find(e, "shear")) beam.shear = boolean(shear->value).value_or(false);
+  if (const Entry* z = find(e, "zref")) beam.zref = fixed_vector<3>(z->value, "[x, y, z]");
+  return beam;
+}
+
+// A beam's material or section: a name defined under `plural`, or an inline mapping. The
+// link's origin gets the definition's key locations, so validation points at the values.
+template <class T>
+T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Definition<T>>& named,
+                          const std::string& plural, Link& link, ReadInline<T> read_inline) {
+  if (entry.value.node.IsMap())
+    return (this->*read_inline)(entry.value, link.origin, entry.key + ".");
+  const auto name = text(entry.value);
+  if (!name) return T{};
+  const auto found = named.find(*name);
+  if (found == named.end()) {
+    KeyList names;
+    for (const auto& [n, unused] : named) names.push_back(n);
+    fail(entry.value, "no " + entry.key + " named '" + *name + "' under " + plural +
+                          detail::suggestion(*name, names, plural + " are"));
+    return T{};
+  }
+  for (const auto& [key, at] : found->second.origin.key_locations)
+    link.origin.key_locations[entry.key + "." + key] = at;
+  spoil(entry.value.path);  // checked at its definition
+  return found->second.value;
+}
+
+// ---- joints and supports -----------------------------------------------------------------
+
+// Joints and supports share every key but how they name their links (model-format.md).
+Loader::Site Loader::read_site(const Entry& named, bool is_support) {
+  Site site;
+  site.origin.location = named.key_at;
+  const Value& v = named.value;
+  const auto e = fixed_mapping(v);
+  record(site.origin, e, "");
+  if (!v.node.IsMap()) return site;
+  const std::string noun = is_support ? "support" : "joint";
+  const auto type = read_site_type(e, v, noun, is_support);
+  if (const Entry* at = required(e, v, "at")) site.at = text(at->value).value_or("");
+  site.links = read_site_links(e, v, is_support, site.origin);
+  if (const Entry* actuated = find(e, "actuated"))
+    site.connection.actuated = boolean(actuated->value).value_or(false);
+  if (!type) return site;
+  // Without its free directions, p is unknown and the springs cannot be sized.
+  const auto kinematics = read_kinematics(*type, e, v, site.origin);
+  if (!kinematics) return site;
+  site.connection.kinematics = *kinematics;
+  read_springs(e, free_direction_count(*kinematics),
+               std::string("a ") + to_string(*type) + " " + noun, site.connection);
+  return site;
+}
+
+// The type of a joint or support, with its keys checked against it.
+std::optional<JointType> Loader::read_site_type(const std::vector<Entry>& e, const Value& v,
+                                                const std::string& noun, bool is_support) {
+  const KeyList common =
+      is_support ? KeyList{"type", "at", "link", "links"} : KeyList{"type", "at", "links"};
+  const KeyList known = common + KeyList{"axis", "axes", "normal", "free"} + kSpringKeys;
+  std::optional<JointType> type;
+  if (const Entry* t = required(e, v, "type"))
+    if (auto name = choice(t->value, joint_type_names(), noun + " type"))
+      type = joint_type_from_string(*name);
+  if (!type) {
+    check_keys(e, v.path, known, {}, "a " + noun);
+    return std::nullopt;
+  }
+  // A rigid joint has no free directions to spring, preload or actuate.
+  const KeyList springs = *type == JointType::rigid ? KeyList{} : kSpringKeys;
+  check_keys(e, v.path, common + parameter_keys(*type) + springs, known,
+             std::string("a ") + to_string(*type) + " " + noun);
+  return type;
+}
+
+// A joint's `links`; a support's `link` or `links`, or neither for every end at its point.
+std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, const Value& v,
+                                                 bool is_support, Origin& origin) {
+  const Entry* links = is_support ? find(e, "links") : required(e, v, "links");
+  const Entry* link = is_support ? find(e, "link") : nullptr;
+  if (link && links) fail(link->key_at, link->value.path, "give either link or links, not both");
+  if (links) return read_link_names(*links, origin);
+  if (!link) return {};
+  aliases_.push_back({v.path + ".links[0]", link->value.path});
+  origin.key_locations["links[0]"] = link->key_at;
+  return {text(link->value).value_or("")};
+}
+
+std::vector<std::string> Loader::read_link_names(const Entry& entry, Origin& origin) {
+  const Value& v = entry.value;
+  if (!v.node.IsSequence()) {
+    fail(v, "expected a list of link names, got " + describe(v.node));
+    return {};
+  }
+  record_items(origin, entry.key, v);
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < v.node.size(); ++i) names.push_back(text(item(v, i)).value_or(""));
+  return names;
+}
+
+std::optional<Kinematics> Loader::read_kinematics(JointType type, const std::vector<Entry>& e,
+                                                  const Value& owner, Origin& origin) {
+  const auto axis = [&](const std::string& key) -> std::optional<Vec3> {
+    const Entry* a = required(e, owner, key);
+    return a ? fixed_vector<3>(a->value, "[x, y, z]") : std::nullopt;
+  };
+  switch (type) {
+    case JointType::rigid:
+      return Kinematics::rigid();
+    case JointType::spherical:
+      return Kinematics::spherical();
+    case JointType::revolute:
+      if (auto a = axis("axis")) return Kinematics::revolute(*a);
+      return std::nullopt;
+    case JointType::prismatic:
+      if (auto a = axis("axis")) return Kinematics::prismatic(*a);
+      return std::nullopt;
+    case JointType::cylindrical:
+      if (auto a = axis("axis")) return Kinematics::cylindrical(*a);
+      return std::nullopt;
+    case JointType::planar:
+      if (auto n = axis("normal")) return Kinematics::planar(*n);
+      return std::nullopt;
+    case JointType::universal: {
+      const Entry* axes = required(e, owner, "axes");
+      const auto both = axes ? vector_list<3>(*axes, origin, "[x, y, z]") : std::nullopt;
+      if (both && both->size() == 2) return Kinematics::universal((*both)[0], (*both)[1]);
+      if (both)
+        fail(axes->value,
+             "expected two axes [[x, y, z], [x, y, z]], got " + std::to_string(both->size()));
+      return std::nullopt;
+    }
+    case JointType::custom: {
+      const Entry* free = required(e, owner, "free");
+      auto rows = free ? vector_list<6>(*free, origin, "[dx, dy, dz, rx, ry, rz]") : std::nullopt;
+      if (rows) return Kinematics::custom(std::move(*rows));
+      return std::nullopt;
+    }
+  }
+  return std::nullopt;
+}
+
+void Loader::read_springs(const std::vector<Entry>& e, int p, const std::string& what,
+                          Connection& c) {
+  if (p == 0) return;  // a rigid joint's spring keys were refused by check_keys
+  if (const Entry* k = find(e, "stiffness")) c.stiffness = read_stiffness(k->value, p, what);
+  if (const Entry* f = find(e, "preload")) c.preload = read_preload(f->value, p, what);
+}
+
+// Model-format.md: a scalar k means k·I, a list of p values the diagonal, else a p×p matrix.
+std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::string& what) {
+  const std::string sized = "p = " + std::to_string(p) + " for " + what;
+  if (v.node.IsScalar()) {
+    const auto k = number(v);
+    if (!k) return std::nullopt;
+    return MatX(*k * MatX::Identity(p, p));
+  }
+  const bool rows_given = v.node.IsSequence() && v.node.size() > 0 && v.node[0].IsSequence();
+  if (!rows_given) {
+    const auto diagonal = vector(v, p, "(the diagonal; " + sized + ")");
+    if (!diagonal) return std::nullopt;
+    return MatX(diagonal->asDiagonal());
+  }
+  const auto k = matrix(v);
+  if (k && (k->rows() != p || k->cols() != p)) {
+    fail(v, "expected a p×p stiffness matrix (" + sized + "), got " + std::to_string(k->rows()) +
+                "×" + std::to_string(k->cols()));
+    return std::nullopt;
+  }
+  return k;
+}
+
+// Model-format.md: a list of p values; a scalar only where p = 1.
+std::optional<VecX> Loader::read_preload(const Value& v, int p, const std::string& what) {
+  const std::string sized = "p = " + std::to_string(p) + " for " + what;
+  if (v.node.IsScalar() && p == 1) {
+    const auto f = number(v);
+    if (!f) return std::nullopt;
+    return VecX::Constant(1, *f);
+  }
+  return vector(v, p, "(one per free direction; " + sized + ")");
+}
+
+void Loader::read_joints(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    Site site = read_site(named, false);
+    model_.joints.push_back({named.key, std::move(site.at), std::move(site.links),
+                             std::move(site.connection), std::move(site.origin)});
+  }
+}
+
+void Loader::read_supports(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    Site site = read_site(named, true);
+    model_.supports.push_back({named.key, std::move(site.at), std::move(site.links),
+                               std::move(site.connection), std::move(site.origin)});
+  }
+}
+
+// ---- loads and end effectors -------------------------------------------------------------
+
+void Loader::read_loads(const Entry& section) {
+  const Value& v = section.value;
+  if (v.node.IsNull()) return;
+  if (!v.node.IsSequence()) {
+    fail(v, "loads is a list, e.g. `- {at: E, wrench: [0, -100, 0, 0, 0, 0]}`; got " +
+                describe(v.node));
+    return;
+  }
+  for (std::size_t i = 0; i < v.node.size(); ++i) {
+    const Value entry = item(v, i);
+    Load load;
+    load.origin.location = entry.at;
+    const auto e = fixed_mapping(entry);
+    check_keys(e, entry.path, kLoadKeys, {}, "a load");
+    record(load.origin, e, "");
+    if (entry.node.IsMap()) {
+      read_link_end(e, entry, load.at, load.link);
+      if (const Entry* w = required(e, entry, "wrench"))
+        load.wrench = fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]").value_or(Vec6::Zero());
+    }
+    model_.loads.push_back(std::move(load));
+  }
+}
+
+void Loader::read_end_effectors(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    EndEffector ee;
+    ee.name = named.key;
+    ee.origin.location = named.key_at;
+    const auto e = fixed_mapping(named.value);
+    check_keys(e, named.value.path, kEndEffectorKeys, {}, "an end effector");
+    record(ee.origin, e, "");
+    if (named.value.node.IsMap()) read_link_end(e, named.value, ee.at, ee.link);
+    model_.end_effectors.push_back(std::move(ee));
+  }
+}
+
+// `{at: point, link: name}`, the link optional, as loads and end effectors name a link end.
+void Loader::read_link_end(const std::vector<Entry>& e, const Value& v, std::string& at,
+                           std::optional<std::string>& link) {
+  if (const Entry* a = required(e, v, "at")) at = text(a->value).value_or("");
+  if (const Entry* l = find(e, "link")) link = text(l->value).value_or("");
+}
+
+// ---- merging with validation -------------------------------------------------------------
+
+// Whether `path` is `root` or lies under it; the empty root is the whole model.
+bool within(const std::string& path, const std::string& root) {
+  if (root.empty() || path == root) return true;
+  return path.size() > root.size() && path.compare(0, root.size(), root) == 0 &&
+         (path[root.size()] == '.' || path[root.size()] == '[');
+}
+
+template <class T, class Check>
+void add_definition_defects(std::vector<Diagnostic>& out, const std::string& plural,
+                            const std::map<std::string, Definition<T>>& definitions, Check check) {
+  for (const auto& [name, definition] : definitions)
+    for (const auto& defect : check(definition.value))
+      out.push_back({definition.origin.of(defect.key),
+                     plural + "." + name + (defect.key.empty() ? "" : "." + defect.key),
+                     defect.message});
+}
+
+void Loader::check_definitions() {
+  add_definition_defects(definition_defects_, "materials", materials_, detail::material_defects);
+  add_definition_defects(definition_defects_, "sections", sections_, detail::section_defects);
+}
+
+std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
+  defects.insert(defects.begin(), definition_defects_.begin(), definition_defects_.end());
+  std::vector<Diagnostic> all = diagnostics_;
+  for (auto& d : defects) {
+    for (const auto& alias : aliases_)
+      if (within(d.key_path, alias.model_path))
+        d.key_path = alias.file_path + d.key_path.substr(alias.model_path.size());
+    const bool spoiled = std::any_of(spoiled_.begin(), spoiled_.end(),
+                                     [&](const std::string& s) { return within(d.key_path, s); });
+    if (!spoiled) all.push_back(std::move(d));
+  }
+  // Unknown positions (0) go last.
+  const auto order = [](const Diagnostic& d) {
+    return std::pair(d.location.line > 0 ? d.location.line : INT_MAX, d.location.column);
+  };
+  std::stable_sort(all.begin(), all.end(),
+                   [&](const Diagnostic& a, const Diagnostic& b) { return order(a) < order(b); });
+  return all;
+}
+
+}  // namespace
+
+Model parse_model(std::string_view text, const std::string& file_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    throw InputError({{location_in(file_name, e.mark), "", "YAML syntax error: " + e.msg}});
+  }
+  Loader loader(file_name);
+  Model model = loader.read(root);
+  auto defects = loader.merge(find_defects(model));
+  if (!defects.empty()) throw InputError(std::move(defects));
+  return model;
+}
+
+Model load_model(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("cannot open model file '" + path.string() + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad() || std::filesystem::is_directory(path))
+    throw IoError("cannot read model file '" + path.string() + "'");
+  return parse_model(text.str(), path.string());
+}
+
+}  // namespace stiffmsa

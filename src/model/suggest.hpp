@@ -1,0 +1,67 @@
+#pragma once
+// "Did you mean ...?": the one rule for suggesting a valid key or name in place of a typo.
+#include <algorithm>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace stiffmsa::detail {
+
+// Levenshtein distance: insertions, deletions and substitutions each cost 1.
+inline std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
+      diagonal = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
+    }
+  }
+  return row[b.size()];
+}
+
+// The candidate nearest to `word`, if it is near enough to be what was meant. A typo changes
+// a few characters: a candidate needing more edits than a third of the word (at least one), or
+// as many edits as the word has characters, is a different word, and suggesting it misleads.
+inline std::optional<std::string> nearest(std::string_view word,
+                                          const std::vector<std::string>& candidates) {
+  const std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
+  std::optional<std::string> best;
+  std::size_t best_distance = limit + 1;
+  for (const auto& candidate : candidates) {
+    const std::size_t d = edit_distance(word, candidate);
+    if (d < best_distance && d < word.size()) {
+      best_distance = d;
+      best = candidate;
+    }
+  }
+  return best;
+}
+
+// "a, b, c": items listed for a message; a long list is cut, since a message names a few.
+inline std::string comma_list(const std::vector<std::string>& items) {
+  constexpr std::size_t shown = 12;
+  std::string text;
+  for (std::size_t i = 0; i < items.size() && i < shown; ++i) {
+    if (i > 0) text += ", ";
+    text += items[i];
+  }
+  if (items.size() > shown) text += " and " + std::to_string(items.size() - shown) + " more";
+  return text;
+}
+
+// The tail of a message about `word` not being one of `candidates`: "; did you mean 'x'?"
+// when one is near, else the list of what is valid (`what` names them, e.g. "valid keys").
+inline std::string suggestion(std::string_view word, const std::vector<std::string>& candidates,
+                              std::string_view what) {
+  if (auto near = nearest(word, candidates)) return "; did you mean '" + *near + "'?";
+  if (candidates.empty()) return "";
+  return "; " + std::string(what) + ": " + comma_list(candidates);
+}
+
+}  // namespace stiffmsa::detail
