@@ -1,1 +1,153 @@
-int main() { return 0; }
+// The stiffmsa command: parses the command line, runs the library, and turns every failure into
+// a message on stderr and an exit code. What is printed is formatted in summary.cpp.
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+#include <new>
+#include <optional>
+#include <string>
+#include <system_error>
+
+#include "stiffmsa/config.hpp"
+#include "stiffmsa/stiffmsa.hpp"
+#include "summary.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace stiffmsa;
+using namespace stiffmsa::cli;
+
+struct SolveCommand {
+  std::string model_file;
+  std::string json_file;  // empty: no result file
+  std::string solver = "sparse_lu";
+};
+
+struct CheckCommand {
+  std::string model_file;
+};
+
+// A result file written over the model would destroy the user's input.
+void refuse_to_overwrite_model(const fs::path& model_file, const fs::path& json_file) {
+  std::error_code model_error, json_error;
+  const fs::path model = fs::weakly_canonical(model_file, model_error);
+  const fs::path json = fs::weakly_canonical(json_file, json_error);
+  if (!model_error && !json_error && model == json) {
+    throw UsageError("the result file '" + json_file.string() +
+                     "' is the model file; choose another name for --json");
+  }
+}
+
+SolveOptions solve_options(const SolveCommand& command) {
+  SolveOptions options;
+  // CLI11 has already checked the name against the list of solvers.
+  options.solver = solver_kind_from_string(command.solver).value_or(SolverKind::sparse_lu);
+  if (!solver_available(options.solver)) {
+    throw UsageError("solver '" + command.solver +
+                     "' is not available in this build of stiffmsa (built without SuiteSparse); "
+                     "use --solver sparse_lu");
+  }
+  options.validate();
+  return options;
+}
+
+int run_solve(const SolveCommand& command) {
+  std::optional<fs::path> json_file;
+  if (!command.json_file.empty()) {
+    json_file = command.json_file;
+    refuse_to_overwrite_model(command.model_file, *json_file);
+  }
+  const SolveOptions options = solve_options(command);
+  const Model model = load_model(command.model_file);
+  const Result result = solve(model, options);
+  // Written before the summary, so that a summary on screen means the file is there too.
+  if (json_file) write_result_file(result, *json_file);
+  print_solve_summary(std::cout, result, json_file);
+  return exit_success;
+}
+
+int run_check(const CheckCommand& command) {
+  const Model model = load_model(command.model_file);
+  print_check_summary(std::cout, model.name, check(model));
+  return exit_success;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"stiffmsa: stiffness of robot manipulators by extended matrix structural analysis",
+               "stiffmsa"};
+  app.set_version_flag("--version", std::string("stiffmsa ") + STIFFMSA_VERSION);
+  app.require_subcommand(1);
+
+  SolveCommand solve_command;
+  CLI::App* solve_app =
+      app.add_subcommand("solve", "Solve a model and print the stiffness of its end effectors");
+  solve_app->add_option("MODEL", solve_command.model_file, "Model file (YAML or JSON)")->required();
+  solve_app->add_option("--json", solve_command.json_file, "Write the result file to this path");
+  solve_app->add_option("--solver", solve_command.solver, "Sparse linear solver")
+      ->check(CLI::IsMember({"sparse_lu", "umfpack", "klu"}))
+      ->capture_default_str();
+
+  CheckCommand check_command;
+  CLI::App* check_app =
+      app.add_subcommand("check", "Validate a model and print its system size without solving");
+  check_app->add_option("MODEL", check_command.model_file, "Model file (YAML or JSON)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version arrive here too, with exit code 0.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    print_error(std::cerr, e.what());
+    std::cerr << "Run 'stiffmsa --help' for usage.\n";
+    return exit_invalid_input;
+  }
+
+  if (solve_app->parsed()) return run_solve(solve_command);
+  return run_check(check_command);
+}
+
+// Called from a catch block: turns the exception in flight into a message and an exit code.
+int report_current_exception() noexcept {
+  try {
+    try {
+      throw;
+    } catch (const SingularModelError& e) {
+      print_singular_model_error(std::cerr, e);
+      return exit_cannot_solve;
+    } catch (const InputError& e) {
+      print_input_error(std::cerr, e);
+      return exit_invalid_input;
+    } catch (const std::bad_alloc&) {
+      print_error(std::cerr, "out of memory");
+      return exit_invalid_input;
+    } catch (const std::exception& e) {
+      // IoError, UsageError and anything unexpected: the message says what went wrong.
+      print_error(std::cerr, e.what());
+      return exit_invalid_input;
+    } catch (...) {
+      print_error(std::cerr, "unknown internal error");
+      return exit_invalid_input;
+    }
+  } catch (...) {
+    // Even reporting failed (no memory for the message, say); the exit code still tells.
+    return exit_invalid_input;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int code = exit_success;
+  try {
+    code = run(argc, argv);
+  } catch (...) {
+    code = report_current_exception();
+  }
+  // A summary that could not be printed (a full disk behind a redirection) is a failed run.
+  if (!std::cout.flush() && code == exit_success) {
+    std::cerr << "stiffmsa: error: cannot write to standard output\n";
+    code = exit_invalid_input;
+  }
+  return code;
+}

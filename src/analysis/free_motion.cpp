@@ -1,7 +1,7 @@
 #include "analysis/free_motion.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
@@ -12,8 +12,10 @@ namespace stiffmsa::detail {
 
 namespace {
 
-// Above this many unknowns the null space is not computed densely.
+// Above this many unknowns the null spaces are not computed densely.
 constexpr Index kDenseLimit = 2400;
+// Entries of a unit null vector (equilibrated unknowns) below this are rounding.
+constexpr double kNegligible = 1e-8;
 
 double weighted_norm(const Vec6& t, double length) { return t.head<3>().norm() + length * t.tail<3>().norm(); }
 
@@ -23,7 +25,13 @@ std::string list(const std::vector<std::string>& names) {
   return text;
 }
 
-std::string describe(const Model& model, const Topology& topology, const VecX& motion, double length) {
+MatX deflection_rows(const MatX& v, int ends) {
+  MatX rows(6 * static_cast<Index>(ends), v.cols());
+  for (int e = 0; e < ends; ++e) rows.middleRows<6>(6 * e) = v.middleRows<6>(deflection_column(e));
+  return rows;
+}
+
+std::string describe_motion(const Model& model, const Topology& topology, const VecX& motion, double length) {
   auto deflection = [&](int end) -> Vec6 { return motion.segment<6>(deflection_column(end)); };
   double largest = 0;
   for (int end = 0; end < topology.end_count(); ++end) largest = std::max(largest, weighted_norm(deflection(end), length));
@@ -35,7 +43,7 @@ std::string describe(const Model& model, const Topology& topology, const VecX& m
     const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
     const auto directions = free_directions(joint.connection.kinematics);
     if (directions.free.rows() == 0 || joint.connection.stiffness || joint.connection.actuated) continue;
-    const MatX projector = directions.free.transpose() * directions.gram().ldlt().solve(directions.free);
+    const MatX projector = directions.free.transpose() * directions.gram().inverse() * directions.free;
     for (std::size_t k = 1; k < group.ends.size(); ++k) {
       const Vec6 relative = projector * (deflection(group.ends[k]) - deflection(group.ends.front()));
       if (weighted_norm(relative, length) > significant) {
@@ -66,34 +74,66 @@ std::string describe(const Model& model, const Topology& topology, const VecX& m
   return text.str();
 }
 
+std::string describe_redundancy(const Model& model, const Topology& topology, const MatX& redundancies) {
+  std::vector<std::string> links;
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    const int from = 2 * static_cast<int>(l);
+    const double change = redundancies.middleRows<6>(wrench_column(from)).norm() + redundancies.middleRows<6>(wrench_column(from + 1)).norm();
+    if (change > kNegligible * redundancies.norm()) links.push_back("'" + model.links[l].name + "'");
+  }
+  std::ostringstream text;
+  text << "the structure is over-constrained (" << redundancies.cols()
+       << (redundancies.cols() == 1 ? " redundant constraint" : " redundant constraints")
+       << "): a rigid model does not determine the internal wrenches in the loop through "
+       << (links.size() == 1 ? "link " : "links ") << list(links) << "; they are reported as null";
+  return text.str();
+}
+
 }  // namespace
 
-FreeMotions describe_free_motions(const Model& model, const Topology& topology, const SparseMatrix& matrix) {
-  FreeMotions result;
+SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix) {
+  SingularStructure s;
   if (matrix.rows() > kDenseLimit) {
-    result.descriptions.push_back("the system (" + std::to_string(matrix.rows()) +
-                                  " unknowns) is singular: some part of the structure can move freely");
-    return result;
+    s.descriptions.push_back("the system (" + std::to_string(matrix.rows()) +
+                             " unknowns) is singular: part of the structure can move freely or is over-constrained");
+    return s;
   }
+  s.analysed = true;
   const Equilibration scaling = equilibrate(matrix);
   const MatX scaled = scaling.row.asDiagonal() * MatX(matrix) * scaling.column.asDiagonal();
   Eigen::FullPivLU<MatX> lu(scaled);
   lu.setThreshold(1e-10);
-  const MatX kernel = scaling.column.asDiagonal() * lu.kernel();
   if (lu.rank() == matrix.rows()) {
-    result.count = 0;
-    result.descriptions.push_back("the system is nearly singular (ill-conditioned) but has no exact free motion");
-    return result;
+    s.descriptions.push_back("the system is nearly singular (ill-conditioned) but has no exact free motion");
+    return s;
   }
-  result.count = static_cast<int>(kernel.cols());
+  // Orthonormal bases of the null spaces in equilibrated unknowns.
+  const MatX null_basis = Eigen::JacobiSVD<MatX>(lu.kernel(), Eigen::ComputeThinU).matrixU();
+  Eigen::FullPivLU<MatX> lu_transposed(scaled.transpose());
+  lu_transposed.setThreshold(1e-10);
+  s.left_null = scaling.row.asDiagonal() * lu_transposed.kernel();
+
+  // Split the null space: directions with a deflection part move something, the rest (the
+  // null space of the deflection rows) change wrenches only.
+  const MatX moving = deflection_rows(null_basis, topology.end_count());
+  const Eigen::JacobiSVD<MatX> split(moving, Eigen::ComputeFullV);
+  Index motion_count = 0;
+  for (Index i = 0; i < split.singularValues().size(); ++i) motion_count += split.singularValues()(i) > kNegligible;
+  const MatX v = split.matrixV();
+  s.motions = scaling.column.asDiagonal() * (null_basis * v.leftCols(motion_count));
+  s.redundancies = scaling.column.asDiagonal() * (null_basis * v.rightCols(v.cols() - motion_count));
+
   const double length = characteristic_length(model);
-  std::ostringstream head;
-  head << result.count << (result.count == 1 ? " free motion" : " free motions") << " (degrees of freedom)";
-  result.descriptions.push_back(head.str());
-  for (Index c = 0; c < kernel.cols(); ++c)
-    result.descriptions.push_back("free motion " + std::to_string(c + 1) + ": " +
-                                  describe(model, topology, kernel.col(c), length));
-  return result;
+  if (motion_count > 0) {
+    std::ostringstream head;
+    head << motion_count << (motion_count == 1 ? " free motion" : " free motions") << " (degrees of freedom)";
+    s.descriptions.push_back(head.str());
+    for (Index c = 0; c < motion_count; ++c)
+      s.descriptions.push_back("free motion " + std::to_string(c + 1) + ": " +
+                               describe_motion(model, topology, s.motions.col(c), length));
+  }
+  if (s.redundancies.cols() > 0) s.descriptions.push_back(describe_redundancy(model, topology, s.redundancies));
+  return s;
 }
 
 }  // namespace stiffmsa::detail

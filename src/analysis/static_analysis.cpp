@@ -176,7 +176,12 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
   Result result;
   result.model = model.name;
   for (const auto& l : model.links) result.links.push_back({l.name, {}, {}});
-  for (const auto& j : model.joints) result.joints.push_back({j.name, std::nullopt, std::nullopt, std::nullopt});
+  for (const auto& j : model.joints) {
+    JointResult joint;
+    joint.name = j.name;
+    joint.actuated = j.connection.actuated;
+    result.joints.push_back(std::move(joint));
+  }
   for (const auto& s : model.supports) result.supports.push_back({s.name, std::nullopt});
   for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
     const auto& effector = model.end_effectors[e];
@@ -202,7 +207,11 @@ void check_accuracy(const SolveOptions& options, Result& result) {
   }
 }
 
-void solve_regular(Problem& problem, Result& result) {
+// Solves the loads and every end effector's unit wrenches with `solve_columns`, which maps
+// right-hand sides (one per column) to solutions, and fills deflections, wrenches, compliance
+// and stiffness.
+template <class SolveColumns>
+void solve_loads_and_compliance(Problem& problem, Result& result, SolveColumns solve_columns) {
   const auto& t = problem.ws.topology;
   const Index n = t.unknowns();
   const std::size_t effectors = problem.model.end_effectors.size();
@@ -211,8 +220,8 @@ void solve_regular(Problem& problem, Result& result) {
   for (std::size_t e = 0; e < effectors; ++e)
     rhs.middleCols<6>(1 + 6 * static_cast<Index>(e)) = problem.unit_wrench_rhs(t.effector_ends[e]);
   double residual = 0;
-  const MatX x = problem.ws.system->solve(rhs, problem.options.refinement_steps, residual);
-  result.report.relative_residual = residual;
+  const MatX x = solve_columns(rhs, residual);
+  result.report.relative_residual = std::max(result.report.relative_residual, residual);
 
   fill_state_results(problem, x.col(0), result);
   const double length = detail::characteristic_length(problem.model);
@@ -226,6 +235,87 @@ void solve_regular(Problem& problem, Result& result) {
                                     "' is held rigidly in some direction: its stiffness is unbounded (null)");
   }
   result.report.equilibrium_error = equilibrium_error(problem, result);
+}
+
+void solve_regular(Problem& problem, Result& result) {
+  solve_loads_and_compliance(problem, result, [&](const MatX& rhs, double& residual) {
+    return problem.ws.system->solve(rhs, problem.options.refinement_steps, residual);
+  });
+  check_accuracy(problem.options, result);
+}
+
+detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns, const MatX& rows) {
+  const Index n = a.rows(), k = columns.cols();
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(a.nonZeros() + 2 * n * k));
+  for (Index j = 0; j < a.outerSize(); ++j)
+    for (detail::SparseMatrix::InnerIterator e(a, j); e; ++e)
+      entries.emplace_back(static_cast<int>(e.row()), static_cast<int>(j), e.value());
+  for (Index c = 0; c < k; ++c) {
+    const double column_scale = columns.col(c).cwiseAbs().maxCoeff(), row_scale = rows.col(c).cwiseAbs().maxCoeff();
+    for (Index i = 0; i < n; ++i) {
+      if (std::abs(columns(i, c)) > 1e-14 * column_scale)
+        entries.emplace_back(static_cast<int>(i), static_cast<int>(n + c), columns(i, c));
+      if (std::abs(rows(i, c)) > 1e-14 * row_scale)
+        entries.emplace_back(static_cast<int>(n + c), static_cast<int>(i), rows(i, c));
+    }
+  }
+  detail::SparseMatrix m(n + k, n + k);
+  m.setFromTriplets(entries.begin(), entries.end());
+  m.makeCompressed();
+  return m;
+}
+
+// An over-constrained rigid assembly: deflections are unique, some wrenches are not. The
+// system bordered with the dependencies of its equations and the undetermined wrench
+// directions is regular; its solution is one member of the family, and every wrench that
+// varies across the family is reported null.
+void solve_over_constrained(Problem& problem, const detail::SingularStructure& structure, Result& result) {
+  const Index n = problem.ws.topology.unknowns();
+  const MatX& redundancies = structure.redundancies;
+  const detail::SparseMatrix extended = bordered(problem.ws.matrix, structure.left_null, redundancies);
+  detail::FactorizedSystem system(problem.options.solver);
+  if (!system.factorize(extended, problem.options.singular_rcond))
+    throw SingularModelError("the model is singular and could not be solved", structure.descriptions);
+  solve_loads_and_compliance(problem, result, [&](const MatX& rhs, double& residual) {
+    MatX padded = MatX::Zero(n + redundancies.cols(), rhs.cols());
+    padded.topRows(n) = rhs;
+    double bordered_residual = 0;
+    const MatX x = system.solve(padded, problem.options.refinement_steps, bordered_residual);
+    const MatX solution = x.topRows(n);
+    residual = detail::relative_residual(problem.ws.matrix, solution, rhs);
+    return solution;
+  });
+  if (result.report.relative_residual > 1e-8)
+    throw SingularModelError("the over-constrained structure cannot hold its loads or preloads without moving",
+                             structure.descriptions);
+
+  const double length = detail::characteristic_length(problem.model);
+  auto size = [&](const MatX& rows6) {
+    return (rows6.topRows<3>().colwise().norm() + rows6.bottomRows<3>().colwise().norm() / length).maxCoeff();
+  };
+  double largest = 0;
+  for (int end = 0; end < problem.ws.topology.end_count(); ++end)
+    largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
+  auto undetermined = [&](const MatX& rows6) { return size(rows6) > 1e-8 * largest; };
+  for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
+    const int from = 2 * static_cast<int>(l);
+    if (undetermined(redundancies.middleRows<6>(wrench_column(from)))) result.links[l].from.wrench.reset();
+    if (undetermined(redundancies.middleRows<6>(wrench_column(from + 1)))) result.links[l].to.wrench.reset();
+  }
+  for (const auto& group : problem.ws.topology.groups) {
+    if (group.kind == detail::ConnectionGroup::Kind::joint &&
+        undetermined(redundancies.middleRows<6>(wrench_column(group.ends.front())))) {
+      auto& joint = result.joints[static_cast<std::size_t>(group.source)];
+      joint.wrench.reset();
+      joint.effort.reset();
+    } else if (group.kind == detail::ConnectionGroup::Kind::support) {
+      MatX sum = MatX::Zero(6, redundancies.cols());
+      for (int end : group.ends) sum += redundancies.middleRows<6>(wrench_column(end));
+      if (undetermined(sum)) result.supports[static_cast<std::size_t>(group.source)].reaction.reset();
+    }
+  }
+  for (const auto& d : structure.descriptions) result.report.notes.push_back(d);
   check_accuracy(problem.options, result);
 }
 
@@ -234,20 +324,10 @@ void solve_regular(Problem& problem, Result& result) {
 std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int end, double& residual,
                                                     double& rcond) {
   const Index n = problem.ws.topology.unknowns();
-  const MatX b = problem.unit_wrench_rhs(end);
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<std::size_t>(problem.ws.matrix.nonZeros()) + 48);
-  for (Index j = 0; j < problem.ws.matrix.outerSize(); ++j)
-    for (detail::SparseMatrix::InnerIterator e(problem.ws.matrix, j); e; ++e)
-      entries.emplace_back(static_cast<int>(e.row()), static_cast<int>(j), e.value());
-  for (Index c = 0; c < 6; ++c) {
-    for (Index i = 0; i < n; ++i)
-      if (b(i, c) != 0) entries.emplace_back(static_cast<int>(i), static_cast<int>(n + c), -b(i, c));
-    entries.emplace_back(static_cast<int>(n + c), static_cast<int>(deflection_column(end) + c), 1.0);
-  }
-  detail::SparseMatrix augmented(n + 6, n + 6);
-  augmented.setFromTriplets(entries.begin(), entries.end());
-  augmented.makeCompressed();
+  MatX columns = -problem.unit_wrench_rhs(end);
+  MatX rows = MatX::Zero(n, 6);
+  rows.middleRows<6>(deflection_column(end)).setIdentity();
+  const detail::SparseMatrix augmented = bordered(problem.ws.matrix, columns, rows);
   detail::FactorizedSystem system(problem.options.solver);
   const bool regular = system.factorize(augmented, problem.options.singular_rcond);
   rcond = system.reciprocal_condition();
@@ -258,9 +338,8 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
   return Mat6(x.bottomRows<6>());
 }
 
-void solve_free_structure(Problem& problem, Result& result) {
-  const auto motions = detail::describe_free_motions(problem.model, problem.ws.topology, problem.ws.matrix);
-  std::vector<std::string> details = motions.descriptions;
+void solve_free_structure(Problem& problem, const detail::SingularStructure& structure, Result& result) {
+  const std::vector<std::string>& details = structure.descriptions;
   if (problem.loaded)
     throw SingularModelError("the model is a mechanism and carries a load or preload it cannot hold", details);
   bool any = false;
@@ -314,10 +393,15 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   result.report.solver = ws.system->solver_name();
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
   result.report.reciprocal_condition = ws.system->reciprocal_condition();
-  if (regular)
+  if (regular) {
     solve_regular(problem, result);
+    return result;
+  }
+  const auto structure = detail::analyse_singular_structure(model, ws.topology, ws.matrix);
+  if (structure.analysed && structure.motions.cols() == 0 && structure.redundancies.cols() > 0)
+    solve_over_constrained(problem, structure, result);
   else
-    solve_free_structure(problem, result);
+    solve_free_structure(problem, structure, result);
   return result;
 }
 

@@ -1,1 +1,141 @@
-// placeholder until written
+// Whole-or-nothing file writes: a reader (or a crash) never sees a half-written result, and a
+// failed run leaves the previous file, if any, untouched.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <string>
+#include <system_error>
+
+#include "stiffmsa/errors.hpp"
+#include "stiffmsa/io/result_file.hpp"
+
+namespace stiffmsa {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string errno_text(int error) { return std::generic_category().message(error); }
+
+[[noreturn]] void fail(const fs::path& path, const std::string& step, int error) {
+  throw IoError("cannot write '" + path.string() + "': " + step + ": " + errno_text(error));
+}
+
+// Owns the temporary file until it has been renamed over the target; until then, any exit
+// from the scope (error or exception) removes it.
+class TemporaryFile {
+ public:
+  TemporaryFile(const fs::path& target, const fs::path& folder) : target_(target) {
+    static std::atomic<unsigned> counter{0};
+    // O_EXCL makes a clash with another writer (or a stale file) fail rather than share a
+    // file, so we just try the next name.
+    constexpr int max_attempts = 100;
+    // Hidden, and named after the target, so that a leftover from a killed run is recognisable.
+    std::string prefix = ".";
+    prefix += target.filename().string();
+    prefix += ".tmp-";
+    prefix += std::to_string(::getpid());
+    prefix += '-';
+    int error = 0;
+    for (int attempt = 0; attempt < max_attempts; ++attempt) {
+      path_ = folder / (prefix + std::to_string(counter++));
+      // 0666 lets the umask decide the permissions, as for any newly created file.
+      fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (fd_ >= 0) return;
+      error = errno;
+      if (error != EEXIST && error != EINTR) break;
+    }
+    path_.clear();
+    fail(target_, "cannot create a temporary file in '" + folder.string() + "'", error);
+  }
+
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+
+  ~TemporaryFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!path_.empty()) ::unlink(path_.c_str());
+  }
+
+  void write_all(const std::string& contents) {
+    const char* data = contents.data();
+    std::size_t remaining = contents.size();
+    while (remaining > 0) {
+      const ssize_t written = ::write(fd_, data, remaining);
+      if (written < 0) {
+        const int error = errno;
+        if (error == EINTR) continue;
+        fail(target_, "write failed", error);
+      }
+      data += written;
+      remaining -= static_cast<std::size_t>(written);
+    }
+  }
+
+  // Replacing a file should not silently change who may read it.
+  void copy_permissions_of_target() {
+    struct stat existing {};
+    if (::stat(target_.c_str(), &existing) == 0 && S_ISREG(existing.st_mode)) {
+      // Best effort: not being allowed to copy the mode is no reason to lose the result.
+      (void)::fchmod(fd_, existing.st_mode & 07777);
+    }
+  }
+
+  void flush_and_close() {
+    // EINVAL: the file system does not support synchronisation; the data is still written.
+    if (::fsync(fd_) != 0) {
+      const int error = errno;
+      if (error != EINVAL) fail(target_, "flushing to disk failed", error);
+    }
+    const int fd = fd_;
+    fd_ = -1;
+    // On Linux the descriptor is released even when close() reports EINTR, and fsync has
+    // already succeeded, so EINTR loses nothing.
+    if (::close(fd) != 0) {
+      const int error = errno;
+      if (error != EINTR) fail(target_, "closing the file failed", error);
+    }
+  }
+
+  void rename_over_target() {
+    if (::rename(path_.c_str(), target_.c_str()) != 0) {
+      const int error = errno;
+      fail(target_, "cannot replace the file", error);
+    }
+    path_.clear();
+  }
+
+ private:
+  fs::path target_;
+  fs::path path_;
+  int fd_ = -1;
+};
+
+// Makes the rename itself durable. Best effort: the new file is already in place, and
+// reporting a failure now would wrongly suggest that nothing was written.
+void sync_folder(const fs::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  (void)::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& contents) {
+  if (path.empty() || !path.has_filename()) {
+    throw IoError("cannot write '" + path.string() + "': not a file name");
+  }
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+
+  TemporaryFile temporary(path, folder);
+  temporary.write_all(contents);
+  temporary.copy_permissions_of_target();
+  temporary.flush_and_close();
+  temporary.rename_over_target();
+  sync_folder(folder);
+}
+
+}  // namespace stiffmsa

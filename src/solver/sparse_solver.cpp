@@ -232,15 +232,37 @@ MatX FactorizedSystem::solve_once(const MatX& b) const {
   return scaling_.column.asDiagonal() * y;
 }
 
+namespace {
+// b − A·x accumulated in extended precision: refinement then converges to the solution as
+// exactly as double can hold it, where a residual in double would stall at cond(A)·ε.
+MatX extended_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
+  MatX r(b.rows(), b.cols());
+  std::vector<long double> sum(static_cast<std::size_t>(b.rows()));
+  for (Index c = 0; c < b.cols(); ++c) {
+    for (Index i = 0; i < b.rows(); ++i) sum[static_cast<std::size_t>(i)] = b(i, c);
+    for (Index j = 0; j < a.outerSize(); ++j) {
+      const long double xj = x(j, c);
+      if (xj == 0) continue;
+      for (SparseMatrix::InnerIterator e(a, j); e; ++e)
+        sum[static_cast<std::size_t>(e.row())] -= static_cast<long double>(e.value()) * xj;
+    }
+    for (Index i = 0; i < b.rows(); ++i) r(i, c) = static_cast<double>(sum[static_cast<std::size_t>(i)]);
+  }
+  return r;
+}
+}  // namespace
+
 MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residual) const {
   MatX x = solve_once(b);
   residual = relative_residual(*a_, x, b);
   for (int step = 0; step < refinement_steps && residual > 0; ++step) {
-    const MatX candidate = x + solve_once(b - *a_ * x);
+    const MatX candidate = x + solve_once(extended_residual(*a_, x, b));
     const double candidate_residual = relative_residual(*a_, candidate, b);
-    if (!(candidate_residual < residual)) break;
+    if (!(candidate_residual <= residual)) break;
+    const bool stalled = candidate_residual > 0.5 * residual;
     x = candidate;
     residual = candidate_residual;
+    if (stalled) break;
   }
   return x;
 }

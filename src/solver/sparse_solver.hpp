@@ -48,8 +48,6 @@ class FactorizedSystem {
   // backward error over the columns.
   MatX solve(const MatX& b, int refinement_steps, double& relative_residual) const;
 
-  // Solves without refinement, on the scaled system (for null-space probing).
-  const SparseMatrix& matrix() const { return *a_; }
 
  private:
   double estimate_inverse_norm1() const;
