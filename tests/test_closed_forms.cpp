@@ -414,3 +414,49 @@ TEST(Solvers, EverySolverGivesTheSameCompliance) {
     EXPECT_LT(relative_difference_scaled(*other.end_effectors[0].compliance, *base.end_effectors[0].compliance), 1e-11);
   }
 }
+
+// A rigid triangle welded at its corners is a closed rigid loop: its deflections follow the
+// flexible post that carries it, while the loop's internal wrenches are not determined.
+TEST(OverConstrained, RigidLoopOnAPostFollowsThePostAndLeavesLoopWrenchesNull) {
+  const double D = 0.05, L = 0.8;
+  const Vec3 a(0, 0, L), b(0.3, 0, L), c(0.1, 0.25, L);
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("A", a);
+  m.add_point("B", b);
+  m.add_point("C", c);
+  m.add_beam("post", "O", "A", kSteel, Section::circle(D));
+  m.add_rigid_link("AB", "A", "B");
+  m.add_rigid_link("BC", "B", "C");
+  m.add_rigid_link("CA", "C", "A");
+  m.add_support("ground", "O", {}, rigid());
+  m.add_load("C", "BC", wrench(10, -20, -50, 1, 0, 2));
+  m.add_end_effector("C", "C", "BC");
+  const Result r = solve(m);
+  EXPECT_LT(r.report.relative_residual, 1e-12);
+  EXPECT_LT(r.report.equilibrium_error, 1e-11);
+
+  const double pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
+  Mat3 axes;  // the post's local x along global Z; a circular section makes y, z immaterial
+  axes << Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY();
+  const Mat6 post = reference::rotate6(axes) * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) *
+                    reference::rotate6(axes).transpose();
+  const Mat6 carry = reference::twist_transport(c - a);
+  const Mat6 expected = carry * post * carry.transpose();
+  EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-11);
+  // The post's wrenches and the support reaction are determined by statics.
+  const Vec6 load = wrench(10, -20, -50, 1, 0, 2);
+  Vec6 moved = load;
+  moved.tail<3>() += c.cross(load.head<3>());
+  ASSERT_TRUE(r.supports[0].reaction);
+  EXPECT_LT(relative_difference(*r.supports[0].reaction, Vec6(-moved)), 1e-11);
+  ASSERT_TRUE(r.links[0].from.wrench);
+  // Inside the loop every link end wrench is undetermined.
+  for (std::size_t l = 1; l < 4; ++l) {
+    EXPECT_FALSE(r.links[l].from.wrench.has_value()) << r.links[l].name;
+    EXPECT_TRUE(r.links[l].from.deflection.has_value());
+  }
+  bool noted = false;
+  for (const auto& note : r.report.notes) noted |= note.find("over-constrained") != std::string::npos;
+  EXPECT_TRUE(noted);
+}
