@@ -460,3 +460,43 @@ TEST(OverConstrained, RigidLoopOnAPostFollowsThePostAndLeavesLoopWrenchesNull) {
   for (const auto& note : r.report.notes) noted |= note.find("over-constrained") != std::string::npos;
   EXPECT_TRUE(noted);
 }
+
+// A parallelogram of rigid bars and revolute joints (the leg of a Delta or an Orthoglide) both
+// sways freely and is over-constrained out of its plane. A beam carries the end effector; with
+// the end effector prescribed the sway is stopped by the beam alone:
+// K = K_b − K_b·Jq·(Jqᵀ·K_b·Jq)⁻¹·Jqᵀ·K_b, Jq the sway (a pure translation along x).
+TEST(OverConstrained, SwayingParallelogramLegStillGivesItsStiffness) {
+  const double D = 0.02;
+  const Vec3 m_point(0.05, 0.5, 0), tip(0.05, 0.7, 0.1);
+  Model m;
+  m.add_point("P1", Vec3(0, 0, 0));
+  m.add_point("P2", Vec3(0.1, 0, 0));
+  m.add_point("Q1", Vec3(0, 0.5, 0));
+  m.add_point("Q2", Vec3(0.1, 0.5, 0));
+  m.add_point("M", m_point);
+  m.add_point("T", tip);
+  m.add_rigid_link("bar1", "P1", "Q1");
+  m.add_rigid_link("bar2", "P2", "Q2");
+  m.add_rigid_link("top1", "Q1", "M");
+  m.add_rigid_link("top2", "M", "Q2");
+  m.add_beam("finger", "M", "T", kSteel, Section::circle(D));
+  const Kinematics hinge = Kinematics::revolute(Vec3::UnitZ());
+  m.add_support("S1", "P1", {}, passive(hinge));
+  m.add_support("S2", "P2", {}, passive(hinge));
+  m.add_joint("J1", "Q1", {"bar1", "top1"}, passive(hinge));
+  m.add_joint("J2", "Q2", {"bar2", "top2"}, passive(hinge));
+  m.add_end_effector("T", "T");
+  const Result r = solve(m);
+  ASSERT_TRUE(r.end_effectors[0].stiffness);
+  EXPECT_FALSE(r.end_effectors[0].compliance.has_value());
+
+  const double L = (tip - m_point).norm(), pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
+  const Vec3 x = (tip - m_point) / L, y = x.unitOrthogonal(), z = x.cross(y);
+  Mat3 R;
+  R << x, y, z;
+  const Mat6 R6 = reference::rotate6(R);
+  const Mat6 Kb = (R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose()).inverse();
+  const Vec6 Jq = Vec6::Unit(0);
+  const Mat6 expected = Kb - Kb * Jq * (Jq.transpose() * Kb * Jq).inverse() * Jq.transpose() * Kb;
+  EXPECT_LT(relative_difference(*r.end_effectors[0].stiffness, expected), 1e-9);
+}

@@ -14,8 +14,7 @@ namespace {
 
 // Above this many unknowns the null spaces are not computed densely.
 constexpr Index kDenseLimit = 2400;
-// Entries of a unit null vector (equilibrated unknowns) below this are rounding.
-constexpr double kNegligible = 1e-8;
+constexpr double kNegligible = kNegligibleNullEntry;
 
 double weighted_norm(const Vec6& t, double length) { return t.head<3>().norm() + length * t.tail<3>().norm(); }
 
@@ -91,27 +90,41 @@ std::string describe_redundancy(const Model& model, const Topology& topology, co
 
 }  // namespace
 
+std::optional<NullSpaces> dense_null_spaces(const SparseMatrix& matrix) {
+  if (matrix.rows() > kDenseLimit) return std::nullopt;
+  const Equilibration scaling = equilibrate(matrix);
+  const MatX scaled = scaling.row.asDiagonal() * MatX(matrix) * scaling.column.asDiagonal();
+  NullSpaces spaces;
+  spaces.column_scale = scaling.column;
+  Eigen::FullPivLU<MatX> lu(scaled);
+  lu.setThreshold(1e-10);
+  if (lu.rank() == matrix.rows()) {
+    spaces.right_equilibrated.resize(matrix.rows(), 0);
+    spaces.left.resize(matrix.rows(), 0);
+    return spaces;
+  }
+  spaces.right_equilibrated = Eigen::JacobiSVD<MatX>(lu.kernel(), Eigen::ComputeThinU).matrixU();
+  Eigen::FullPivLU<MatX> lu_transposed(scaled.transpose());
+  lu_transposed.setThreshold(1e-10);
+  spaces.left = scaling.row.asDiagonal() * lu_transposed.kernel();
+  return spaces;
+}
+
 SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix) {
   SingularStructure s;
-  if (matrix.rows() > kDenseLimit) {
+  const auto spaces = dense_null_spaces(matrix);
+  if (!spaces) {
     s.descriptions.push_back("the system (" + std::to_string(matrix.rows()) +
                              " unknowns) is singular: part of the structure can move freely or is over-constrained");
     return s;
   }
   s.analysed = true;
-  const Equilibration scaling = equilibrate(matrix);
-  const MatX scaled = scaling.row.asDiagonal() * MatX(matrix) * scaling.column.asDiagonal();
-  Eigen::FullPivLU<MatX> lu(scaled);
-  lu.setThreshold(1e-10);
-  if (lu.rank() == matrix.rows()) {
+  if (spaces->right_equilibrated.cols() == 0) {
     s.descriptions.push_back("the system is nearly singular (ill-conditioned) but has no exact free motion");
     return s;
   }
-  // Orthonormal bases of the null spaces in equilibrated unknowns.
-  const MatX null_basis = Eigen::JacobiSVD<MatX>(lu.kernel(), Eigen::ComputeThinU).matrixU();
-  Eigen::FullPivLU<MatX> lu_transposed(scaled.transpose());
-  lu_transposed.setThreshold(1e-10);
-  s.left_null = scaling.row.asDiagonal() * lu_transposed.kernel();
+  const MatX& null_basis = spaces->right_equilibrated;
+  s.left_null = spaces->left;
 
   // Split the null space: directions with a deflection part move something, the rest (the
   // null space of the deflection rows) change wrenches only.
@@ -120,8 +133,8 @@ SingularStructure analyse_singular_structure(const Model& model, const Topology&
   Index motion_count = 0;
   for (Index i = 0; i < split.singularValues().size(); ++i) motion_count += split.singularValues()(i) > kNegligible;
   const MatX v = split.matrixV();
-  s.motions = scaling.column.asDiagonal() * (null_basis * v.leftCols(motion_count));
-  s.redundancies = scaling.column.asDiagonal() * (null_basis * v.rightCols(v.cols() - motion_count));
+  s.motions = spaces->column_scale.asDiagonal() * (null_basis * v.leftCols(motion_count));
+  s.redundancies = spaces->column_scale.asDiagonal() * (null_basis * v.rightCols(v.cols() - motion_count));
 
   const double length = characteristic_length(model);
   if (motion_count > 0) {

@@ -3,6 +3,7 @@
 // either moves something (a free motion: joints turn or slide, links are not held) or only
 // changes wrenches (an over-constrained rigid loop whose internal wrenches the model does not
 // determine, while every deflection stays unique).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,20 @@ struct SingularStructure {
   MatX left_null;          // unscaled basis of the left null space (the equations' dependencies)
   std::vector<std::string> descriptions;
 };
+
+// Orthonormal bases of the right and left null spaces of a square matrix, computed densely on
+// its equilibrated form; nullopt above the size where that is affordable. Empty bases where
+// the matrix is regular to working precision.
+struct NullSpaces {
+  MatX right_equilibrated;  // in equilibrated unknowns: entries are comparable across units
+  VecX column_scale;
+  MatX left;                // unscaled: each column u has uᵀ·A = 0
+  MatX right() const { return column_scale.asDiagonal() * right_equilibrated; }
+};
+std::optional<NullSpaces> dense_null_spaces(const SparseMatrix& matrix);
+
+// Entries of a unit equilibrated null vector below this are rounding.
+constexpr double kNegligibleNullEntry = 1e-8;
 
 SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix);
 

@@ -329,13 +329,30 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
   rows.middleRows<6>(deflection_column(end)).setIdentity();
   const detail::SparseMatrix augmented = bordered(problem.ws.matrix, columns, rows);
   detail::FactorizedSystem system(problem.options.solver);
-  const bool regular = system.factorize(augmented, problem.options.singular_rcond);
-  rcond = system.reciprocal_condition();
-  if (!regular) return std::nullopt;
   MatX rhs = MatX::Zero(n + 6, 6);
   rhs.bottomRows<6>().setIdentity();
-  const MatX x = system.solve(rhs, problem.options.refinement_steps, residual);
-  return Mat6(x.bottomRows<6>());
+  if (system.factorize(augmented, problem.options.singular_rcond)) {
+    rcond = system.reciprocal_condition();
+    const MatX x = system.solve(rhs, problem.options.refinement_steps, residual);
+    return Mat6(x.bottomRows<6>());
+  }
+  // Still singular: acceptable only where what remains are over-constrained loops, whose
+  // null vectors change no deflection and not the end effector's wrench. Bordering with them
+  // picks one member of the family of internal wrenches; the stiffness is the same for all.
+  const auto spaces = detail::dense_null_spaces(augmented);
+  if (!spaces || spaces->right_equilibrated.cols() == 0) return std::nullopt;
+  const MatX& null_basis = spaces->right_equilibrated;
+  for (int e = 0; e < problem.ws.topology.end_count(); ++e)
+    if (null_basis.middleRows<6>(deflection_column(e)).cwiseAbs().maxCoeff() > detail::kNegligibleNullEntry) return std::nullopt;
+  if (null_basis.bottomRows<6>().cwiseAbs().maxCoeff() > detail::kNegligibleNullEntry) return std::nullopt;
+  const detail::SparseMatrix regular = bordered(augmented, spaces->left, spaces->right());
+  detail::FactorizedSystem bordered_system(problem.options.solver);
+  if (!bordered_system.factorize(regular, problem.options.singular_rcond)) return std::nullopt;
+  rcond = bordered_system.reciprocal_condition();
+  MatX padded = MatX::Zero(regular.rows(), 6);
+  padded.topRows(n + 6) = rhs;
+  const MatX x = bordered_system.solve(padded, problem.options.refinement_steps, residual);
+  return Mat6(x.middleRows<6>(n));
 }
 
 void solve_free_structure(Problem& problem, const detail::SingularStructure& structure, Result& result) {
