@@ -16,7 +16,8 @@ constexpr const char* result_format = "stiffmsa-result/1";
 template <class Derived>
 Json vector_json(const Eigen::MatrixBase<Derived>& v) {
   Json values = Json::array();
-  for (Eigen::Index i = 0; i < v.size(); ++i) values.push_back(v(i));
+  // Adding +0.0 turns a negative zero (rounding's sign of nothing) into a plain 0.
+  for (Eigen::Index i = 0; i < v.size(); ++i) values.push_back(v(i) + 0.0);
   return values;
 }
 
