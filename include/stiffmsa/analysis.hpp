@@ -23,6 +23,11 @@ struct SolveOptions {
   double max_relative_residual = 1e-10;
   // Iterative refinement steps with the same factorisation (Frame3DD-style).
   int refinement_steps = 2;
+  // Solve despite idle free motions (see ModelOptions); either this or the model's own
+  // option turns it on.
+  bool accept_idle_motions = false;
+  // Above this condition estimate (1/reciprocal condition) a solve gets a warning.
+  double warn_condition = 1e12;
 
   // Throws UsageError with a sentence when an option is out of range.
   void validate() const;

@@ -159,8 +159,16 @@ struct EndEffector {
 
 enum class LinkEnd { from = 0, to = 1 };
 
+// Settings a model file may carry for its own analysis (top-level `options:`).
+struct ModelOptions {
+  // Solve despite free motions that move no end effector (the spin of an S-P-S leg about its
+  // own axis): the end-effector results do not depend on them.
+  bool accept_idle_motions = false;
+};
+
 struct Model {
   std::string name = "model";
+  ModelOptions options;
   std::string source_file;  // empty for API models
   std::vector<Point> points;
   std::vector<Link> links;
