@@ -101,7 +101,7 @@ TEST(Cantilever, ChainOf10000BeamLinksKeepsSixDigits) {
   const double pi = std::numbers::pi, d = 0.09;
   const double A = pi * (0.01 - d * d) / 4, I = pi * (1e-4 - std::pow(d, 4)) / 64;
   const Mat6 expected = reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I);
-  EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-6);
+  EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-11);  // the issue asks for 1e-6
 }
 
 // VJM: a serial chain of rigid links with elastic revolute joints, C = Σ J_i·k_i⁻¹·J_iᵀ.
@@ -499,4 +499,86 @@ TEST(OverConstrained, SwayingParallelogramLegStillGivesItsStiffness) {
   const Vec6 Jq = Vec6::Unit(0);
   const Mat6 expected = Kb - Kb * Jq * (Jq.transpose() * Kb * Jq).inverse() * Jq.transpose() * Kb;
   EXPECT_LT(relative_difference(*r.end_effectors[0].stiffness, expected), 1e-9);
+}
+
+// A strut with ball joints at both ends can spin about its own axis: an idle motion that moves
+// no end effector. Refused by default; accepted, the end effector's stiffness is the
+// cantilever's plus the strut's axial stiffness EA/L·u·uᵀ.
+TEST(IdleMotion, SpinningStrutIsRefusedUnlessAcceptedThenAddsItsAxialStiffness) {
+  const double D = 0.04, d = 0.015;
+  const Vec3 e(0.8, 0, 0.5), g(0.8, 0.6, 0);
+  Model m;
+  m.add_point("O", Vec3(0, 0, 0.5));
+  m.add_point("E", e);
+  m.add_point("G", g);
+  m.add_beam("arm", "O", "E", kSteel, Section::circle(D));
+  m.add_beam("strut", "G", "E", kSteel, Section::circle(d));
+  m.add_support("clamp", "O", {}, rigid());
+  m.add_support("ball_ground", "G", {}, passive(Kinematics::spherical()));
+  m.add_joint("ball_top", "E", {"arm", "strut"}, passive(Kinematics::spherical()));
+  m.add_load("E", "arm", wrench(0, 0, -300));
+  m.add_end_effector("tip", "E", "arm");
+  try {
+    solve(m);
+    FAIL() << "an idle motion must be refused by default";
+  } catch (const SingularModelError& error) {
+    std::string all = error.what();
+    for (const auto& line : error.details()) all += "\n" + line;
+    EXPECT_NE(all.find("idle"), std::string::npos) << all;
+    EXPECT_NE(all.find("'strut'"), std::string::npos) << all;
+  }
+  SolveOptions options;
+  options.accept_idle_motions = true;
+  const Result r = solve(m, options);
+  EXPECT_LT(r.report.relative_residual, 1e-12);
+  EXPECT_LT(r.report.equilibrium_error, 1e-11);
+  ASSERT_TRUE(r.end_effectors[0].stiffness);
+  const double L = 0.8, pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
+  const Mat6 arm = reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I);
+  const Vec3 u = (e - g).normalized();
+  Mat6 expected = arm.inverse();
+  expected.topLeftCorner<3, 3>() += kE * pi * d * d / 4 / (e - g).norm() * u * u.transpose();
+  EXPECT_LT(relative_difference(*r.end_effectors[0].stiffness, expected), 1e-9);
+  // The strut's end rotations are not determined; the arm's are.
+  EXPECT_FALSE(r.links[1].to.deflection.has_value());
+  EXPECT_TRUE(r.links[0].to.deflection.has_value());
+  // The model file's own option does the same.
+  m.options.accept_idle_motions = true;
+  EXPECT_LT(relative_difference(*solve(m).end_effectors[0].stiffness, expected), 1e-9);
+}
+
+// Two almost collinear hinged bars (a toggle), a near-mechanism: stiff along the bars, nearly
+// free across them. A moderate gap solves cleanly; a tiny one is warned about, since no
+// floating-point model can resolve a stiffness 1e16 times smaller than its neighbours'.
+TEST(IllConditioning, NearMechanismIsWarnedAbout) {
+  auto toggle = [](double gap) {
+    const double L = 1.0, alpha = std::numbers::pi / 2 - gap;
+    Model m;
+    m.add_point("left", Vec3(-L * std::sin(alpha), 0, 0));
+    m.add_point("right", Vec3(L * std::sin(alpha), 0, 0));
+    m.add_point("apex", Vec3(0, 0, L * std::cos(alpha)));
+    m.add_beam("bar1", "left", "apex", kSteel, Section::circle(0.03));
+    m.add_beam("bar2", "right", "apex", kSteel, Section::circle(0.03));
+    const auto hinge = Kinematics::revolute(Vec3::UnitY());
+    m.add_support("S1", "left", {}, passive(hinge));
+    m.add_support("S2", "right", {}, passive(hinge));
+    m.add_joint("apex_hinge", "apex", {"bar1", "bar2"}, passive(hinge));
+    m.add_end_effector("apex", "apex", "bar1");
+    return m;
+  };
+  const Result moderate = solve(toggle(1e-3));
+  EXPECT_TRUE(moderate.report.warnings.empty());
+  const double EA_L = kE * std::numbers::pi * 0.03 * 0.03 / 4, c = std::sin(1e-3);
+  EXPECT_NEAR((*moderate.end_effectors[0].compliance)(2, 2) * 2 * EA_L * c * c, 1.0, 1e-9);
+  // Stiffness ratio 5e12 between directions: solved, with a warning.
+  const Result near = solve(toggle(1e-6));
+  ASSERT_FALSE(near.report.warnings.empty());
+  EXPECT_NE(near.report.warnings.front().find("near-mechanism"), std::string::npos);
+  ASSERT_TRUE(near.end_effectors[0].stiffness);
+  // Ratio 5e16: beyond double precision; the stiffness is null with a note that says so.
+  const Result beyond = solve(toggle(1e-8));
+  EXPECT_FALSE(beyond.end_effectors[0].stiffness.has_value());
+  bool noted = false;
+  for (const auto& note : beyond.report.notes) noted |= note.find("nearly a mechanism") != std::string::npos;
+  EXPECT_TRUE(noted);
 }

@@ -21,13 +21,23 @@ double characteristic_length(const Model& model) {
   return std::max((high - low).norm(), 1e-3);
 }
 
-std::optional<Mat6> stiffness_from_compliance(const Mat6& compliance, double length) {
+namespace {
+Vec6 weighted_eigenvalues(const Mat6& compliance, double length) {
   Vec6 weights;
   weights << 1, 1, 1, length, length, length;
   const Mat6 weighted = weights.asDiagonal() * compliance * weights.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Mat6> eigen(0.5 * (weighted + weighted.transpose()), Eigen::EigenvaluesOnly);
-  const Vec6& values = eigen.eigenvalues();
-  if (!(values(5) > 0) || values(0) <= 1e-12 * values(5)) return std::nullopt;
+  return Eigen::SelfAdjointEigenSolver<Mat6>(0.5 * (weighted + weighted.transpose()), Eigen::EigenvaluesOnly).eigenvalues();
+}
+}  // namespace
+
+double compliance_spread(const Mat6& compliance, double length) {
+  const Vec6 values = weighted_eigenvalues(compliance, length);
+  return values(0) > 0 ? values(5) / values(0) : std::numeric_limits<double>::infinity();
+}
+
+std::optional<Mat6> stiffness_from_compliance(const Mat6& compliance, double length) {
+  const Vec6 values = weighted_eigenvalues(compliance, length);
+  if (!(values(5) > 0) || values(0) <= 1e-14 * values(5)) return std::nullopt;
   return Mat6(compliance.fullPivLu().inverse());
 }
 

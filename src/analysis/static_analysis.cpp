@@ -194,6 +194,14 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
 
 void check_accuracy(const SolveOptions& options, Result& result) {
   std::ostringstream text;
+  const double rcond = result.report.reciprocal_condition;
+  if (rcond > 0 && rcond * options.warn_condition < 1) {
+    text << "the system is ill-conditioned (condition estimate " << 1 / rcond
+         << "): likely a near-mechanism (joint axes almost aligned, a link almost along a joint's free "
+            "direction) or stiffness values many decades apart; check the digits of the results";
+    result.report.warnings.push_back(text.str());
+    text.str("");
+  }
   if (result.report.relative_residual > options.max_relative_residual) {
     text << "the relative residual " << result.report.relative_residual << " exceeds "
          << options.max_relative_residual << "; results may be inaccurate";
@@ -230,9 +238,17 @@ void solve_loads_and_compliance(Problem& problem, Result& result, SolveColumns s
     auto& r = result.end_effectors[e];
     r.compliance = compliance;
     r.stiffness = detail::stiffness_from_compliance(compliance, length);
-    if (!r.stiffness)
+    if (!r.stiffness) {
       result.report.notes.push_back("end effector '" + r.name +
-                                    "' is held rigidly in some direction: its stiffness is unbounded (null)");
+                                    "' is held rigidly in some direction (or is so nearly a mechanism that double "
+                                    "precision cannot tell): its stiffness is unbounded (null)");
+    } else if (const double spread = detail::compliance_spread(compliance, length);
+               spread > problem.options.warn_condition) {
+      std::ostringstream text;
+      text << "end effector '" << r.name << "': its stiffness differs by a factor " << spread
+           << " between directions, a near-mechanism; its softest direction may have lost most digits";
+      result.report.warnings.push_back(text.str());
+    }
   }
   result.report.equilibrium_error = equilibrium_error(problem, result);
 }
@@ -266,19 +282,41 @@ detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns
   return m;
 }
 
-// An over-constrained rigid assembly: deflections are unique, some wrenches are not. The
-// system bordered with the dependencies of its equations and the undetermined wrench
-// directions is regular; its solution is one member of the family, and every wrench that
-// varies across the family is reported null.
-void solve_over_constrained(Problem& problem, const detail::SingularStructure& structure, Result& result) {
+// The largest over columns of a 6-row block's weighted size: translations plus rotations times
+// a length, or forces plus moments divided by it, so that both halves weigh alike.
+double largest_six(const MatX& rows6, double length, bool rotations_times_length) {
+  if (rows6.cols() == 0) return 0.0;
+  const double w = rotations_times_length ? length : 1.0 / length;
+  return (rows6.topRows<3>().colwise().norm() + w * rows6.bottomRows<3>().colwise().norm()).maxCoeff();
+}
+
+bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
+  const double length = detail::characteristic_length(problem.model);
+  double largest = 0;
+  for (int end = 0; end < problem.ws.topology.end_count(); ++end)
+    largest = std::max(largest, largest_six(motions.middleRows<6>(deflection_column(end)), length, true));
+  for (int end : problem.ws.topology.effector_ends)
+    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) > 1e-8 * largest) return true;
+  return false;
+}
+
+// A singular system whose null space leaves every end effector in place: over-constrained rigid
+// loops (deflections unique, some wrenches not) and, where accepted, idle motions (some link
+// ends' deflections not unique). The system bordered with the dependencies of its equations
+// and its null vectors is regular; its solution is one member of the family, and every value
+// that varies across the family is reported null.
+void solve_singular_but_determined(Problem& problem, const detail::SingularStructure& structure, Result& result) {
   const Index n = problem.ws.topology.unknowns();
   const MatX& redundancies = structure.redundancies;
-  const detail::SparseMatrix extended = bordered(problem.ws.matrix, structure.left_null, redundancies);
+  const MatX& idle = structure.motions;
+  MatX null_vectors(n, redundancies.cols() + idle.cols());
+  null_vectors << redundancies, idle;
+  const detail::SparseMatrix extended = bordered(problem.ws.matrix, structure.left_null, null_vectors);
   detail::FactorizedSystem system(problem.options.solver);
   if (!system.factorize(extended, problem.options.singular_rcond))
     throw SingularModelError("the model is singular and could not be solved", structure.descriptions);
   solve_loads_and_compliance(problem, result, [&](const MatX& rhs, double& residual) {
-    MatX padded = MatX::Zero(n + redundancies.cols(), rhs.cols());
+    MatX padded = MatX::Zero(n + null_vectors.cols(), rhs.cols());
     padded.topRows(n) = rhs;
     double bordered_residual = 0;
     const MatX x = system.solve(padded, problem.options.refinement_steps, bordered_residual);
@@ -287,13 +325,11 @@ void solve_over_constrained(Problem& problem, const detail::SingularStructure& s
     return solution;
   });
   if (result.report.relative_residual > 1e-8)
-    throw SingularModelError("the over-constrained structure cannot hold its loads or preloads without moving",
+    throw SingularModelError("the structure cannot hold its loads or preloads: they act along a free motion",
                              structure.descriptions);
 
   const double length = detail::characteristic_length(problem.model);
-  auto size = [&](const MatX& rows6) {
-    return (rows6.topRows<3>().colwise().norm() + rows6.bottomRows<3>().colwise().norm() / length).maxCoeff();
-  };
+  auto size = [&](const MatX& rows6) { return largest_six(rows6, length, false); };
   double largest = 0;
   for (int end = 0; end < problem.ws.topology.end_count(); ++end)
     largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
@@ -314,6 +350,25 @@ void solve_over_constrained(Problem& problem, const detail::SingularStructure& s
       for (int end : group.ends) sum += redundancies.middleRows<6>(wrench_column(end));
       if (undetermined(sum)) result.supports[static_cast<std::size_t>(group.source)].reaction.reset();
     }
+  }
+  if (idle.cols() > 0) {
+    double largest_motion = 0;
+    for (int end = 0; end < problem.ws.topology.end_count(); ++end)
+      largest_motion = std::max(largest_motion, largest_six(idle.middleRows<6>(deflection_column(end)), length, true));
+    std::vector<bool> moving(static_cast<std::size_t>(problem.ws.topology.end_count()));
+    for (int end = 0; end < problem.ws.topology.end_count(); ++end)
+      moving[static_cast<std::size_t>(end)] =
+          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) > 1e-8 * largest_motion;
+    for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
+      if (moving[2 * l]) result.links[l].from.deflection.reset();
+      if (moving[2 * l + 1]) result.links[l].to.deflection.reset();
+    }
+    for (const auto& group : problem.ws.topology.groups)
+      if (group.kind == detail::ConnectionGroup::Kind::joint)
+        for (int end : group.ends)
+          if (moving[static_cast<std::size_t>(end)]) result.joints[static_cast<std::size_t>(group.source)].relative_deflection.reset();
+    result.report.notes.push_back("idle motions accepted: the end-effector results do not depend on them; the "
+                                  "deflections they change are null");
   }
   for (const auto& d : structure.descriptions) result.report.notes.push_back(d);
   check_accuracy(problem.options, result);
@@ -358,7 +413,10 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
 void solve_free_structure(Problem& problem, const detail::SingularStructure& structure, Result& result) {
   const std::vector<std::string>& details = structure.descriptions;
   if (problem.loaded)
-    throw SingularModelError("the model is a mechanism and carries a load or preload it cannot hold", details);
+    throw SingularModelError("the model is a mechanism: it can move freely, and a loaded or preloaded structure must "
+                             "not (unloaded, it would still get the stiffness of an end effector that stops every "
+                             "free motion)",
+                             details);
   bool any = false;
   for (std::size_t e = 0; e < problem.model.end_effectors.size(); ++e) {
     double residual = 0, rcond = 0;
@@ -415,8 +473,10 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
     return result;
   }
   const auto structure = detail::analyse_singular_structure(model, ws.topology, ws.matrix);
-  if (structure.analysed && structure.motions.cols() == 0 && structure.redundancies.cols() > 0)
-    solve_over_constrained(problem, structure, result);
+  const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
+  const bool determined = structure.motions.cols() == 0 || (accept_idle && !moves_any_end_effector(problem, structure.motions));
+  if (structure.analysed && structure.motions.cols() + structure.redundancies.cols() > 0 && determined)
+    solve_singular_but_determined(problem, structure, result);
   else
     solve_free_structure(problem, structure, result);
   return result;
