@@ -1,6 +1,8 @@
 // The stiffmsa command: parses the command line, runs the library, and turns every failure into
 // a message on stderr and an exit code. What is printed is formatted in summary.cpp.
 #include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <new>
@@ -22,10 +24,13 @@ struct SolveCommand {
   std::string model_file;
   std::string json_file;  // empty: no result file
   std::string solver = "sparse_lu";
+  bool accept_idle_motions = false;
+  LoadLimits limits;
 };
 
 struct CheckCommand {
   std::string model_file;
+  LoadLimits limits;
 };
 
 // A result file written over the model would destroy the user's input.
@@ -43,6 +48,7 @@ SolveOptions solve_options(const SolveCommand& command) {
   SolveOptions options;
   // CLI11 has already checked the name against the list of solvers.
   options.solver = solver_kind_from_string(command.solver).value_or(SolverKind::sparse_lu);
+  options.accept_idle_motions = command.accept_idle_motions;
   if (!solver_available(options.solver)) {
     throw UsageError("solver '" + command.solver +
                      "' is not available in this build of stiffmsa (built without SuiteSparse); "
@@ -59,7 +65,7 @@ int run_solve(const SolveCommand& command) {
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
   const SolveOptions options = solve_options(command);
-  const Model model = load_model(command.model_file);
+  const Model model = load_model(command.model_file, command.limits);
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
@@ -68,9 +74,42 @@ int run_solve(const SolveCommand& command) {
 }
 
 int run_check(const CheckCommand& command) {
-  const Model model = load_model(command.model_file);
+  const Model model = load_model(command.model_file, command.limits);
   print_check_summary(std::cout, model.name, check(model));
   return exit_success;
+}
+
+// A whole number of at least 1. (CLI::PositiveNumber prints its bounds as 300-digit doubles.)
+const CLI::Validator at_least_one(
+    [](std::string& input) -> std::string {
+      std::uint64_t value = 0;
+      const char* end = input.data() + input.size();
+      const auto [stop, error] = std::from_chars(input.data(), end, value);
+      if (error != std::errc() || stop != end || value == 0)
+        return "expected a whole number of at least 1, got '" + input + "'";
+      return {};
+    },
+    "N >= 1");
+
+// The bounds on a model file (LoadLimits), for a file larger than real models are.
+void add_limit_options(CLI::App& command, LoadLimits& limits) {
+  command
+      .add_option("--max-file-size", limits.max_file_bytes,
+                  "Refuse a larger model file; bytes, or with a unit: 200MiB, 500MB")
+      ->transform(CLI::AsSizeValue(true))
+      ->check(at_least_one)
+      ->capture_default_str();
+  command
+      .add_option("--max-depth", limits.max_nesting_depth,
+                  "Refuse a model file whose mappings and lists nest deeper")
+      ->check(at_least_one)
+      ->capture_default_str();
+  command
+      .add_option("--max-entities", limits.max_entities,
+                  "Refuse a model with more points, links, joints, supports, loads or end "
+                  "effectors (each kind counted alone)")
+      ->check(at_least_one)
+      ->capture_default_str();
 }
 
 int run(int argc, char** argv) {
@@ -87,11 +126,16 @@ int run(int argc, char** argv) {
   solve_app->add_option("--solver", solve_command.solver, "Sparse linear solver")
       ->check(CLI::IsMember({"sparse_lu", "umfpack", "klu"}))
       ->capture_default_str();
+  solve_app->add_flag("--accept-idle-motions", solve_command.accept_idle_motions,
+                      "Solve despite free motions that move no end effector (the spin of a "
+                      "leg about its own axis); as `options: {accept_idle_motions: true}`");
+  add_limit_options(*solve_app, solve_command.limits);
 
   CheckCommand check_command;
   CLI::App* check_app =
       app.add_subcommand("check", "Validate a model and print its system size without solving");
   check_app->add_option("MODEL", check_command.model_file, "Model file (YAML or JSON)")->required();
+  add_limit_options(*check_app, check_command.limits);
 
   try {
     app.parse(argc, argv);

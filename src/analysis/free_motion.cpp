@@ -74,7 +74,7 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
   return text.str();
 }
 
-std::string describe_redundancy(const Model& model, const Topology& topology, const MatX& redundancies) {
+std::string describe_redundancy(const Model& model, const MatX& redundancies) {
   std::vector<std::string> links;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l);
@@ -146,7 +146,7 @@ SingularStructure analyse_singular_structure(const Model& model, const Topology&
       s.descriptions.push_back("free motion " + std::to_string(c + 1) + ": " +
                                describe_motion(model, topology, s.motions.col(c), length));
   }
-  if (s.redundancies.cols() > 0) s.descriptions.push_back(describe_redundancy(model, topology, s.redundancies));
+  if (s.redundancies.cols() > 0) s.descriptions.push_back(describe_redundancy(model, s.redundancies));
   return s;
 }
 

@@ -4,8 +4,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <climits>
+#include <cstdint>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,8 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
+#include <unordered_map>
 #include <utility>
 
 #include "model/suggest.hpp"
@@ -28,8 +32,9 @@ using KeyList = std::vector<std::string>;
 
 constexpr const char* kFormat = "stiffmsa/1";
 
-const KeyList kTopKeys{"format", "name",   "materials", "sections", "points",
-                       "links",  "joints", "supports",  "loads",    "end_effectors"};
+const KeyList kTopKeys{"format", "name",     "options", "materials", "sections",    "points",
+                       "links",  "joints",   "supports", "loads",    "end_effectors"};
+const KeyList kOptionKeys{"accept_idle_motions"};
 const KeyList kMaterialKeys{"E", "nu", "G"};
 const KeyList kSectionKeys{"shape", "D", "t", "b", "h", "A", "Iy", "Iz", "J", "Asy", "Asz"};
 const KeyList kLinkTypes{"beam", "rigid", "matrix", "compliance"};
@@ -133,13 +138,6 @@ const Entry* find(const std::vector<Entry>& entries, const std::string& key) {
   return nullptr;
 }
 
-// A key path that validation sees but the file spells differently: a support's single `link`
-// is "supports.S1.links[0]" in the model.
-struct PathAlias {
-  std::string model_path;
-  std::string file_path;
-};
-
 // A material or section defined by name, for beams to refer to.
 template <class T>
 struct Definition {
@@ -220,6 +218,7 @@ class Loader {
 
   void read_format(const std::vector<Entry>& top, const Value& root);
   void read_name(const std::vector<Entry>& top);
+  void read_options(const Entry& section);
   void read_materials(const Entry& section);
   void read_sections(const Entry& section);
   void read_points(const Entry& section);
@@ -269,7 +268,9 @@ class Loader {
   std::set<std::string> spoiled_;
   std::map<std::string, Definition<Material>> materials_;
   std::map<std::string, Definition<Section>> sections_;
-  std::vector<PathAlias> aliases_;
+  // Key paths that validation sees but the file spells differently: a support's single `link`
+  // is "supports.S1.links[0]" in the model. Model path → file path.
+  std::map<std::string, std::string> aliases_;
   std::vector<Diagnostic> definition_defects_;
 };
 
@@ -281,6 +282,9 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
     return std::nullopt;
   }
   std::vector<Entry> entries;
+  // The line of each key's first appearance. The points or links of a large model are one
+  // mapping of 100 000 keys: a scan of the keys before each one would take minutes.
+  std::unordered_map<std::string, int> first_lines;
   for (auto it = v.node.begin(); it != v.node.end(); ++it) {
     const YAML::Node key = it->first;
     const SourceLocation key_at = where(key);
@@ -289,14 +293,14 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
       continue;
     }
     const std::string name = key.Scalar();
+    if (notes_allowed && name.rfind("x-", 0) == 0) continue;
     const std::string path = v.path.empty() ? name : v.path + "." + name;
-    if (const Entry* first = find(entries, name)) {
+    if (const auto [first, is_new] = first_lines.try_emplace(name, key_at.line); !is_new) {
       fail(key_at, path,
-           "duplicate key '" + name + "' (first given at line " +
-               std::to_string(first->key_at.line) + "); give each key once");
+           "duplicate key '" + name + "' (first given at line " + std::to_string(first->second) +
+               "); give each key once");
       continue;
     }
-    if (notes_allowed && name.rfind("x-", 0) == 0) continue;
     const YAML::Node value = it->second;
     // A key with nothing after it has a value placed on the following line; the key is where
     // the user looks.
@@ -539,6 +543,7 @@ Model Loader::read(const YAML::Node& root) {
   // Materials and sections first: links refer to them wherever they stand in the file.
   using Part = void (Loader::*)(const Entry&);
   const std::pair<const char*, Part> parts[] = {
+      {"options", &Loader::read_options},
       {"materials", &Loader::read_materials}, {"sections", &Loader::read_sections},
       {"points", &Loader::read_points},       {"links", &Loader::read_links},
       {"joints", &Loader::read_joints},       {"supports", &Loader::read_supports},
@@ -569,6 +574,14 @@ void Loader::read_name(const std::vector<Entry>& top) {
   }
   const std::string stem = std::filesystem::path(file_).stem().string();
   if (!stem.empty()) model_.name = stem;
+}
+
+void Loader::read_options(const Entry& section) {
+  if (section.value.node.IsNull()) return;  // `options:` alone sets nothing
+  const auto e = fixed_mapping(section.value);
+  check_keys(e, section.value.path, kOptionKeys, {}, "options");
+  if (const Entry* idle = find(e, "accept_idle_motions"))
+    model_.options.accept_idle_motions = boolean(idle->value).value_or(false);
 }
 
 // ---- materials and sections --------------------------------------------------------------
@@ -784,7 +797,7 @@ std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, co
   if (link && links) fail(link->key_at, link->value.path, "give either link or links, not both");
   if (links) return read_link_names(*links, origin);
   if (!link) return {};
-  aliases_.push_back({v.path + ".links[0]", link->value.path});
+  aliases_.emplace(v.path + ".links[0]", link->value.path);
   origin.key_locations["links[0]"] = link->key_at;
   return {text(link->value).value_or("")};
 }
@@ -948,11 +961,14 @@ void Loader::read_link_end(const std::vector<Entry>& e, const Value& v, std::str
 
 // ---- merging with validation -------------------------------------------------------------
 
-// Whether `path` is `root` or lies under it; the empty root is the whole model.
-bool within(const std::string& path, const std::string& root) {
-  if (root.empty() || path == root) return true;
-  return path.size() > root.size() && path.compare(0, root.size(), root) == 0 &&
-         (path[root.size()] == '.' || path[root.size()] == '[');
+// The lengths of the key paths that `path` lies within, itself first: "links.L1.K[2]" lies
+// within "links.L1.K", "links.L1", "links" and "", the whole model.
+std::vector<std::size_t> enclosing_lengths(const std::string& path) {
+  std::vector<std::size_t> lengths{path.size()};
+  for (std::size_t i = path.size(); i-- > 0;)
+    if (path[i] == '.' || path[i] == '[') lengths.push_back(i);
+  lengths.push_back(0);
+  return lengths;
 }
 
 template <class T, class Check>
@@ -973,12 +989,19 @@ void Loader::check_definitions() {
 std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
   defects.insert(defects.begin(), definition_defects_.begin(), definition_defects_.end());
   std::vector<Diagnostic> all = diagnostics_;
+  // Aliases and spoiled parts are looked up by the paths enclosing a defect's, not scanned:
+  // a model of 100 000 supports has as many of them.
   for (auto& d : defects) {
-    for (const auto& alias : aliases_)
-      if (within(d.key_path, alias.model_path))
-        d.key_path = alias.file_path + d.key_path.substr(alias.model_path.size());
-    const bool spoiled = std::any_of(spoiled_.begin(), spoiled_.end(),
-                                     [&](const std::string& s) { return within(d.key_path, s); });
+    for (const std::size_t length : enclosing_lengths(d.key_path)) {
+      const auto alias = aliases_.find(d.key_path.substr(0, length));
+      if (alias == aliases_.end()) continue;
+      d.key_path = alias->second + d.key_path.substr(length);
+      break;
+    }
+    const auto lengths = enclosing_lengths(d.key_path);
+    const bool spoiled = std::any_of(lengths.begin(), lengths.end(), [&](std::size_t length) {
+      return spoiled_.count(d.key_path.substr(0, length)) > 0;
+    });
     if (!spoiled) all.push_back(std::move(d));
   }
   // Unknown positions (0) go last.
@@ -990,15 +1013,215 @@ std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
   return all;
 }
 
+// ---- limits ------------------------------------------------------------------------------
+
+const KeyList kEntityKinds{"materials", "sections", "points",        "links",
+                           "joints",    "supports", "loads",         "end_effectors"};
+
+std::string byte_count(std::uintmax_t bytes) {
+  std::string text = std::to_string(bytes) + " bytes";
+  constexpr double mebibyte = 1024.0 * 1024.0;
+  if (bytes >= 1024 * 1024) {
+    std::ostringstream mib;
+    mib.precision(1);
+    mib << std::fixed << static_cast<double>(bytes) / mebibyte;
+    text += " (" + mib.str() + " MiB)";
+  }
+  return text;
+}
+
+// `size_and_limit` says how large the file is against the limit.
+[[noreturn]] void throw_too_large(const std::string& file, const std::string& size_and_limit) {
+  throw InputError({file, 0, 0}, "",
+                   "the model file is " + size_and_limit +
+                       "; if the model is meant to be this large, raise the limit with "
+                       "--max-file-size BYTES (LoadLimits::max_file_bytes)");
+}
+
+void require_size_within(std::uintmax_t bytes, const std::string& file, const LoadLimits& limits) {
+  if (bytes > limits.max_file_bytes)
+    throw_too_large(file, byte_count(bytes) + ", above the limit of " +
+                              byte_count(limits.max_file_bytes));
+}
+
+// How deeply mappings and lists nest in a text.
+struct Nesting {
+  int deepest = 0;
+  SourceLocation first_too_deep;  // line 0 where the text stays within the limit
+};
+
+// Measures nesting on the characters of a YAML or JSON text, before yaml-cpp, which recurses
+// once per level, parses it. A flow collection is an open `[` or `{`; a block collection is a
+// line indented deeper than the collection it is in, or a `- ` or `? ` item whose content on
+// the same line is a mapping or list (`- - x`, `- key: value`). Quoted text, comments and the
+// lines of block scalars (`|`, `>`) hold no collections. Where it cannot tell, as on the
+// continuation line of a plain scalar, the scan counts a level: a few levels too many cost
+// nothing under a limit far above real models, a level missed could let a file through.
+Nesting measure_nesting(std::string_view text, int limit) {
+  constexpr auto npos = std::string_view::npos;
+  Nesting nesting;
+  std::vector<std::size_t> block_columns;  // the indentation of each open block collection
+  int flow = 0;                            // open `[` and `{`
+  char quote = 0;                          // '"' or '\'' within quoted text, which may span lines
+  std::optional<std::size_t> block_scalar_indent;  // lines indented deeper are literal text
+  int line_number = 0;
+
+  const auto reach = [&](std::size_t column) {
+    const int depth = static_cast<int>(block_columns.size()) + flow;
+    nesting.deepest = std::max(nesting.deepest, depth);
+    if (depth > limit && nesting.first_too_deep.line == 0)
+      nesting.first_too_deep = {"", line_number, static_cast<int>(column) + 1};
+  };
+  const auto block_at = [&](std::size_t column) {
+    while (!block_columns.empty() && block_columns.back() > column) block_columns.pop_back();
+    if (block_columns.empty() || block_columns.back() < column) block_columns.push_back(column);
+    reach(column);
+  };
+
+  for (std::size_t start = 0; start < text.size();) {
+    const std::size_t newline = text.find('\n', start);
+    const std::size_t end = newline == npos ? text.size() : newline;
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+
+    const std::size_t indent = line.find_first_not_of(" \t");  // npos: a blank line
+    const bool in_block_context = quote == 0 && flow == 0;
+    std::size_t i = 0;
+    if (in_block_context) {
+      if (block_scalar_indent) {
+        if (indent == npos || indent > *block_scalar_indent) continue;
+        block_scalar_indent.reset();
+      }
+      if (indent == npos || line[indent] == '#') continue;
+      i = indent;
+      if (line[i] == '[' || line[i] == '{') {
+        // A flow collection that begins a line (a JSON file's root, a value under its key)
+        // counts itself; it is in the block collections that are not deeper than it.
+        while (!block_columns.empty() && block_columns.back() > indent) block_columns.pop_back();
+      } else {
+        block_at(indent);
+      }
+      while ((line[i] == '-' || line[i] == '?') &&
+             (i + 1 == line.size() || line[i + 1] == ' ' || line[i + 1] == '\t')) {
+        const std::size_t content = line.find_first_not_of(" \t", i + 1);
+        if (content == npos || line[content] == '#') break;  // the item's content follows
+        i = content;
+        if (line[i] == '[' || line[i] == '{') break;  // counted as a flow collection
+        block_at(i);
+      }
+    }
+
+    bool token_start = true;  // a quote here opens quoted text; within a plain scalar it is text
+    std::size_t code_end = line.size();
+    for (; i < line.size(); ++i) {
+      const char c = line[i];
+      if (quote == '"') {
+        if (c == '\\')
+          ++i;
+        else if (c == '"')
+          quote = 0;
+        continue;
+      }
+      if (quote == '\'') {
+        if (c == '\'' && i + 1 < line.size() && line[i + 1] == '\'')
+          ++i;  // '' is a quote within the text
+        else if (c == '\'')
+          quote = 0;
+        continue;
+      }
+      if (c == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) {
+        code_end = i;
+        break;
+      }
+      if ((c == '"' || c == '\'') && token_start) {
+        quote = c;
+        continue;
+      }
+      if (c == '[' || c == '{') {
+        ++flow;
+        reach(i);
+      } else if ((c == ']' || c == '}') && flow > 0) {
+        --flow;
+      }
+      token_start = c == ' ' || c == '\t' || c == '[' || c == '{' || c == ',' || c == ':';
+    }
+
+    // `key: |` or `- >-` ends a line whose following, deeper lines are text. (In `a: b |` the
+    // bar ends a plain scalar: those lines are scanned, which can only count too deep.)
+    if (in_block_context && quote == 0 && flow == 0) {
+      const std::string_view code = line.substr(0, code_end);
+      const std::size_t last = code.find_last_not_of(" \t");
+      if (last == npos) continue;
+      const std::size_t blank = code.find_last_of(" \t", last);
+      const std::size_t token = blank == npos ? 0 : blank + 1;
+      const std::string_view word = code.substr(token, last + 1 - token);
+      const std::size_t before = token == 0 ? npos : code.find_last_not_of(" \t", token - 1);
+      const bool after_indicator =
+          before == npos || code[before] == ':' || code[before] == '-' || code[before] == '?';
+      if (after_indicator && (word[0] == '|' || word[0] == '>') &&
+          word.find_first_not_of("0123456789+-", 1) == npos)
+        block_scalar_indent = indent;
+    }
+  }
+  return nesting;
+}
+
+void require_nesting_within(std::string_view text, const std::string& file,
+                            const LoadLimits& limits) {
+  const Nesting nesting = measure_nesting(text, limits.max_nesting_depth);
+  if (nesting.first_too_deep.line == 0) return;
+  SourceLocation at = nesting.first_too_deep;
+  at.file = file;
+  throw InputError(at, "",
+                   "mappings and lists nest deeper here than the limit of " +
+                       std::to_string(limits.max_nesting_depth) + " levels (the file reaches " +
+                       std::to_string(nesting.deepest) +
+                       "); if the model is meant to nest this deep, raise the limit with "
+                       "--max-depth N (LoadLimits::max_nesting_depth)");
+}
+
+// Counted on the parsed file, before each entity becomes part of a Model that validation and
+// the solver work through.
+void require_entity_counts_within(const YAML::Node& root, const std::string& file,
+                                  const LoadLimits& limits) {
+  if (!root.IsMap()) return;
+  std::vector<Diagnostic> too_many;
+  for (auto it = root.begin(); it != root.end(); ++it) {
+    const YAML::Node key = it->first;
+    const YAML::Node section = it->second;
+    if (!key.IsScalar() || !contains(kEntityKinds, key.Scalar())) continue;
+    if (!section.IsMap() && !section.IsSequence()) continue;
+    const std::size_t count = section.size();
+    if (count <= limits.max_entities) continue;
+    std::string kind = key.Scalar();
+    std::replace(kind.begin(), kind.end(), '_', ' ');
+    too_many.push_back({location_in(file, key.Mark()), key.Scalar(),
+                        "the model has " + std::to_string(count) + " " + kind +
+                            ", above the limit of " + std::to_string(limits.max_entities) +
+                            " of each kind; if the model is meant to be this large, raise the "
+                            "limit with --max-entities N (LoadLimits::max_entities)"});
+  }
+  if (!too_many.empty()) throw InputError(std::move(too_many));
+}
+
 }  // namespace
 
 Model parse_model(std::string_view text, const std::string& file_name) {
+  return parse_model(text, file_name, LoadLimits{});
+}
+
+Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+  require_size_within(text.size(), file_name, limits);
+  require_nesting_within(text, file_name, limits);
   YAML::Node root;
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
     throw InputError({{location_in(file_name, e.mark), "", "YAML syntax error: " + e.msg}});
   }
+  require_entity_counts_within(root, file_name, limits);
   Loader loader(file_name);
   Model model = loader.read(root);
   auto defects = loader.merge(find_defects(model));
@@ -1006,14 +1229,31 @@ Model parse_model(std::string_view text, const std::string& file_name) {
   return model;
 }
 
-Model load_model(const std::filesystem::path& path) {
+Model load_model(const std::filesystem::path& path) { return load_model(path, LoadLimits{}); }
+
+Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
+  const std::string file = path.string();
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError("cannot open model file '" + path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad() || std::filesystem::is_directory(path))
-    throw IoError("cannot read model file '" + path.string() + "'");
-  return parse_model(text.str(), path.string());
+  if (!in) throw IoError("cannot open model file '" + file + "'");
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw IoError("cannot read model file '" + file + "': it is a directory");
+  std::string text;
+  // Refused before a byte is read. A pipe or device has no size to ask: it is read up to the
+  // limit instead.
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (!error) {
+    require_size_within(size, file, limits);
+    text.reserve(static_cast<std::size_t>(size));
+  }
+  std::array<char, 1 << 16> buffer;
+  while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
+    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > limits.max_file_bytes)
+      throw_too_large(file, "larger than the limit of " + byte_count(limits.max_file_bytes));
+  }
+  if (in.bad()) throw IoError("cannot read model file '" + file + "'");
+  return parse_model(text, file, limits);
 }
 
 }  // namespace stiffmsa

@@ -163,25 +163,29 @@ class Checker {
     }
   }
 
-  static std::string no_such(const Kind& kind, const std::string& name,
-                             const std::vector<std::string>& names) {
+  // Suggestions compare a name with every name of its kind; past the first few hundred unknown
+  // references (a generated file gone wrong) the messages go on without them, so that
+  // validation stays linear in the model's size.
+  std::string no_such(const Kind& kind, const std::string& name, const std::vector<std::string>& names) {
     if (name.empty()) return std::string("a ") + kind.noun + " name is needed";
     if (names.empty())
       return std::string("no ") + kind.noun + " named '" + name + "'; the model has no " +
              kind.path;
+    if (suggestions_left_ == 0) return std::string("no ") + kind.noun + " named '" + name + "'";
+    --suggestions_left_;
     return std::string("no ") + kind.noun + " named '" + name + "'" +
            detail::suggestion(name, names, std::string(kind.path) + " are");
   }
 
   bool point_exists(const Subject& s, const std::string& key, const std::string& point) {
     if (index_.point(point)) return true;
-    report(s, key, no_such(kPoints, point, names_of(model_.points)));
+    report(s, key, no_such(kPoints, point, point_names_));
     return false;
   }
 
   bool link_exists(const Subject& s, const std::string& key, const std::string& link) {
     if (index_.link(link) >= 0) return true;
-    report(s, key, no_such(kLinks, link, names_of(model_.links)));
+    report(s, key, no_such(kLinks, link, link_names_));
     return false;
   }
 
@@ -524,6 +528,9 @@ class Checker {
 
   const Model& model_;
   const detail::ModelIndex index_;
+  int suggestions_left_ = 200;
+  const std::vector<std::string> point_names_ = names_of(model_.points);
+  const std::vector<std::string> link_names_ = names_of(model_.links);
   double zero_length_;
   Origin model_origin_;  // for defects of the model as a whole
   std::vector<Diagnostic> found_;

@@ -1,6 +1,7 @@
 #pragma once
 // Reading model files (YAML, or JSON as a subset of it) into a Model. Syntax, types, sizes and
 // unknown keys are checked here with file positions; the model is then validated.
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -9,11 +10,33 @@
 
 namespace stiffmsa {
 
+// Bounds on what a model file may hold, checked before the file is parsed (size, nesting) or
+// before it becomes a Model (entity counts), so that a huge or hostile file is refused with a
+// message instead of exhausting memory or overflowing the stack. The defaults are far above
+// real models; the `stiffmsa` command raises them with --max-file-size, --max-depth and
+// --max-entities.
+struct LoadLimits {
+  // The parser holds about 80 bytes of memory per byte of a model file (up to 250 for a flat
+  // list of one-digit numbers), so this bounds the memory a file can take to a few GB. A
+  // 100 000-link chain takes 20–25 MB; real robots take kilobytes.
+  std::size_t max_file_bytes = std::size_t{64} << 20;  // 64 MiB
+  // Levels of mappings and lists, the top-level mapping being 1. The deepest place of a valid
+  // model, a row of a link's matrix, is at level 5; the parser recurses once per level.
+  int max_nesting_depth = 64;
+  // Points, links, joints, supports, loads and end effectors (and named materials and
+  // sections), each kind counted on its own. Ten
+  // times the 100 000-link chain; a million links already make a system of 24 million
+  // unknowns, more than a sparse LU can factorise in memory.
+  std::size_t max_entities = 1'000'000;
+};
+
 // Reads and validates a model file. Throws IoError when the file cannot be read and
-// InputError listing every defect.
+// InputError listing every defect, or naming the limit the file exceeds.
 Model load_model(const std::filesystem::path& path);
+Model load_model(const std::filesystem::path& path, const LoadLimits& limits);
 
 // The same for text already in memory; `file_name` is used in messages and as default name.
 Model parse_model(std::string_view text, const std::string& file_name);
+Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits);
 
 }  // namespace stiffmsa
