@@ -1,8 +1,18 @@
 #!/usr/bin/env bash
 # Installs the Debian packages stiffmsa builds with. Safe to run again; needs root (or sudo).
+#   usage: scripts/install-deps.sh [fuzz]
+# With `fuzz`, also clang and its sanitizer and libFuzzer runtimes (scripts/fuzz.sh). The
+# sanitizer build with g++ (scripts/sanitize.sh) needs nothing more: g++ brings libasan and
+# libubsan.
 set -euo pipefail
 packages=(cmake ninja-build g++ libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
           libsuitesparse-dev libgtest-dev libgmock-dev)
+for group in "$@"; do
+  case "$group" in
+    fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "install-deps.sh: unknown group '$group' (known: fuzz)" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
