@@ -4,6 +4,11 @@
 #include <Eigen/SVD>
 #include <sstream>
 
+#include "stiffmsa/config.hpp"
+#if STIFFMSA_HAVE_SUITESPARSE
+#include <Eigen/SPQRSupport>
+#endif
+
 #include "analysis/cartesian.hpp"
 #include "elements/free_directions.hpp"
 #include "solver/sparse_solver.hpp"
@@ -91,8 +96,49 @@ std::string describe_redundancy(const Model& model, const MatX& redundancies) {
 
 }  // namespace
 
-std::optional<NullSpaces> dense_null_spaces(const SparseMatrix& matrix) {
+#if STIFFMSA_HAVE_SUITESPARSE
+namespace {
+// The same from SuiteSparseQR's rank-revealing sparse QR, for systems too large for a dense
+// decomposition: with Âᵀ = Q·R, the columns of Q past the rank span the null space of Â (and
+// likewise from Â = Q·R for the left null space).
+MatX trailing_q_columns(const SparseMatrix& m, Index& rank) {
+  Eigen::SPQR<SparseMatrix> qr;
+  qr.setPivotThreshold(1e-10);
+  qr.compute(m);
+  if (qr.info() != Eigen::Success) throw Error("the sparse QR of a singular system failed");
+  rank = qr.rank();
+  const Index k = m.rows() - rank;
+  MatX selector = MatX::Zero(m.rows(), k);
+  for (Index i = 0; i < k; ++i) selector(rank + i, i) = 1.0;
+  return qr.matrixQ() * selector;
+}
+
+std::optional<NullSpaces> sparse_null_spaces(const SparseMatrix& matrix) {
+  const Equilibration scaling = equilibrate(matrix);
+  SparseMatrix scaled = matrix;
+  for (Index j = 0; j < scaled.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator e(scaled, j); e; ++e) e.valueRef() *= scaling.row(e.row()) * scaling.column(j);
+  NullSpaces spaces;
+  spaces.column_scale = scaling.column;
+  Index rank = 0;
+  const SparseMatrix transposed = scaled.transpose();
+  spaces.right_equilibrated = trailing_q_columns(transposed, rank);
+  if (spaces.right_equilibrated.cols() == 0) {
+    spaces.left.resize(matrix.rows(), 0);
+    return spaces;
+  }
+  spaces.left = scaling.row.asDiagonal() * trailing_q_columns(scaled, rank);
+  return spaces;
+}
+}  // namespace
+#endif
+
+std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix) {
+#if STIFFMSA_HAVE_SUITESPARSE
+  if (matrix.rows() > kDenseLimit) return sparse_null_spaces(matrix);
+#else
   if (matrix.rows() > kDenseLimit) return std::nullopt;
+#endif
   const Equilibration scaling = equilibrate(matrix);
   const MatX scaled = scaling.row.asDiagonal() * MatX(matrix) * scaling.column.asDiagonal();
   NullSpaces spaces;
@@ -113,7 +159,7 @@ std::optional<NullSpaces> dense_null_spaces(const SparseMatrix& matrix) {
 
 SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix) {
   SingularStructure s;
-  const auto spaces = dense_null_spaces(matrix);
+  const auto spaces = null_spaces(matrix);
   if (!spaces) {
     s.descriptions.push_back("the system (" + std::to_string(matrix.rows()) +
                              " unknowns) is singular: part of the structure can move freely or is over-constrained");

@@ -19,16 +19,17 @@ struct SingularStructure {
   std::vector<std::string> descriptions;
 };
 
-// Orthonormal bases of the right and left null spaces of a square matrix, computed densely on
-// its equilibrated form; nullopt above the size where that is affordable. Empty bases where
-// the matrix is regular to working precision.
+// Orthonormal bases of the right and left null spaces of a square matrix, computed on its
+// equilibrated form: densely for small systems, by sparse rank-revealing QR for large ones
+// (nullopt for large ones where SuiteSparse is not built in). Empty bases where the matrix is
+// regular to working precision.
 struct NullSpaces {
   MatX right_equilibrated;  // in equilibrated unknowns: entries are comparable across units
   VecX column_scale;
   MatX left;                // unscaled: each column u has uᵀ·A = 0
   MatX right() const { return column_scale.asDiagonal() * right_equilibrated; }
 };
-std::optional<NullSpaces> dense_null_spaces(const SparseMatrix& matrix);
+std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix);
 
 // Entries of a unit equilibrated null vector below this are rounding.
 constexpr double kNegligibleNullEntry = 1e-8;

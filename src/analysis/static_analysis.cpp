@@ -394,7 +394,7 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
   // Still singular: acceptable only where what remains are over-constrained loops, whose
   // null vectors change no deflection and not the end effector's wrench. Bordering with them
   // picks one member of the family of internal wrenches; the stiffness is the same for all.
-  const auto spaces = detail::dense_null_spaces(augmented);
+  const auto spaces = detail::null_spaces(augmented);
   if (!spaces || spaces->right_equilibrated.cols() == 0) return std::nullopt;
   const MatX& null_basis = spaces->right_equilibrated;
   for (int e = 0; e < problem.ws.topology.end_count(); ++e)
