@@ -9,6 +9,7 @@
 #include "analysis/free_motion.hpp"
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
+#include "model/link_ends.hpp"
 #include "solver/sparse_solver.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/config.hpp"
@@ -31,6 +32,8 @@ void SolveOptions::validate() const {
     throw UsageError("max_relative_residual must be positive");
   if (refinement_steps < 0 || refinement_steps > 20)
     throw UsageError("refinement_steps must be between 0 and 20");
+  if (!(warn_condition > 1))
+    throw UsageError("warn_condition must be greater than 1");
 }
 
 struct Workspace::Impl {
@@ -61,9 +64,16 @@ using detail::wrench_column;
 Vec6 deflection_of(const VecX& x, int end) { return x.segment<6>(deflection_column(end)); }
 Vec6 wrench_of(const VecX& x, int end) { return x.segment<6>(wrench_column(end)); }
 
-const Vec3& end_position(const Model& model, int end) {
-  const Link& link = model.links[static_cast<std::size_t>(end / 2)];
-  return model.find_point(end % 2 == 0 ? link.from : link.to)->position;
+// Where each link end sits, looked up once per solve.
+std::vector<Vec3> end_positions(const Model& model) {
+  const detail::ModelIndex index(model);
+  std::vector<Vec3> positions;
+  positions.reserve(2 * model.links.size());
+  for (const auto& link : model.links) {
+    positions.push_back(index.point(link.from)->position);
+    positions.push_back(index.point(link.to)->position);
+  }
+  return positions;
 }
 
 long count_nonzero_values(const detail::SparseMatrix& a) {
@@ -152,6 +162,7 @@ void fill_state_results(const Problem& problem, const VecX& x, Result& result) {
 double equilibrium_error(const Problem& problem, const Result& result) {
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
   double force_scale = 0, moment_scale = 0;
+  const std::vector<Vec3> positions = end_positions(problem.model);
   auto add = [&](const Vec3& at, const Vec6& w) {
     force += w.head<3>();
     const Vec3 m = w.tail<3>() + at.cross(w.head<3>());
@@ -160,11 +171,11 @@ double equilibrium_error(const Problem& problem, const Result& result) {
     moment_scale += w.tail<3>().norm() + at.norm() * w.head<3>().norm();
   };
   for (std::size_t e = 0; e < problem.external.size(); ++e)
-    if (!problem.external[e].isZero(0)) add(end_position(problem.model, static_cast<int>(e)), problem.external[e]);
+    if (!problem.external[e].isZero(0)) add(positions[e], problem.external[e]);
   for (const auto& group : problem.ws.topology.groups)
     if (group.kind == detail::ConnectionGroup::Kind::support) {
       const auto& reaction = result.supports[static_cast<std::size_t>(group.source)].reaction;
-      if (reaction) add(end_position(problem.model, group.ends.front()), *reaction);
+      if (reaction) add(positions[static_cast<std::size_t>(group.ends.front())], *reaction);
     }
   double error = 0;
   if (force_scale > 0) error = std::max(error, force.norm() / force_scale);
@@ -448,14 +459,9 @@ SystemSize check(const Model& model) {
   return size;
 }
 
-Result solve(const Model& model, const SolveOptions& options) {
-  options.validate();
-  Workspace workspace(model);
-  return solve(workspace, model, options);
-}
+namespace {
 
-Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
-  options.validate();
+Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options) {
   auto& ws = workspace.impl();
   if (!ws.system || ws.solver_kind != options.solver) {
     ws.system = std::make_unique<detail::FactorizedSystem>(options.solver);
@@ -480,6 +486,20 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   else
     solve_free_structure(problem, structure, result);
   return result;
+}
+
+}  // namespace
+
+Result solve(const Model& model, const SolveOptions& options) {
+  options.validate();
+  Workspace workspace(model);  // validates the model
+  return solve_validated(workspace, model, options);
+}
+
+Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
+  options.validate();
+  stiffmsa::validate(model);
+  return solve_validated(workspace, model, options);
 }
 
 }  // namespace stiffmsa
