@@ -294,3 +294,55 @@ TEST_F(Cli, RefusesToWriteTheResultOverTheModel) {
 }
 
 }  // namespace
+
+namespace {
+
+// A clamped arm braced by a strut with ball joints at both ends: the strut can spin about its
+// own axis, a free motion that moves no end effector.
+constexpr const char* braced_arm_model = R"(format: stiffmsa/1
+name: braced-arm
+materials:
+  steel: {E: 2.1e11, G: 8.0e10}
+points:
+  O: [0, 0, 0.5]
+  E: [0.8, 0, 0.5]
+  G: [0.8, 0.6, 0]
+links:
+  arm: {type: beam, from: O, to: E, material: steel, section: {shape: circle, D: 0.04}}
+  strut: {type: beam, from: G, to: E, material: steel, section: {shape: circle, D: 0.015}}
+supports:
+  clamp: {type: rigid, at: O}
+  ball_ground: {type: spherical, at: G}
+joints:
+  ball_top: {type: spherical, at: E, links: [arm, strut]}
+loads:
+  - {at: E, link: arm, wrench: [0, 0, -300, 0, 0, 0]}
+end_effectors:
+  tip: {at: E, link: arm}
+)";
+
+}  // namespace
+
+TEST_F(Cli, IdleMotionIsRefusedWithAHintThenAcceptedByFlagOrModelOption) {
+  const fs::path model = write_model("braced.yaml", braced_arm_model);
+  const fs::path json = folder_ / "result.json";
+  const CliRun refused = run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
+  EXPECT_EQ(refused.exit_code, exit_cannot_solve) << refused.out << refused.err;
+  EXPECT_TRUE(contains(refused.err, "'strut'")) << refused.err;
+  EXPECT_TRUE(contains(refused.err, "idle motion")) << refused.err;
+  EXPECT_TRUE(contains(refused.err, "--accept-idle-motions")) << refused.err;
+  EXPECT_FALSE(fs::exists(json));
+
+  const CliRun accepted = run("solve " + shell_quoted(model.string()) + " --accept-idle-motions --json " +
+                              shell_quoted(json.string()));
+  ASSERT_EQ(accepted.exit_code, exit_success) << accepted.out << accepted.err;
+  const auto result = nlohmann::json::parse(read_file(json));
+  EXPECT_FALSE(result["end_effectors"]["tip"]["stiffness"].is_null());
+  EXPECT_TRUE(result["link_ends"]["strut"]["to"]["deflection"].is_null());
+  EXPECT_FALSE(result["link_ends"]["arm"]["to"]["deflection"].is_null());
+
+  const fs::path with_option = write_model("braced-option.yaml", std::string(braced_arm_model) +
+                                                                   "options: {accept_idle_motions: true}\n");
+  const CliRun by_option = run("solve " + shell_quoted(with_option.string()));
+  EXPECT_EQ(by_option.exit_code, exit_success) << by_option.out << by_option.err;
+}
