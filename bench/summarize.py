@@ -1,0 +1,224 @@
+#!/usr/bin/env python3
+"""Prints the Markdown tables of bench/README.md from the files bench/run.sh writes:
+PREFIX.json (Google Benchmark), PREFIX-chain.jsonl (stiffmsa_chain) and PREFIX-cli.txt.
+
+    bench/summarize.py bench/results-2026-11-21-run1 [bench/results-2026-11-21-run2 ...]
+
+With several runs, each figure is the lowest of the runs (on a shared machine the lowest is
+the least disturbed), and the spread between the runs is printed. Times are CPU times;
+per-pose figures in µs.
+"""
+import json
+import os
+import sys
+
+ROBOTS = [("6axis", "6-axis robot (industrial-6axis.yaml)"),
+          ("6axis_rigid", "6-axis, links made rigid (the VJM's robot)"),
+          ("gough_stewart", "Gough–Stewart (gough-stewart-6ups.yaml)"),
+          ("tripteron", "3-leg tripteron (tripteron.yaml)")]
+SOLVERS = ["sparse_lu", "umfpack", "klu"]
+UNIT = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}  # to µs
+
+
+def load_benchmarks(path):
+    with open(path) as f:
+        data = json.load(f)
+    runs = {}
+    for b in data["benchmarks"]:
+        if b.get("run_type", "iteration") != "iteration":
+            continue
+        b["cpu_us"] = b["cpu_time"] * UNIT[b["time_unit"]]
+        runs[b["name"]] = b
+    return data.get("context", {}), runs
+
+
+def lowest(dicts, key):
+    """Per name, the entry with the lowest `key` over several runs, and the spreads (largest
+    over lowest, minus 1) of the names every run has."""
+    merged, spreads = {}, []
+    for name in set().union(*dicts):
+        entries = [d[name] for d in dicts if name in d]
+        merged[name] = min(entries, key=lambda e: e[key])
+        if len(entries) == len(dicts) > 1:
+            values = [e[key] for e in entries]
+            spreads.append(max(values) / min(values) - 1 if min(values) > 0 else 0)
+    return merged, sorted(spreads)
+
+
+def chain_rows(prefixes):
+    rows = {}
+    for prefix in prefixes:
+        if os.path.exists(prefix + "-chain.jsonl"):
+            for line in open(prefix + "-chain.jsonl"):
+                if line.strip():
+                    r = json.loads(line)
+                    rows.setdefault((r.get("source", "code"), r["solver"], r["links"]), {})[prefix] = r
+    return {k: min(v.values(), key=lambda r: r["solve_s"]) for k, v in rows.items()}
+
+
+def cli_rows(prefixes):
+    rows = {}
+    for prefix in prefixes:
+        if os.path.exists(prefix + "-cli.txt"):
+            for line in open(prefix + "-cli.txt"):
+                model, solver, seconds, _, kib, _ = line.split()
+                rows.setdefault((model, solver), []).append((float(seconds), int(kib)))
+    return {k: min(v) for k, v in rows.items()}
+
+
+def us(runs, name, digits=1):
+    b = runs.get(name)
+    return f"{b['cpu_us']:.{digits}f}" if b else "–"
+
+
+def per_pose_table(runs):
+    print("| model | solver | validate | topology | make_blocks | fill | factorize | solve | public `solve` "
+          "| public, no refinement | internal pipeline | allocs/pose | C vs sparse_lu | residual |")
+    print("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    for key, label in ROBOTS:
+        unknowns = runs.get(f"{key}/public_solve/sparse_lu", {}).get("unknowns")
+        name = f"{label}, {int(unknowns)} unknowns" if unknowns else label
+        for s in SOLVERS:
+            public = runs.get(f"{key}/public_solve/{s}")
+            if not public:
+                continue
+            print(f"| {name} | {s} | {us(runs, key + '/stage:validate')} | {us(runs, key + '/stage:topology')} | {us(runs, key + '/stage:make_blocks')} "
+                  f"| {us(runs, key + '/stage:fill')} | {us(runs, f'{key}/stage:factorize/{s}')} "
+                  f"| {us(runs, f'{key}/stage:solve/{s}')} | **{us(runs, f'{key}/public_solve/{s}')}** "
+                  f"| {us(runs, f'{key}/public_solve_refine0/{s}')} | {us(runs, f'{key}/pipeline/{s}')} "
+                  f"| {public.get('allocs', 0):.0f} | {public.get('c_diff', 0):.0e} "
+                  f"| {public.get('residual', 0):.0e} |")
+            name = ""
+        dense = runs.get(f"{key}/dense_lu")
+        if dense:
+            print(f"| | dense PartialPivLU | | | | | | | | | **{dense['cpu_us']:.1f}** | "
+                  f"| {dense.get('err_vs_sparse', 0):.0e} | |")
+    vjm = runs.get("6axis/vjm_floor")
+    if vjm:
+        print(f"| 6-axis, closed-form VJM floor (C and K = C⁻¹) | – | | | | | | | **{vjm['cpu_us']:.2f}** | | | "
+              f"| rigid-link MSA vs VJM: {vjm.get('msa_vs_vjm', 0):.0e} | |")
+
+
+def breakdown_table(runs):
+    print("| model | solver | factorize | equilibrate | bare LU | condition estimate | rest | solve "
+          "| bare triangular solves (7 rhs) | solve, no refinement | 2 refinement steps |")
+    print("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    for key, label in ROBOTS:
+        for s in SOLVERS:
+            f = runs.get(f"{key}/stage:factorize/{s}")
+            if not f:
+                continue
+            eq = runs[f"{key}/part:equilibrate"]["cpu_us"]
+            lu = runs[f"{key}/part:lu_numeric/{s}"]["cpu_us"]
+            cond = runs[f"{key}/part:condition_estimate/{s}"]["cpu_us"]
+            solve = runs[f"{key}/stage:solve/{s}"]["cpu_us"]
+            bare = runs[f"{key}/part:lu_solve/{s}"]["cpu_us"]
+            once = runs[f"{key}/part:solve_refine0/{s}"]["cpu_us"]
+            fc = f["cpu_us"]
+
+            def pct(x, whole):
+                return f"{x:.1f} ({100 * x / whole:.0f} %)"
+
+            rest = fc - eq - lu - cond  # parts timed alone may add up to more than the stage
+
+            print(f"| {key} | {s} | {fc:.1f} | {pct(eq, fc)} | {pct(lu, fc)} | {pct(cond, fc)} "
+                  f"| {pct(rest, fc) if rest > 0.05 * fc else '≈ 0'} | {solve:.1f} | {pct(bare, solve)} | {pct(once, solve)} "
+                  f"| {pct(solve - once, solve)} |")
+
+
+def chain_gbench_table(runs):
+    print("| N links | solver | whole `solve(model)`, ms | `solve(workspace, model)`, ms | µs per link (whole) "
+          "| tip compliance error | C_yy error |")
+    print("|--:|---|--:|--:|--:|--:|--:|")
+    for n in [10, 100, 1000, 10000, 100000]:
+        for s in SOLVERS:
+            whole = runs.get(f"chain/solve/{s}/N:{n}")
+            if not whole:
+                continue
+            again = runs.get(f"chain/resolve/{s}/N:{n}")
+            again = f"{again['cpu_us'] / 1e3:.2f}" if again else "–"
+            print(f"| {n} | {s} | {whole['cpu_us'] / 1e3:.2f} | {again} "
+                  f"| {whole['cpu_us'] / n:.1f} | {whole.get('tip_err', 0):.1e} | {whole.get('Cyy_err', 0):.1e} |")
+
+
+def chain_process_table(rows):
+    print("| N links | solver | unknowns | whole solve, s | workspace, s | first solve, s | repeated solve, s "
+          "| peak memory, MiB | model alone, MiB | KiB per link (peak) | tip error | C_yy error |")
+    print("|--:|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    for r in rows.values():
+        print(f"| {r['links']} | {r['solver']} | {r['unknowns']} | {r['solve_s']:.3f} | {r['workspace_s']:.3f} "
+              f"| {r['first_solve_s']:.3f} | {r['repeat_solve_s']:.3f} | {r['peak_mib']:.0f} | {r['model_rss_mib']:.0f} "
+              f"| {1024 * r['peak_mib'] / r['links']:.1f} | {r['tip_error']:.1e} | {r['cyy_error']:.1e} |")
+
+
+def frame_table(runs):
+    print("| model | solver | whole `solve(model)`, ms | `solve(workspace, model)`, ms | unknowns |")
+    print("|---|---|--:|--:|--:|")
+    for s in SOLVERS:
+        whole = runs.get(f"frame/solve/{s}")
+        if whole:
+            again = runs.get(f"frame/resolve/{s}")
+            again = f"{again['cpu_us'] / 1e3:.1f}" if again else "–"
+            print(f"| frame, {whole.get('links', 0):.0f} beams | {s} | {whole['cpu_us'] / 1e3:.1f} "
+                  f"| {again} | {whole.get('unknowns', 0):.0f} |")
+
+
+def klu_fill_table(runs):
+    print("| matrix | KLU ordering | pivot tolerance | numeric factorisation, ms | nnz(A) | nnz(L + U) | fill | "
+          "max error of x for A·x = A·1 (no refinement) |")
+    print("|---|---|--:|--:|--:|--:|--:|--:|")
+    for name in ["6axis", "tripteron", "chain_10000", "frame"]:
+        for ordering in ["amd", "colamd"]:
+            for tol in ["1", "0.001"]:
+                b = runs.get(f"{name}/klu_fill/{ordering}/tol:{tol}")
+                if b:
+                    print(f"| {name} | {ordering} | {tol} | {b['cpu_us'] / 1e3:.3f} | {b['nnz_A']:.0f} "
+                          f"| {b['nnz_LU']:.0f} | {b['nnz_LU'] / b['nnz_A']:.2f} | {b['x_err']:.1e} |")
+
+
+def main():
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    prefixes = sys.argv[1:]
+    loaded = [load_benchmarks(p + ".json") for p in prefixes]
+    context = loaded[-1][0]
+    runs, spreads = lowest([r for _, r in loaded], "cpu_us")
+    print(f"Host: {context.get('num_cpus')} × {context.get('mhz_per_cpu')} MHz, {context.get('compiler', '')}, "
+          f"Eigen {context.get('eigen', '')}, SuiteSparse: {context.get('suitesparse', '')}; library at "
+          f"{context.get('commit', '?')}; runs: " + ", ".join(
+              f"{c.get('date', '?')} (load {', '.join(f'{x:.2f}' for x in c.get('load_avg', []))})" for c, _ in loaded))
+    if spreads:
+        print(f"\nLowest of {len(prefixes)} runs. Spread between the runs over {len(spreads)} benchmarks: median "
+              f"{100 * spreads[len(spreads) // 2]:.0f} %, 90th percentile {100 * spreads[int(0.9 * len(spreads))]:.0f} %, "
+              f"largest {100 * spreads[-1]:.0f} %.")
+    print("\n### Per pose (µs)\n")
+    per_pose_table(runs)
+    print("\n### Inside factorize and solve (µs, share of the stage)\n")
+    breakdown_table(runs)
+    print("\n### Chain of N beam links (Google Benchmark)\n")
+    chain_gbench_table(runs)
+    chain = chain_rows(prefixes)
+    built = {k: v for k, v in chain.items() if k[0] == "code"}
+    if built:
+        print("\n### Chain of N beam links, one process each (time and peak memory)\n")
+        chain_process_table(dict(sorted(built.items(), key=lambda kv: (SOLVERS.index(kv[0][1]), kv[0][2]))))
+    for (source, solver, links), r in chain.items():
+        if source == "file":
+            print(f"\nThe {links}-link chain file read by `load_model`: {r['build_model_s']:.2f} s, "
+                  f"{r['model_rss_mib']:.0f} MiB resident after reading; then `solve` ({solver}): {r['solve_s']:.2f} s; "
+                  f"peak {r['peak_mib']:.0f} MiB.")
+    print("\n### Frame\n")
+    frame_table(runs)
+    print("\n### KLU's factors against its ordering and pivot tolerance\n")
+    klu_fill_table(runs)
+    cli = cli_rows(prefixes)
+    if cli:
+        print("\n### `stiffmsa solve` on generated files (best of 3 per run)\n")
+        print("| model | solver | wall time, s | peak memory, MiB |")
+        print("|---|---|--:|--:|")
+        for (model, solver), (seconds, kib) in cli.items():
+            print(f"| {model} | {solver} | {seconds:.2f} | {kib / 1024:.0f} |")
+
+
+if __name__ == "__main__":
+    main()
