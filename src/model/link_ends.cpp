@@ -2,12 +2,8 @@
 
 namespace stiffmsa::detail {
 
-int link_index(const Model& model, const std::string& name) {
-  for (std::size_t i = 0; i < model.links.size(); ++i)
-    if (model.links[i].name == name) return static_cast<int>(i);
-  return -1;
-}
-
+namespace {
+// The ends of link number `link` at `point`: none, one, or both (a link from a point to itself).
 std::vector<LinkEndRef> ends_of_link_at(const Model& model, int link, const std::string& point) {
   std::vector<LinkEndRef> ends;
   const Link& l = model.links[static_cast<std::size_t>(link)];
@@ -15,19 +11,7 @@ std::vector<LinkEndRef> ends_of_link_at(const Model& model, int link, const std:
   if (l.to == point) ends.push_back({link, LinkEnd::to});
   return ends;
 }
-
-std::vector<LinkEndRef> ends_at_point(const Model& model, const std::string& point) {
-  std::vector<LinkEndRef> ends;
-  for (int i = 0; i < static_cast<int>(model.links.size()); ++i)
-    for (const auto& e : ends_of_link_at(model, i, point)) ends.push_back(e);
-  return ends;
-}
-
-std::optional<LinkEndRef> resolve_link_end(const Model& model, const std::string& point,
-                                           const std::optional<std::string>& link_name,
-                                           std::string& problem) {
-  return ModelIndex(model).resolve(point, link_name, problem);
-}
+}  // namespace
 
 ModelIndex::ModelIndex(const Model& model) : model_(model) {
   points_.reserve(model.points.size());

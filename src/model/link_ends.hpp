@@ -17,21 +17,6 @@ struct LinkEndRef {
   bool operator==(const LinkEndRef&) const = default;
 };
 
-// The ends of `link` at `point`: none, one, or both (a link from a point to itself).
-std::vector<LinkEndRef> ends_of_link_at(const Model& model, int link, const std::string& point);
-
-// Every link end at `point`, in link order.
-std::vector<LinkEndRef> ends_at_point(const Model& model, const std::string& point);
-
-// The link end meant by `{at: point, link: name}` (name optional). Sets `problem` to a sentence
-// and returns nullopt when there is no such end or the choice is ambiguous.
-std::optional<LinkEndRef> resolve_link_end(const Model& model, const std::string& point,
-                                           const std::optional<std::string>& link_name,
-                                           std::string& problem);
-
-// Index of the link named `name` in model.links, or -1.
-int link_index(const Model& model, const std::string& name);
-
 // Name lookups of a model built once, for work that would otherwise scan the model per item
 // (large models have 100 000 links). Refers to the model, which must outlive it.
 class ModelIndex {
@@ -41,7 +26,8 @@ class ModelIndex {
   int link(const std::string& name) const;  // −1 when absent
   // Every link end at `point`, in link order.
   const std::vector<LinkEndRef>& ends_at(const std::string& point) const;
-  // As resolve_link_end() above.
+  // The link end meant by `{at: point, link: name}` (name optional). Sets `problem` to a
+  // sentence and returns nullopt when there is no such end or the choice is ambiguous.
   std::optional<LinkEndRef> resolve(const std::string& point, const std::optional<std::string>& link_name,
                                     std::string& problem) const;
 
