@@ -13,6 +13,7 @@
 #include "stiffmsa/config.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 #include "summary.hpp"
+#include "sweep_command.hpp"
 
 namespace {
 
@@ -25,6 +26,7 @@ struct SolveCommand {
   std::string json_file;  // empty: no result file
   std::string solver = "sparse_lu";
   bool accept_idle_motions = false;
+  std::vector<std::string> settings;  // parametric models: "name=value"
   LoadLimits limits;
 };
 
@@ -44,13 +46,13 @@ void refuse_to_overwrite_model(const fs::path& model_file, const fs::path& json_
   }
 }
 
-SolveOptions solve_options(const SolveCommand& command) {
+SolveOptions solve_options(const std::string& solver, bool accept_idle_motions) {
   SolveOptions options;
   // CLI11 has already checked the name against the list of solvers.
-  options.solver = solver_kind_from_string(command.solver).value_or(SolverKind::sparse_lu);
-  options.accept_idle_motions = command.accept_idle_motions;
+  options.solver = solver_kind_from_string(solver).value_or(SolverKind::sparse_lu);
+  options.accept_idle_motions = accept_idle_motions;
   if (!solver_available(options.solver)) {
-    throw UsageError("solver '" + command.solver +
+    throw UsageError("solver '" + solver +
                      "' is not available in this build of stiffmsa (built without SuiteSparse); "
                      "use --solver sparse_lu");
   }
@@ -64,8 +66,9 @@ int run_solve(const SolveCommand& command) {
     json_file = command.json_file;
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
-  const SolveOptions options = solve_options(command);
-  const Model model = load_model(command.model_file, command.limits);
+  const SolveOptions options = solve_options(command.solver, command.accept_idle_motions);
+  const ModelFamily family = load_model_family(command.model_file, command.limits);
+  const Model model = family.build(parameter_values(family, command.settings));
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
@@ -129,6 +132,8 @@ int run(int argc, char** argv) {
   solve_app->add_flag("--accept-idle-motions", solve_command.accept_idle_motions,
                       "Solve despite free motions that move no end effector (the spin of a "
                       "leg about its own axis); as `options: {accept_idle_motions: true}`");
+  solve_app->add_option("--set", solve_command.settings,
+                        "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
   add_limit_options(*solve_app, solve_command.limits);
 
   CheckCommand check_command;
@@ -136,6 +141,37 @@ int run(int argc, char** argv) {
       app.add_subcommand("check", "Validate a model and print its system size without solving");
   check_app->add_option("MODEL", check_command.model_file, "Model file (YAML or JSON)")->required();
   add_limit_options(*check_app, check_command.limits);
+
+  SweepCommand sweep_command;
+  std::string sweep_solver = "sparse_lu";
+  bool sweep_accept_idle_motions = false;
+  CLI::App* sweep_app = app.add_subcommand(
+      "sweep", "Solve a parametric model over a grid or a list of poses and write one CSV row per pose");
+  sweep_app->add_option("MODEL", sweep_command.model_file, "Model file with `parameters:`")->required();
+  sweep_app->add_option("--csv", sweep_command.csv_file, "Write the rows to this CSV file")->required();
+  sweep_app->add_option("--grid", sweep_command.grids,
+                        "A swept parameter: NAME=START:STOP:COUNT, both ends included (repeatable; the first "
+                        "varies fastest)");
+  sweep_app->add_option("--poses", sweep_command.poses_file,
+                        "A CSV whose header names parameters and whose rows are poses (instead of --grid)");
+  sweep_app->add_option("--set", sweep_command.settings,
+                        "A parameter held at another value than its default, NAME=VALUE (repeatable)");
+  sweep_app->add_flag("--full", sweep_command.full, "Also write the 36 compliance and 36 stiffness entries per end effector");
+  sweep_app->add_flag("--plot", sweep_command.plot,
+                      "Draw PNG and SVG maps (2-D grid) or line plots (1-D grid) beside the CSV");
+  sweep_app->add_option("--plot-column", sweep_command.plot_columns,
+                        "A column to plot (repeatable); default: E.k_trans_min and E.deflection_trans of "
+                        "every end effector E");
+  sweep_app->add_option("--summary", sweep_command.summary_file,
+                        "Write the JSON summary here (default: beside the CSV, NAME.summary.json)");
+  sweep_app->add_option("--threads", sweep_command.threads, "Threads to use (default: every core)")->check(at_least_one);
+  sweep_app->add_flag("--quiet", sweep_command.quiet, "No progress bar");
+  sweep_app->add_option("--solver", sweep_solver, "Sparse linear solver")
+      ->check(CLI::IsMember({"sparse_lu", "umfpack", "klu"}))
+      ->capture_default_str();
+  sweep_app->add_flag("--accept-idle-motions", sweep_accept_idle_motions,
+                      "Solve despite free motions that move no end effector");
+  add_limit_options(*sweep_app, sweep_command.limits);
 
   try {
     app.parse(argc, argv);
@@ -148,6 +184,10 @@ int run(int argc, char** argv) {
   }
 
   if (solve_app->parsed()) return run_solve(solve_command);
+  if (sweep_app->parsed()) {
+    sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions);
+    return run_sweep(sweep_command);
+  }
   return run_check(check_command);
 }
 

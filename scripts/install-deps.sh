@@ -6,7 +6,8 @@
 # libubsan.
 set -euo pipefail
 packages=(cmake ninja-build g++ libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
-          libsuitesparse-dev libgtest-dev libgmock-dev)
+          libsuitesparse-dev libmuparser-dev libtbb-dev libcairo2-dev pkg-config
+          libgtest-dev libgmock-dev)
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;

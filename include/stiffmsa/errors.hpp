@@ -43,10 +43,16 @@ class InputError : public Error {
 // The model is valid but cannot be solved: it is a mechanism, or numerically singular.
 class SingularModelError : public Error {
  public:
-  SingularModelError(std::string summary, std::vector<std::string> details);
+  enum class Cause {
+    free_motion,  // the structure can move without load (details name the motions)
+    numerical,    // singular to working precision, with no free motion identified
+  };
+  SingularModelError(Cause cause, std::string summary, std::vector<std::string> details);
+  Cause cause() const { return cause_; }
   const std::vector<std::string>& details() const { return details_; }
 
  private:
+  Cause cause_;
   std::vector<std::string> details_;
 };
 

@@ -94,7 +94,7 @@ struct Problem {
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o) : model(m), ws(w), options(o) {
     const detail::Topology topology = detail::build_topology(model);
     if (!(topology == ws.topology))
-      throw InputError({}, "", "the model's topology differs from the one this workspace was built for");
+      detail::throw_topology_changed();
     blocks = detail::make_blocks(model, ws.topology);
     ws.assembler->fill(blocks, ws.matrix);
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
@@ -325,7 +325,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
   const detail::SparseMatrix extended = bordered(problem.ws.matrix, structure.left_null, null_vectors);
   detail::FactorizedSystem system(problem.options.solver);
   if (!system.factorize(extended, problem.options.singular_rcond))
-    throw SingularModelError("the model is singular and could not be solved", structure.descriptions);
+    throw SingularModelError(SingularModelError::Cause::numerical, "the model is singular and could not be solved", structure.descriptions);
   solve_loads_and_compliance(problem, result, [&](const MatX& rhs, double& residual) {
     MatX padded = MatX::Zero(n + null_vectors.cols(), rhs.cols());
     padded.topRows(n) = rhs;
@@ -336,7 +336,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     return solution;
   });
   if (result.report.relative_residual > 1e-8)
-    throw SingularModelError("the structure cannot hold its loads or preloads: they act along a free motion",
+    throw SingularModelError(SingularModelError::Cause::free_motion, "the structure cannot hold its loads or preloads: they act along a free motion",
                              structure.descriptions);
 
   const double length = detail::characteristic_length(problem.model);
@@ -424,7 +424,7 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
 void solve_free_structure(Problem& problem, const detail::SingularStructure& structure, Result& result) {
   const std::vector<std::string>& details = structure.descriptions;
   if (problem.loaded)
-    throw SingularModelError("the model is a mechanism: it can move freely, and a loaded or preloaded structure must "
+    throw SingularModelError(SingularModelError::Cause::free_motion, "the model is a mechanism: it can move freely, and a loaded or preloaded structure must "
                              "not (unloaded, it would still get the stiffness of an end effector that stops every "
                              "free motion)",
                              details);
@@ -439,7 +439,7 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
     result.report.reciprocal_condition = std::max(result.report.reciprocal_condition, rcond);
   }
   if (!any)
-    throw SingularModelError("the model is a mechanism: no end effector holds its free motions", details);
+    throw SingularModelError(SingularModelError::Cause::free_motion, "the model is a mechanism: no end effector holds its free motions", details);
   result.report.notes.push_back(
       "the structure can move freely; only the stiffness of the end effectors that stop every free motion "
       "is reported, everything else is null");

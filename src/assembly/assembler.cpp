@@ -5,6 +5,15 @@
 
 namespace stiffmsa::detail {
 
+void throw_topology_changed() {
+  throw InputError({}, "",
+                   "the model's topology (its points, links, joints, supports, end effectors, or "
+                   "which blocks of a matrix link's stiffness are singular) differs from the one "
+                   "the workspace was built for; a workspace, like a sweep, solves models of one "
+                   "topology");
+}
+
+
 namespace {
 
 class PositionRecorder final : public EquationWriter {
@@ -23,7 +32,7 @@ class ValueWriter final : public EquationWriter {
       : rows_(rows), columns_(columns), slots_(slots), values_(values) {}
   void add(Index row, Index column, double value) override {
     if (next_ >= rows_.size() || rows_[next_] != row || columns_[next_] != column)
-      throw InputError({}, "", "the model's topology differs from the one this workspace was built for");
+      throw_topology_changed();
     values_[slots_[next_++]] += value;
   }
   std::size_t written() const { return next_; }
@@ -82,10 +91,10 @@ void Assembler::fill(const Blocks& blocks, SparseMatrix& matrix) const {
   std::fill_n(matrix.valuePtr(), inner_.size(), 0.0);
   ValueWriter writer(rows_, columns_, slots_, matrix.valuePtr());
   if (blocks.size() != first_rows_.size())
-    throw InputError({}, "", "the model's topology differs from the one this workspace was built for");
+    throw_topology_changed();
   for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b]->write_equations(first_rows_[b], writer);
   if (writer.written() != rows_.size())
-    throw InputError({}, "", "the model's topology differs from the one this workspace was built for");
+    throw_topology_changed();
 }
 
 void Assembler::add_wrench(const Blocks& blocks, const Topology& topology, int end,

@@ -11,6 +11,12 @@
 
 namespace stiffmsa::detail {
 
+// A model solved in a workspace built for another topology: the numbering and the sparsity
+// pattern would not fit. (A matrix link whose stiffness changes which block is singular
+// changes the pattern too.)
+[[noreturn]] void throw_topology_changed();
+
+
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Blocks = std::vector<std::unique_ptr<ElementBlock>>;
 

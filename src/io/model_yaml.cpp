@@ -13,16 +13,20 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
 #include <utility>
 
+#include "io/expressions.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/parametric.hpp"
 #include "stiffmsa/validate.hpp"
 
 namespace stiffmsa {
@@ -32,8 +36,9 @@ using KeyList = std::vector<std::string>;
 
 constexpr const char* kFormat = "stiffmsa/1";
 
-const KeyList kTopKeys{"format", "name",     "options", "materials", "sections",    "points",
-                       "links",  "joints",   "supports", "loads",    "end_effectors"};
+const KeyList kTopKeys{"format", "name",   "parameters", "options", "materials",    "sections",
+                       "points", "links",  "joints",     "supports", "loads",        "end_effectors"};
+const KeyList kParameterKeys{"default", "unit"};
 const KeyList kOptionKeys{"accept_idle_motions"};
 const KeyList kMaterialKeys{"E", "nu", "G"};
 const KeyList kSectionKeys{"shape", "D", "t", "b", "h", "A", "Iy", "Iz", "J", "Asy", "Asz"};
@@ -147,9 +152,14 @@ struct Definition {
 
 class Loader {
  public:
-  explicit Loader(std::string file) : file_(std::move(file)) {}
+  // `expressions` evaluates the file's expressions with `values` (one per parameter), or
+  // with the parameters' defaults where `values` is empty; a loader without one makes its own.
+  explicit Loader(std::string file, detail::ExpressionEvaluator* expressions = nullptr,
+                  std::span<const double> values = {})
+      : file_(std::move(file)), expressions_(expressions), values_(values) {}
 
   Model read(const YAML::Node& root);
+  const std::vector<Parameter>& parameters() const { return parameters_; }
 
   // Adds find_defects()'s diagnostics to the loader's own, leaving out those about values the
   // loader already found wrong or could not read, and returns them all in file order.
@@ -218,6 +228,8 @@ class Loader {
 
   void read_format(const std::vector<Entry>& top, const Value& root);
   void read_name(const std::vector<Entry>& top);
+  void read_parameters(const Entry& section);
+  std::optional<double> expression(const Value& v);
   void read_options(const Entry& section);
   void read_materials(const Entry& section);
   void read_sections(const Entry& section);
@@ -263,6 +275,12 @@ class Loader {
                      std::optional<std::string>& link);
 
   std::string file_;
+  detail::ExpressionEvaluator* expressions_;
+  std::unique_ptr<detail::ExpressionEvaluator> own_expressions_;
+  std::span<const double> values_;
+  // Whether the file has `parameters:`: only then is text in place of a number an expression.
+  bool parametric_ = false;
+  std::vector<Parameter> parameters_;
   Model model_;
   std::vector<Diagnostic> diagnostics_;
   std::set<std::string> spoiled_;
@@ -357,9 +375,13 @@ void Loader::record_items(Origin& origin, const std::string& key, const Value& l
 // ---- scalars, vectors and matrices -------------------------------------------------------
 
 std::optional<double> Loader::number(const Value& v) {
+  if (parametric_ && v.node.IsScalar()) return expression(v);
   // A quoted "2e11" is text: accepting it would hide a value meant as something else.
   if (!v.node.IsScalar() || v.node.Tag() == "!") {
-    fail(v, "expected a number, got " + describe(v.node));
+    std::string hint;
+    if (v.node.IsScalar())
+      hint = "; a number written as an expression needs the file's `parameters:`";
+    fail(v, "expected a number, got " + describe(v.node) + hint);
     return std::nullopt;
   }
   const std::string& text = v.node.Scalar();
@@ -381,10 +403,29 @@ std::optional<double> Loader::number(const Value& v) {
     return std::nullopt;
   }
   if (error != std::errc() || stop != end) {
-    fail(v, "expected a number, got " + describe(v.node));
+    fail(v, "expected a number, got " + describe(v.node) +
+                "; a number written as an expression needs the file's `parameters:`");
     return std::nullopt;
   }
   return value;
+}
+
+// A number of a parametric file: a plain number is read as one, anything else is an expression
+// of the parameters (a plain number is an expression too, but reading it directly keeps
+// `2e11` exactly what it says).
+std::optional<double> Loader::expression(const Value& v) {
+  const std::string& text = v.node.Scalar();
+  double value = 0;
+  const char* end = text.data() + text.size();
+  if (const auto [stop, error] = std::from_chars(text.data(), end, value);
+      error == std::errc() && stop == end && std::isfinite(value))
+    return value;
+  const auto outcome = expressions_->evaluate(text);
+  if (!outcome.error.empty()) {
+    fail(v, outcome.error);
+    return std::nullopt;
+  }
+  return outcome.value;
 }
 
 // A number whose key is given: NaN where it cannot be read, so that the model shows the key
@@ -540,6 +581,7 @@ Model Loader::read(const YAML::Node& root) {
   check_keys(top, "", kTopKeys, {}, "a model");
   read_format(top, whole);
   read_name(top);
+  if (const Entry* e = find(top, "parameters")) read_parameters(*e);
   // Materials and sections first: links refer to them wherever they stand in the file.
   using Part = void (Loader::*)(const Entry&);
   const std::pair<const char*, Part> parts[] = {
@@ -574,6 +616,41 @@ void Loader::read_name(const std::vector<Entry>& top) {
   }
   const std::string stem = std::filesystem::path(file_).stem().string();
   if (!stem.empty()) model_.name = stem;
+}
+
+// Parameters are read before anything that may use them. Their defaults are plain numbers:
+// an expression here would make the file's meaning depend on the order of its keys.
+void Loader::read_parameters(const Entry& section) {
+  std::vector<std::string> names;
+  std::vector<double> defaults;
+  for (const auto& named : named_mapping(section)) {
+    Parameter parameter{named.key, 0, {}, named.key_at};
+    if (auto problem = detail::parameter_name_problem(named.key)) {
+      fail(named.key_at, named.value.path, *problem);
+      continue;
+    }
+    if (named.value.node.IsMap()) {
+      const auto e = fixed_mapping(named.value);
+      check_keys(e, named.value.path, kParameterKeys, {}, "a parameter");
+      if (const Entry* d = required(e, named.value, "default"))
+        parameter.default_value = number(d->value).value_or(0);
+      if (const Entry* unit = find(e, "unit")) parameter.unit = text(unit->value).value_or("");
+    } else if (named.value.node.IsScalar()) {
+      parameter.default_value = number(named.value).value_or(0);
+    } else {
+      fail(named.value, "expected a number or {default: number, unit: text}, got " +
+                            describe(named.value.node));
+    }
+    names.push_back(parameter.name);
+    defaults.push_back(parameter.default_value);
+    parameters_.push_back(std::move(parameter));
+  }
+  parametric_ = true;
+  if (!expressions_) {
+    own_expressions_ = std::make_unique<detail::ExpressionEvaluator>(names);
+    expressions_ = own_expressions_.get();
+  }
+  expressions_->set_values(values_.empty() ? std::span<const double>(defaults) : values_);
 }
 
 void Loader::read_options(const Entry& section) {
@@ -1208,11 +1285,9 @@ void require_entity_counts_within(const YAML::Node& root, const std::string& fil
 
 }  // namespace
 
-Model parse_model(std::string_view text, const std::string& file_name) {
-  return parse_model(text, file_name, LoadLimits{});
-}
+namespace {
 
-Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+YAML::Node parse_tree(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
   require_size_within(text.size(), file_name, limits);
   require_nesting_within(text, file_name, limits);
   YAML::Node root;
@@ -1222,16 +1297,24 @@ Model parse_model(std::string_view text, const std::string& file_name, const Loa
     throw InputError({{location_in(file_name, e.mark), "", "YAML syntax error: " + e.msg}});
   }
   require_entity_counts_within(root, file_name, limits);
-  Loader loader(file_name);
+  return root;
+}
+
+struct CheckedModel {
+  Model model;
+  std::vector<Parameter> parameters;
+};
+
+CheckedModel read_checked(const YAML::Node& root, const std::string& file_name,
+                          detail::ExpressionEvaluator* expressions, std::span<const double> values) {
+  Loader loader(file_name, expressions, values);
   Model model = loader.read(root);
   auto defects = loader.merge(find_defects(model));
   if (!defects.empty()) throw InputError(std::move(defects));
-  return model;
+  return {std::move(model), loader.parameters()};
 }
 
-Model load_model(const std::filesystem::path& path) { return load_model(path, LoadLimits{}); }
-
-Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
+std::string read_model_text(const std::filesystem::path& path, const LoadLimits& limits) {
   const std::string file = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("cannot open model file '" + file + "'");
@@ -1253,7 +1336,53 @@ Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
       throw_too_large(file, "larger than the limit of " + byte_count(limits.max_file_bytes));
   }
   if (in.bad()) throw IoError("cannot read model file '" + file + "'");
-  return parse_model(text, file, limits);
+  return text;
+}
+
+// Each builder re-reads the parsed file with its own copy of the tree and its own compiled
+// expressions, so builders on different threads share nothing that changes.
+ModelFamily family_of(const YAML::Node& root, const std::string& file_name) {
+  CheckedModel at_defaults = read_checked(root, file_name, nullptr, {});
+  auto tree = std::make_shared<const YAML::Node>(YAML::Clone(root));
+  std::vector<std::string> names;
+  for (const auto& p : at_defaults.parameters) names.push_back(p.name);
+  auto make_builder = [tree, file_name, names]() -> ModelFamily::Builder {
+    auto own_tree = std::make_shared<const YAML::Node>(YAML::Clone(*tree));
+    auto expressions = std::make_shared<detail::ExpressionEvaluator>(names);
+    return [own_tree, expressions, file_name](std::span<const double> values) {
+      if (values.size() != expressions->parameter_names().size())
+        throw UsageError("the model '" + file_name + "' has " +
+                         std::to_string(expressions->parameter_names().size()) +
+                         " parameters; got " + std::to_string(values.size()) + " values");
+      return read_checked(*own_tree, file_name, expressions.get(), values).model;
+    };
+  };
+  return ModelFamily(at_defaults.model.name, std::move(at_defaults.parameters), make_builder);
+}
+
+}  // namespace
+
+Model parse_model(std::string_view text, const std::string& file_name) {
+  return parse_model(text, file_name, LoadLimits{});
+}
+
+Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+  return read_checked(parse_tree(text, file_name, limits), file_name, nullptr, {}).model;
+}
+
+Model load_model(const std::filesystem::path& path) { return load_model(path, LoadLimits{}); }
+
+Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
+  return parse_model(read_model_text(path, limits), path.string(), limits);
+}
+
+ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
+                               const LoadLimits& limits) {
+  return family_of(parse_tree(text, file_name, limits), file_name);
+}
+
+ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits) {
+  return parse_model_family(read_model_text(path, limits), path.string(), limits);
 }
 
 }  // namespace stiffmsa

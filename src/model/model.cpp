@@ -40,8 +40,8 @@ InputError::InputError(SourceLocation location, std::string key_path, std::strin
     : InputError(std::vector<Diagnostic>{
           Diagnostic{std::move(location), std::move(key_path), std::move(message)}}) {}
 
-SingularModelError::SingularModelError(std::string summary, std::vector<std::string> details)
-    : Error(std::move(summary)), details_(std::move(details)) {}
+SingularModelError::SingularModelError(Cause cause, std::string summary, std::vector<std::string> details)
+    : Error(std::move(summary)), cause_(cause), details_(std::move(details)) {}
 
 const SourceLocation& Origin::of(const std::string& key) const {
   auto it = key_locations.find(key);

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "stiffmsa/model.hpp"
+#include "stiffmsa/parametric.hpp"
 
 namespace stiffmsa {
 
@@ -38,5 +39,13 @@ Model load_model(const std::filesystem::path& path, const LoadLimits& limits);
 // The same for text already in memory; `file_name` is used in messages and as default name.
 Model parse_model(std::string_view text, const std::string& file_name);
 Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits);
+
+// A parametric model file (its top-level `parameters:`) as a family of models: checked here
+// at the parameters' defaults, each member built from its parameter values. A file without
+// parameters is a family of one model. load_model() and parse_model() give the member at
+// the defaults.
+ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits = {});
+ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
+                               const LoadLimits& limits = {});
 
 }  // namespace stiffmsa

@@ -1,0 +1,278 @@
+#include "sweep_command.hpp"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "summary.hpp"
+
+namespace stiffmsa::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string comma_separated(const std::vector<std::string>& names) {
+  std::string text;
+  for (std::size_t i = 0; i < names.size(); ++i) text += (i > 0 ? ", " : "") + names[i];
+  return text;
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  double value = 0;
+  const char* first = text.data() + (!text.empty() && text[0] == '+' ? 1 : 0);
+  const auto [stop, error] = std::from_chars(first, text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || stop != text.data() + text.size() || !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
+// "name=start:stop:count"
+GridAxis parse_grid(const std::string& spec) {
+  const auto usage = [&](const std::string& what) {
+    return UsageError("--grid '" + spec + "': " + what + "; write NAME=START:STOP:COUNT, e.g. x=-0.2:0.2:41");
+  };
+  const auto equals = spec.find('=');
+  if (equals == std::string::npos || equals == 0) throw usage("no parameter name before '='");
+  GridAxis axis;
+  axis.parameter = spec.substr(0, equals);
+  const std::string range = spec.substr(equals + 1);
+  const auto colon1 = range.find(':');
+  const auto colon2 = colon1 == std::string::npos ? std::string::npos : range.find(':', colon1 + 1);
+  if (colon2 == std::string::npos || range.find(':', colon2 + 1) != std::string::npos)
+    throw usage("expected three values separated by ':'");
+  const auto start = parse_number(range.substr(0, colon1));
+  const auto stop = parse_number(range.substr(colon1 + 1, colon2 - colon1 - 1));
+  if (!start || !stop) throw usage("START and STOP must be finite numbers");
+  const std::string count_text = range.substr(colon2 + 1);
+  std::size_t count = 0;
+  const auto [end, error] = std::from_chars(count_text.data(), count_text.data() + count_text.size(), count);
+  if (count_text.empty() || error != std::errc() || end != count_text.data() + count_text.size() || count == 0)
+    throw usage("COUNT must be a whole number of at least 1");
+  axis.start = *start;
+  axis.stop = *stop;
+  axis.count = count;
+  return axis;
+}
+
+std::string with_unit(double value, const std::string& unit) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.4g", value);
+  return unit.empty() ? std::string(buffer) : std::string(buffer) + " " + unit;
+}
+
+// "x = 0.1 m, y = 0.2 m"
+std::string pose_text(const SweepResult& sweep, std::size_t pose) {
+  std::string text;
+  const auto values = sweep.poses.pose(pose);
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (k > 0) text += ", ";
+    text += sweep.poses.parameters[k] + " = " + with_unit(values[k], sweep.units[k]);
+  }
+  return text;
+}
+
+// A bar on the terminal, for sweeps long enough to wait for; nothing when stderr is a file.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) == 1) {}
+
+  void update(std::size_t done, std::size_t total) {
+    if (!enabled_ || total == 0) return;
+    const double elapsed = seconds_since_start();
+    if (elapsed < 1.0 || (done < total && elapsed - last_drawn_ < 0.1)) return;
+    last_drawn_ = elapsed;
+    constexpr int width = 30;
+    const double fraction = static_cast<double>(done) / static_cast<double>(total);
+    const int filled = static_cast<int>(fraction * width);
+    std::string bar(static_cast<std::size_t>(filled), '#');
+    bar.resize(width, '.');
+    std::fprintf(stderr, "\rsweep [%s] %3d%% %zu/%zu poses", bar.c_str(), static_cast<int>(fraction * 100), done,
+                 total);
+    if (done > 0 && done < total)
+      std::fprintf(stderr, ", %.0f s left   ", elapsed * static_cast<double>(total - done) / static_cast<double>(done));
+    drawn_ = true;
+    std::fflush(stderr);
+  }
+
+  ~ProgressBar() {
+    if (drawn_) std::fprintf(stderr, "\r\033[K");
+  }
+
+ private:
+  double seconds_since_start() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  bool enabled_;
+  bool drawn_ = false;
+  double last_drawn_ = 0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Stiffness near a singular pose spans decades: a log scale shows the whole map.
+PlotScale scale_for(const std::vector<double>& values) {
+  double low = INFINITY, high = 0;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    if (v <= 0) return PlotScale::linear;
+    low = std::min(low, v);
+    high = std::max(high, v);
+  }
+  return high > 30 * low ? PlotScale::logarithmic : PlotScale::linear;
+}
+
+std::vector<SweepColumn> plotted_columns(const SweepResult& sweep, const SweepCommand& command) {
+  std::vector<SweepColumn> columns;
+  if (command.plot_columns.empty()) {
+    for (const auto& column : sweep_columns(sweep, false))
+      if (column.quantity == SweepQuantity::k_trans_min || column.quantity == SweepQuantity::deflection_trans)
+        columns.push_back(column);
+    return columns;
+  }
+  for (const auto& name : command.plot_columns) {
+    auto column = find_sweep_column(sweep, name);
+    if (!column) {
+      std::vector<std::string> names;
+      for (const auto& c : sweep_columns(sweep, false)) names.push_back(c.name);
+      throw UsageError("--plot-column '" + name + "': no such column; columns are " + comma_separated(names));
+    }
+    columns.push_back(*column);
+  }
+  return columns;
+}
+
+// Plots of every chosen column, PNG and SVG, named after the CSV: map.csv -> map.E.k_trans_min.png
+std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& command) {
+  std::vector<fs::path> written;
+  const fs::path csv(command.csv_file);
+  const fs::path base = csv.parent_path() / csv.stem();
+  const auto& grid = sweep.poses.grid;
+  for (const auto& column : plotted_columns(sweep, command)) {
+    std::vector<double> values(sweep.results.size());
+    for (std::size_t pose = 0; pose < values.size(); ++pose) {
+      values[pose] = column_value(sweep, column, pose);
+      if (std::isinf(values[pose])) values[pose] = NAN;  // a rigid direction has no colour
+    }
+    const auto worst = worst_pose(sweep, column);
+    const std::string label = worst ? std::string(column.worst_is_largest ? "largest" : "smallest") + ": " +
+                                          with_unit(column_value(sweep, column, *worst), column.unit)
+                                    : std::string();
+    const std::string title = sweep.model + ": " + column.name;
+    const auto axis = [&](std::size_t k) {
+      PlotAxis a{grid[k].parameter, sweep.units[k], {}};
+      for (std::size_t i = 0; i < grid[k].count; ++i) a.values.push_back(grid[k].value(i));
+      return a;
+    };
+    for (const char* extension : {".png", ".svg"}) {
+      const fs::path file = base.string() + "." + column.name + extension;
+      if (grid.size() == 1) {
+        LinePlot plot{title, axis(0), column.name, column.unit, values, scale_for(values), worst, label};
+        write_plot(plot, file);
+      } else {
+        Heatmap plot{title, axis(0), axis(1), column.name, column.unit, values, scale_for(values), std::nullopt, label};
+        if (worst) plot.marked = std::pair{*worst % grid[0].count, *worst / grid[0].count};
+        write_plot(plot, file);
+      }
+      written.push_back(file);
+    }
+  }
+  return written;
+}
+
+void print_sweep_summary(std::ostream& out, const SweepResult& sweep, const std::vector<fs::path>& files) {
+  const std::size_t poses = sweep.results.size();
+  out << "sweep of " << sweep.model << ": " << poses << " poses over ";
+  for (std::size_t k = 0; k < sweep.poses.parameters.size(); ++k)
+    out << (k > 0 ? ", " : "") << sweep.poses.parameters[k];
+  char rate[96];
+  std::snprintf(rate, sizeof rate, " in %.3g s (%zu threads, %.0f poses/s)\n", sweep.seconds, sweep.threads,
+                sweep.seconds > 0 ? static_cast<double>(poses) / sweep.seconds : 0.0);
+  out << rate << "  status:";
+  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
+    std::size_t n = 0;
+    for (const auto& r : sweep.results) n += r.status == status ? 1 : 0;
+    if (n > 0) out << ' ' << to_string(status) << ' ' << n;
+  }
+  out << '\n';
+  for (std::size_t pose = 0; pose < poses; ++pose) {
+    if (sweep.results[pose].status == PoseStatus::ok) continue;
+    out << "  first failed pose (" << pose_text(sweep, pose) << "): " << to_string(sweep.results[pose].status)
+        << ": " << sweep.results[pose].message << '\n';
+    break;
+  }
+  for (const auto& column : sweep_columns(sweep, false)) {
+    const auto worst = worst_pose(sweep, column);
+    if (!worst) continue;
+    out << "  " << (column.worst_is_largest ? "largest  " : "smallest ") << column.name << " = "
+        << with_unit(column_value(sweep, column, *worst), column.unit) << " at " << pose_text(sweep, *worst) << '\n';
+  }
+  out << "wrote";
+  for (const auto& f : files) out << ' ' << f.string();
+  out << '\n';
+}
+
+}  // namespace
+
+std::vector<double> parameter_values(const ModelFamily& family, const std::vector<std::string>& settings) {
+  std::vector<double> values = family.default_values();
+  for (const auto& setting : settings) {
+    const auto equals = setting.find('=');
+    const auto value = equals == std::string::npos ? std::nullopt : parse_number(std::string_view(setting).substr(equals + 1));
+    if (!value) throw UsageError("--set '" + setting + "': write NAME=VALUE with a finite number, e.g. x=0.1");
+    const std::string name = setting.substr(0, equals);
+    const auto index = family.find_parameter(name);
+    if (!index) {
+      std::vector<std::string> names;
+      for (const auto& p : family.parameters()) names.push_back(p.name);
+      throw UsageError("--set '" + setting + "': the model has no parameter '" + name + "'" +
+                       (names.empty() ? std::string("; it declares no `parameters:`")
+                                      : "; its parameters are " + comma_separated(names)));
+    }
+    values[*index] = *value;
+  }
+  return values;
+}
+
+int run_sweep(const SweepCommand& command) {
+  if (command.grids.empty() == command.poses_file.empty())
+    throw UsageError("give the poses either as --grid NAME=START:STOP:COUNT (one per swept parameter) or as --poses FILE.csv");
+  std::vector<GridAxis> axes;
+  for (const auto& spec : command.grids) axes.push_back(parse_grid(spec));
+  if (command.plot && (command.grids.empty() || axes.size() > 2))
+    throw UsageError("--plot draws a line over a 1-D grid or a map over a 2-D grid; this sweep has " +
+                     (command.grids.empty() ? std::string("a list of poses") : std::to_string(axes.size()) + " grid axes"));
+  const fs::path csv(command.csv_file);
+  const fs::path summary = command.summary_file.empty()
+                               ? csv.parent_path() / (csv.stem().string() + ".summary.json")
+                               : fs::path(command.summary_file);
+
+  const ModelFamily loaded = load_model_family(command.model_file, command.limits);
+  const ModelFamily family = loaded.with_defaults(parameter_values(loaded, command.settings));
+  const PoseTable poses = command.poses_file.empty() ? grid_poses(std::move(axes)) : read_pose_table(command.poses_file);
+
+  ProgressBar bar(!command.quiet);
+  SweepOptions options;
+  options.solve = command.solve;
+  options.keep_matrices = command.full;
+  options.threads = command.threads;
+  options.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
+  const SweepResult result = sweep(family, poses, options);
+
+  std::vector<fs::path> files{csv, summary};
+  write_sweep_csv(result, command.full, csv);
+  write_sweep_summary(result, command.full, csv.filename().string(), summary);
+  if (command.plot) {
+    const auto plots = write_plots(result, command);
+    files.insert(files.end(), plots.begin(), plots.end());
+  }
+  print_sweep_summary(std::cout, result, files);
+  return exit_success;
+}
+
+}  // namespace stiffmsa::cli

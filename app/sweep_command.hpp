@@ -1,0 +1,32 @@
+#pragma once
+// `stiffmsa sweep`: a model family solved over a grid or a list of poses, written as a CSV with
+// a JSON summary beside it and, on request, stiffness maps.
+#include <string>
+#include <vector>
+
+#include "stiffmsa/stiffmsa.hpp"
+
+namespace stiffmsa::cli {
+
+struct SweepCommand {
+  std::string model_file;
+  std::string csv_file;
+  std::string summary_file;  // empty: beside the CSV, <stem>.summary.json
+  std::vector<std::string> grids;  // "name=start:stop:count"
+  std::string poses_file;
+  std::vector<std::string> settings;  // "name=value": parameters held at other than defaults
+  bool full = false;
+  bool plot = false;
+  std::vector<std::string> plot_columns;  // empty: k_trans_min and deflection_trans per end effector
+  std::size_t threads = 0;
+  bool quiet = false;
+  SolveOptions solve;
+  LoadLimits limits;
+};
+
+int run_sweep(const SweepCommand& command);
+
+// "name=value" pairs applied to a family's defaults (also `solve --set`). Throws UsageError.
+std::vector<double> parameter_values(const ModelFamily& family, const std::vector<std::string>& settings);
+
+}  // namespace stiffmsa::cli

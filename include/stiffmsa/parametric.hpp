@@ -1,0 +1,52 @@
+#pragma once
+// A family of models of one topology whose numbers depend on named parameters: a parametric
+// model file (its `parameters:` and expressions), or a function of the caller's that builds
+// a Model from parameter values. Sweeps (sweep.hpp) solve one member per pose.
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "stiffmsa/model.hpp"
+
+namespace stiffmsa {
+
+struct Parameter {
+  std::string name;
+  double default_value = 0;
+  std::string unit;  // as the file gives it, for labels; may be empty
+  SourceLocation location;
+};
+
+class ModelFamily {
+ public:
+  // Builds the member for one value per parameter, in parameter order; throws InputError
+  // when those values make an invalid model. A builder may keep caches between calls and is
+  // used by one thread at a time; each thread of a sweep makes its own.
+  using Builder = std::function<Model(std::span<const double> values)>;
+  using BuilderFactory = std::function<Builder()>;
+
+  ModelFamily(std::string name, std::vector<Parameter> parameters, BuilderFactory make_builder);
+
+  const std::string& name() const { return name_; }
+  const std::vector<Parameter>& parameters() const { return parameters_; }
+  std::optional<std::size_t> find_parameter(const std::string& name) const;
+  std::vector<double> default_values() const;
+
+  // The same family with other defaults (one value per parameter): the values that the
+  // parameters a sweep does not vary keep.
+  ModelFamily with_defaults(std::span<const double> values) const;
+
+  Builder make_builder() const { return make_builder_(); }
+  // One member; for many, make a builder once.
+  Model build(std::span<const double> values) const { return make_builder_()(values); }
+
+ private:
+  std::string name_;
+  std::vector<Parameter> parameters_;
+  BuilderFactory make_builder_;
+};
+
+}  // namespace stiffmsa

@@ -1,0 +1,94 @@
+#pragma once
+// Sweeps: the stiffness of a model family (parametric.hpp) at many poses, for stiffness maps.
+// Every pose is built, solved and measured on its own; a pose that fails gets a status and a
+// message and the sweep goes on. Poses are spread over threads; the result does not depend on
+// how many or in which order they run.
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "stiffmsa/analysis.hpp"
+#include "stiffmsa/parametric.hpp"
+
+namespace stiffmsa {
+
+// `count` values from `start` to `stop`, both included (count 1: start alone).
+struct GridAxis {
+  std::string parameter;
+  double start = 0;
+  double stop = 0;
+  std::size_t count = 0;
+
+  double value(std::size_t i) const;
+};
+
+// The poses of a sweep: values of the swept parameters, one row per pose. The other
+// parameters keep their defaults.
+struct PoseTable {
+  std::vector<std::string> parameters;
+  std::vector<double> values;  // row-major: values[pose * parameters.size() + k]
+  // For a grid, the axes; the first axis varies fastest (pose = i0 + n0 * (i1 + n1 * ...)).
+  std::vector<GridAxis> grid;
+
+  std::size_t size() const { return parameters.empty() ? 0 : values.size() / parameters.size(); }
+  std::span<const double> pose(std::size_t i) const {
+    return {values.data() + i * parameters.size(), parameters.size()};
+  }
+};
+
+// Every combination of the axes' values. Throws UsageError for an empty axis, a repeated
+// parameter or a grid of more than `max_poses` poses.
+PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses = 10'000'000);
+
+enum class PoseStatus {
+  ok,           // every end effector's compliance is determined
+  singular,     // the system is singular to working precision, or fails its accuracy checks
+  free_motion,  // an end effector (or the structure) can move without load at this pose
+  invalid,      // the parameter values make an invalid model (message says which key)
+};
+const char* to_string(PoseStatus status);  // "ok", "singular", "free-motion", "invalid"
+
+// What a sweep reports of one end effector at one pose.
+struct EndEffectorMeasures {
+  PrincipalStiffness principal;  // +inf where a block is singular (a rigidly held direction)
+  double deflection_translation = 0;  // |Δp| under the model's loads
+  double deflection_rotation = 0;     // |Δφ|
+  std::optional<Mat6> compliance;     // kept with SweepOptions::keep_matrices
+  std::optional<Mat6> stiffness;      // kept with keep_matrices; nullopt where unbounded
+};
+
+struct PoseResult {
+  PoseStatus status = PoseStatus::ok;
+  // Why the pose failed; for an ok pose, the solve's first warning, if any.
+  std::string message;
+  std::vector<EndEffectorMeasures> end_effectors;  // model order; empty unless ok
+};
+
+struct SweepOptions {
+  SolveOptions solve;
+  bool keep_matrices = false;
+  std::size_t threads = 0;  // 0: every core
+  // Called now and then with (poses done, poses in all), never from two threads at once.
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+struct SweepResult {
+  std::string model;
+  PoseTable poses;
+  std::vector<std::string> units;  // of the swept parameters, as the family gives them
+  std::vector<std::string> end_effectors;
+  std::vector<PoseResult> results;  // one per pose, in pose order
+  std::size_t threads = 1;          // threads used
+  double seconds = 0;               // wall time of the solves
+};
+
+// Solves the family at each pose. The model at the family's defaults fixes the end effectors
+// and the topology; a pose whose values change the topology is invalid, with a message saying
+// so. Throws InputError when the defaults themselves give an invalid model and UsageError when
+// a swept name is not a parameter.
+SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const SweepOptions& options = {});
+
+}  // namespace stiffmsa

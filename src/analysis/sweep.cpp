@@ -1,0 +1,218 @@
+#include "stiffmsa/sweep.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <set>
+
+#include "model/suggest.hpp"
+
+namespace stiffmsa {
+
+double GridAxis::value(std::size_t i) const {
+  if (count <= 1) return start;
+  if (i + 1 == count) return stop;  // exactly the stop the user wrote
+  return start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
+}
+
+PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses) {
+  PoseTable table;
+  std::set<std::string> seen;
+  std::size_t poses = 1;
+  for (const auto& axis : axes) {
+    if (axis.count == 0)
+      throw UsageError("the grid of '" + axis.parameter + "' has no values; give a count of at least 1");
+    if (!std::isfinite(axis.start) || !std::isfinite(axis.stop))
+      throw UsageError("the grid of '" + axis.parameter + "' must start and stop at finite values");
+    if (!seen.insert(axis.parameter).second)
+      throw UsageError("the parameter '" + axis.parameter + "' is swept twice; give each one grid");
+    if (poses > max_poses / axis.count)
+      throw UsageError("the grid has more than " + std::to_string(max_poses) +
+                       " poses; sweep fewer values per parameter");
+    poses *= axis.count;
+    table.parameters.push_back(axis.parameter);
+  }
+  if (axes.empty()) return table;
+  table.values.resize(poses * axes.size());
+  for (std::size_t pose = 0; pose < poses; ++pose) {
+    std::size_t rest = pose;
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      table.values[pose * axes.size() + k] = axes[k].value(rest % axes[k].count);
+      rest /= axes[k].count;
+    }
+  }
+  table.grid = std::move(axes);
+  return table;
+}
+
+const char* to_string(PoseStatus status) {
+  switch (status) {
+    case PoseStatus::ok: return "ok";
+    case PoseStatus::singular: return "singular";
+    case PoseStatus::free_motion: return "free-motion";
+    case PoseStatus::invalid: return "invalid";
+  }
+  return "?";
+}
+
+namespace {
+
+// The first defect with its key, and how many more there are: a CSV cell holds one line.
+std::string one_line(const InputError& e) {
+  const auto& all = e.diagnostics();
+  if (all.empty()) return e.what();
+  const Diagnostic& first = all.front();
+  std::string text = first.key_path.empty() ? first.message : first.key_path + ": " + first.message;
+  if (all.size() > 1) text += " (and " + std::to_string(all.size() - 1) + " more)";
+  return text;
+}
+
+std::string one_line(const SingularModelError& e) {
+  std::string text = e.what();
+  if (!e.details().empty()) text += ": " + e.details().front();
+  return text;
+}
+
+// What the sweep keeps of a solve.
+PoseResult measure(const Result& result, const SweepOptions& options) {
+  PoseResult pose;
+  const SolveReport& report = result.report;
+  if (report.relative_residual > options.solve.max_relative_residual || report.equilibrium_error > 1e-8) {
+    pose.status = PoseStatus::singular;
+    pose.message = report.warnings.empty() ? "the solve failed its accuracy checks" : report.warnings.front();
+    return pose;
+  }
+  for (const auto& effector : result.end_effectors) {
+    if (effector.compliance) continue;
+    pose.status = PoseStatus::free_motion;
+    pose.message = "the end effector '" + effector.name + "' can move without load at this pose";
+    return pose;
+  }
+  if (!report.warnings.empty()) pose.message = report.warnings.front();
+  for (const auto& effector : result.end_effectors) {
+    EndEffectorMeasures m;
+    m.principal = principal_stiffness(*effector.compliance);
+    const Vec6 deflection = effector.deflection.value_or(Vec6::Constant(std::numeric_limits<double>::quiet_NaN()));
+    m.deflection_translation = deflection.head<3>().norm();
+    m.deflection_rotation = deflection.tail<3>().norm();
+    if (options.keep_matrices) {
+      m.compliance = effector.compliance;
+      m.stiffness = effector.stiffness;
+    }
+    pose.end_effectors.push_back(std::move(m));
+  }
+  return pose;
+}
+
+// Builds, solves and measures one pose; every failure that belongs to the pose becomes its
+// status.
+PoseResult solve_one(ModelFamily::Builder& build, Workspace& workspace, std::span<const double> values,
+                     const SweepOptions& options) {
+  PoseResult pose;
+  try {
+    const Model model = build(values);
+    return measure(solve(workspace, model, options.solve), options);
+  } catch (const InputError& e) {
+    pose.status = PoseStatus::invalid;
+    pose.message = one_line(e);
+  } catch (const SingularModelError& e) {
+    pose.status = e.cause() == SingularModelError::Cause::free_motion ? PoseStatus::free_motion
+                                                                        : PoseStatus::singular;
+    pose.message = one_line(e);
+  }
+  return pose;
+}
+
+// The full values of every parameter at one pose: defaults, with the swept ones replaced.
+struct PoseValues {
+  std::vector<double> all;
+  std::vector<std::size_t> swept;  // index in `all` of each swept parameter
+
+  void set(std::span<const double> pose) {
+    for (std::size_t k = 0; k < swept.size(); ++k) all[swept[k]] = pose[k];
+  }
+};
+
+PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
+  PoseValues values{family.default_values(), {}};
+  std::vector<std::string> names;
+  for (const auto& p : family.parameters()) names.push_back(p.name);
+  for (const auto& name : poses.parameters) {
+    const auto index = family.find_parameter(name);
+    if (!index) {
+      std::string message = "the model '" + family.name() + "' has no parameter '" + name + "'";
+      message += names.empty() ? "; it declares no `parameters:`"
+                               : detail::suggestion(name, names, "its parameters are");
+      throw UsageError(message);
+    }
+    values.swept.push_back(*index);
+  }
+  return values;
+}
+
+struct Worker {
+  ModelFamily::Builder build;
+  Workspace workspace;
+  PoseValues values;
+};
+
+}  // namespace
+
+SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const SweepOptions& options) {
+  options.solve.validate();
+  const PoseValues defaults = pose_values(family, poses);
+  // The defaults' own defects are the caller's error, not a pose's: they throw here.
+  const Model reference = family.build(defaults.all);
+  const Workspace reference_workspace(reference);
+
+  SweepResult sweep_result;
+  sweep_result.model = reference.name;
+  sweep_result.poses = poses;
+  for (std::size_t index : defaults.swept) sweep_result.units.push_back(family.parameters()[index].unit);
+  for (const auto& e : reference.end_effectors) sweep_result.end_effectors.push_back(e.name);
+  const std::size_t count = poses.size();
+  sweep_result.results.resize(count);
+
+  const std::size_t threads = options.threads == 0
+                                  ? static_cast<std::size_t>(tbb::info::default_concurrency())
+                                  : options.threads;
+  sweep_result.threads = threads;
+  tbb::enumerable_thread_specific<Worker> workers(
+      [&] { return Worker{family.make_builder(), Workspace(reference), defaults}; });
+
+  std::atomic<std::size_t> done{0};
+  std::mutex progress_lock;
+  const auto report_progress = [&](std::size_t finished) {
+    if (!options.progress) return;
+    std::unique_lock lock(progress_lock, std::try_to_lock);
+    if (lock.owns_lock()) options.progress(finished, count);
+  };
+
+  const auto start = std::chrono::steady_clock::now();
+  tbb::task_arena arena(static_cast<int>(threads));
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& range) {
+      Worker& worker = workers.local();
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        worker.values.set(poses.pose(i));
+        sweep_result.results[i] = solve_one(worker.build, worker.workspace, worker.values.all, options);
+      }
+      report_progress(done += range.size());
+    });
+  });
+  sweep_result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (options.progress) {
+    std::lock_guard lock(progress_lock);
+    options.progress(count, count);
+  }
+  return sweep_result;
+}
+
+}  // namespace stiffmsa

@@ -1,0 +1,113 @@
+#include "io/expressions.hpp"
+
+#include <muParser.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "model/suggest.hpp"
+
+namespace stiffmsa::detail {
+
+namespace {
+
+// Shortest text that reads back as the same double, for messages that quote a value.
+std::string number_text(double value) {
+  std::ostringstream out;
+  out.precision(17);
+  out << value;
+  for (int digits = 1; digits < 17; ++digits) {
+    std::ostringstream shorter;
+    shorter.precision(digits);
+    shorter << value;
+    if (std::stod(shorter.str()) == value) return shorter.str();
+  }
+  return out.str();
+}
+
+bool is_identifier(const std::string& name) {
+  if (name.empty() || !std::isalpha(static_cast<unsigned char>(name[0]))) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  return true;
+}
+
+}  // namespace
+
+std::optional<std::string> parameter_name_problem(const std::string& name) {
+  if (!is_identifier(name))
+    return "'" + name +
+           "' cannot be a parameter's name: a name starts with a letter and has only letters, "
+           "digits and underscores";
+  const mu::Parser reference;
+  if (reference.GetFunDef().count(name) > 0)
+    return "'" + name + "' cannot be a parameter's name: it is a function of the expressions";
+  if (reference.GetConst().count(name) > 0)
+    return "'" + name + "' cannot be a parameter's name: it is a constant of the expressions";
+  return std::nullopt;
+}
+
+struct ExpressionEvaluator::Compiled {
+  mu::Parser parser;
+  std::string error;  // a syntax error found when compiling, reported at every evaluation
+};
+
+ExpressionEvaluator::ExpressionEvaluator(std::vector<std::string> parameter_names)
+    : names_(std::move(parameter_names)), values_(new double[names_.size()]()) {}
+
+ExpressionEvaluator::~ExpressionEvaluator() = default;
+
+void ExpressionEvaluator::set_values(std::span<const double> values) {
+  for (std::size_t i = 0; i < names_.size() && i < values.size(); ++i) values_[i] = values[i];
+}
+
+ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& text) {
+  auto& slot = compiled_[text];
+  if (slot) return *slot;
+  slot = std::make_unique<Compiled>();
+  Compiled& compiled = *slot;
+  try {
+    for (std::size_t i = 0; i < names_.size(); ++i) compiled.parser.DefineVar(names_[i], &values_[i]);
+    compiled.parser.SetExpr(text);
+    compiled.parser.Eval();  // parses now, so that syntax errors are found once
+    if (compiled.parser.GetNumResults() != 1)
+      compiled.error = "the expression '" + text + "' gives several values; a number takes one expression";
+  } catch (const mu::Parser::exception_type& e) {
+    if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN && is_identifier(e.GetToken())) {
+      compiled.error = "unknown parameter '" + e.GetToken() + "' in the expression '" + text + "'" +
+                       suggestion(e.GetToken(), names_, "the parameters are");
+      if (names_.empty()) compiled.error += "; the file's `parameters:` declares none";
+    } else {
+      compiled.error = "cannot read the expression '" + text + "': " + e.GetMsg();
+    }
+  }
+  return compiled;
+}
+
+// "x = 0.3, L = 0.2": the parameters an expression reads, with their current values.
+std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
+  std::string text;
+  for (std::size_t i = 0; i < names_.size(); ++i) {
+    if (compiled.parser.GetUsedVar().count(names_[i]) == 0) continue;
+    if (!text.empty()) text += ", ";
+    text += names_[i] + " = " + number_text(values_[i]);
+  }
+  return text;
+}
+
+ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& text) {
+  Compiled& compiled = compile(text);
+  if (!compiled.error.empty()) return {0, compiled.error};
+  double value = 0;
+  try {
+    value = compiled.parser.Eval();
+  } catch (const mu::Parser::exception_type& e) {
+    return {0, "cannot evaluate the expression '" + text + "': " + e.GetMsg()};
+  }
+  if (std::isfinite(value)) return {value, {}};
+  const std::string inputs = inputs_of(compiled);
+  return {0, "the expression '" + text + "' gives " + number_text(value) +
+                 (inputs.empty() ? std::string() : " for " + inputs) + ", not a finite number"};
+}
+
+}  // namespace stiffmsa::detail

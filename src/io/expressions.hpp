@@ -1,0 +1,51 @@
+#pragma once
+// Expressions of a parametric model file (muparser syntax): one evaluator per model builder,
+// holding each distinct expression compiled once, so that building the next member of a
+// family only re-evaluates. An evaluator is used by one thread at a time.
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace mu {
+class Parser;
+}
+
+namespace stiffmsa::detail {
+
+// Why `name` cannot be a parameter's name (nullopt when it can): the letters, digits and
+// underscores of an identifier, not one of the expression library's functions or constants.
+std::optional<std::string> parameter_name_problem(const std::string& name);
+
+class ExpressionEvaluator {
+ public:
+  explicit ExpressionEvaluator(std::vector<std::string> parameter_names);
+  ~ExpressionEvaluator();
+  ExpressionEvaluator(const ExpressionEvaluator&) = delete;
+  ExpressionEvaluator& operator=(const ExpressionEvaluator&) = delete;
+
+  const std::vector<std::string>& parameter_names() const { return names_; }
+  // One value per parameter, in the order of the names.
+  void set_values(std::span<const double> values);
+
+  struct Outcome {
+    double value = 0;
+    std::string error;  // empty on success: a sentence naming what is wrong
+  };
+  // The value of `text` for the current parameter values. A syntax error, an unknown name
+  // or a value that is not finite is an error that names the parameters involved.
+  Outcome evaluate(const std::string& text);
+
+ private:
+  struct Compiled;
+  Compiled& compile(const std::string& text);
+  std::string inputs_of(const Compiled& compiled) const;
+
+  std::vector<std::string> names_;
+  std::unique_ptr<double[]> values_;  // muparser reads the parameters through these addresses
+  std::unordered_map<std::string, std::unique_ptr<Compiled>> compiled_;
+};
+
+}  // namespace stiffmsa::detail
