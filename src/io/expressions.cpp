@@ -3,6 +3,8 @@
 #include <muParser.h>
 
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "model/suggest.hpp"
@@ -13,6 +15,7 @@ namespace {
 
 // Shortest text that reads back as the same double, for messages that quote a value.
 std::string number_text(double value) {
+  if (std::isnan(value)) return "nan";  // whatever its sign bit
   std::ostringstream out;
   out.precision(17);
   out << value;
@@ -50,15 +53,20 @@ std::optional<std::string> parameter_name_problem(const std::string& name) {
 struct ExpressionEvaluator::Compiled {
   mu::Parser parser;
   std::string error;  // a syntax error found when compiling, reported at every evaluation
+  std::size_t last_name_used = 0;  // 1 + the index in names_ of the last name it uses
 };
 
-ExpressionEvaluator::ExpressionEvaluator(std::vector<std::string> parameter_names)
-    : names_(std::move(parameter_names)), values_(new double[names_.size()]()) {}
+ExpressionEvaluator::ExpressionEvaluator(std::vector<std::string> parameter_names,
+                                         std::vector<std::string> derived_names)
+    : names_(std::move(parameter_names)), parameter_count_(names_.size()) {
+  names_.insert(names_.end(), derived_names.begin(), derived_names.end());
+  values_.reset(new double[names_.size()]());
+}
 
 ExpressionEvaluator::~ExpressionEvaluator() = default;
 
 void ExpressionEvaluator::set_values(std::span<const double> values) {
-  for (std::size_t i = 0; i < names_.size() && i < values.size(); ++i) values_[i] = values[i];
+  for (std::size_t i = 0; i < parameter_count_ && i < values.size(); ++i) values_[i] = values[i];
 }
 
 ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& text) {
@@ -67,16 +75,24 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
   slot = std::make_unique<Compiled>();
   Compiled& compiled = *slot;
   try {
+    // muparser built by GCC rounds its _pi to 13 digits (a speed trade of its own); angles
+    // in a stiffness model need every digit.
+    compiled.parser.DefineConst("_pi", std::numbers::pi);
+    compiled.parser.DefineConst("_e", std::numbers::e);
     for (std::size_t i = 0; i < names_.size(); ++i) compiled.parser.DefineVar(names_[i], &values_[i]);
     compiled.parser.SetExpr(text);
     compiled.parser.Eval();  // parses now, so that syntax errors are found once
     if (compiled.parser.GetNumResults() != 1)
       compiled.error = "the expression '" + text + "' gives several values; a number takes one expression";
+    const auto& used = compiled.parser.GetUsedVar();
+    for (std::size_t i = 0; i < names_.size(); ++i)
+      if (used.count(names_[i]) > 0) compiled.last_name_used = i + 1;
+    compiled.parser.Eval();  // GetUsedVar leaves the parser to parse again
   } catch (const mu::Parser::exception_type& e) {
     if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN && is_identifier(e.GetToken())) {
       compiled.error = "unknown parameter '" + e.GetToken() + "' in the expression '" + text + "'" +
-                       suggestion(e.GetToken(), names_, "the parameters are");
-      if (names_.empty()) compiled.error += "; the file's `parameters:` declares none";
+                       suggestion(e.GetToken(), names_, "the names are");
+      if (names_.empty()) compiled.error += "; the file declares no `parameters:`";
     } else {
       compiled.error = "cannot read the expression '" + text + "': " + e.GetMsg();
     }
@@ -93,6 +109,21 @@ std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
     text += names_[i] + " = " + number_text(values_[i]);
   }
   return text;
+}
+
+ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate_derived(std::size_t index, const std::string& text) {
+  const std::size_t slot = parameter_count_ + index;
+  const Compiled& compiled = compile(text);
+  if (compiled.error.empty() && compiled.last_name_used > slot) {
+    const std::string& later = names_[compiled.last_name_used - 1];
+    return {0, "the expression '" + text + "' uses '" + later + "', which is " +
+                   (compiled.last_name_used - 1 == slot ? std::string("this derived value itself")
+                                                        : "derived later in the file") +
+                   "; derived values are computed in the order of the file"};
+  }
+  Outcome outcome = evaluate(text);
+  values_[slot] = outcome.error.empty() ? outcome.value : std::numeric_limits<double>::quiet_NaN();
+  return outcome;
 }
 
 ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& text) {

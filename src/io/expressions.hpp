@@ -19,14 +19,17 @@ namespace stiffmsa::detail {
 // underscores of an identifier, not one of the expression library's functions or constants.
 std::optional<std::string> parameter_name_problem(const std::string& name);
 
+// The names an expression may use are the parameters, then the derived values: named
+// expressions that the file computes in order from the parameters and the derived values
+// before them (inverse kinematics written once and used by several numbers).
 class ExpressionEvaluator {
  public:
-  explicit ExpressionEvaluator(std::vector<std::string> parameter_names);
+  ExpressionEvaluator(std::vector<std::string> parameter_names, std::vector<std::string> derived_names);
   ~ExpressionEvaluator();
   ExpressionEvaluator(const ExpressionEvaluator&) = delete;
   ExpressionEvaluator& operator=(const ExpressionEvaluator&) = delete;
 
-  const std::vector<std::string>& parameter_names() const { return names_; }
+  std::size_t parameter_count() const { return parameter_count_; }
   // One value per parameter, in the order of the names.
   void set_values(std::span<const double> values);
 
@@ -37,13 +40,17 @@ class ExpressionEvaluator {
   // The value of `text` for the current parameter values. A syntax error, an unknown name
   // or a value that is not finite is an error that names the parameters involved.
   Outcome evaluate(const std::string& text);
+  // Evaluates derived value `index` (0-based among the derived values) and keeps it for the
+  // expressions that use it; it may use only the derived values before it.
+  Outcome evaluate_derived(std::size_t index, const std::string& text);
 
  private:
   struct Compiled;
   Compiled& compile(const std::string& text);
   std::string inputs_of(const Compiled& compiled) const;
 
-  std::vector<std::string> names_;
+  std::vector<std::string> names_;  // parameters, then derived values
+  std::size_t parameter_count_;
   std::unique_ptr<double[]> values_;  // muparser reads the parameters through these addresses
   std::unordered_map<std::string, std::unique_ptr<Compiled>> compiled_;
 };

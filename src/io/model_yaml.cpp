@@ -36,8 +36,9 @@ using KeyList = std::vector<std::string>;
 
 constexpr const char* kFormat = "stiffmsa/1";
 
-const KeyList kTopKeys{"format", "name",   "parameters", "options", "materials",    "sections",
-                       "points", "links",  "joints",     "supports", "loads",        "end_effectors"};
+const KeyList kTopKeys{"format",   "name",     "parameters", "derived", "options",
+                       "materials", "sections", "points",    "links",   "joints",
+                       "supports", "loads",    "end_effectors"};
 const KeyList kParameterKeys{"default", "unit"};
 const KeyList kOptionKeys{"accept_idle_motions"};
 const KeyList kMaterialKeys{"E", "nu", "G"};
@@ -160,6 +161,7 @@ class Loader {
 
   Model read(const YAML::Node& root);
   const std::vector<Parameter>& parameters() const { return parameters_; }
+  const std::vector<std::string>& derived_names() const { return derived_names_; }
 
   // Adds find_defects()'s diagnostics to the loader's own, leaving out those about values the
   // loader already found wrong or could not read, and returns them all in file order.
@@ -228,7 +230,7 @@ class Loader {
 
   void read_format(const std::vector<Entry>& top, const Value& root);
   void read_name(const std::vector<Entry>& top);
-  void read_parameters(const Entry& section);
+  void read_parameters(const Entry* parameters, const Entry* derived);
   std::optional<double> expression(const Value& v);
   void read_options(const Entry& section);
   void read_materials(const Entry& section);
@@ -281,6 +283,7 @@ class Loader {
   // Whether the file has `parameters:`: only then is text in place of a number an expression.
   bool parametric_ = false;
   std::vector<Parameter> parameters_;
+  std::vector<std::string> derived_names_;
   Model model_;
   std::vector<Diagnostic> diagnostics_;
   std::set<std::string> spoiled_;
@@ -581,7 +584,9 @@ Model Loader::read(const YAML::Node& root) {
   check_keys(top, "", kTopKeys, {}, "a model");
   read_format(top, whole);
   read_name(top);
-  if (const Entry* e = find(top, "parameters")) read_parameters(*e);
+  const Entry* parameters = find(top, "parameters");
+  const Entry* derived = find(top, "derived");
+  if (parameters || derived) read_parameters(parameters, derived);
   // Materials and sections first: links refer to them wherever they stand in the file.
   using Part = void (Loader::*)(const Entry&);
   const std::pair<const char*, Part> parts[] = {
@@ -620,10 +625,11 @@ void Loader::read_name(const std::vector<Entry>& top) {
 
 // Parameters are read before anything that may use them. Their defaults are plain numbers:
 // an expression here would make the file's meaning depend on the order of its keys.
-void Loader::read_parameters(const Entry& section) {
+void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   std::vector<std::string> names;
   std::vector<double> defaults;
-  for (const auto& named : named_mapping(section)) {
+  const std::vector<Entry> parameter_entries = parameters ? named_mapping(*parameters) : std::vector<Entry>{};
+  for (const auto& named : parameter_entries) {
     Parameter parameter{named.key, 0, {}, named.key_at};
     if (auto problem = detail::parameter_name_problem(named.key)) {
       fail(named.key_at, named.value.path, *problem);
@@ -646,11 +652,31 @@ void Loader::read_parameters(const Entry& section) {
     parameters_.push_back(std::move(parameter));
   }
   parametric_ = true;
+  std::vector<Entry> derived_entries;
+  std::vector<std::string> derived_names;
+  for (auto& named : derived ? named_mapping(*derived) : std::vector<Entry>{}) {
+    if (auto problem = detail::parameter_name_problem(named.key)) {
+      fail(named.key_at, named.value.path, *problem);
+    } else if (std::find(names.begin(), names.end(), named.key) != names.end()) {
+      fail(named.key_at, named.value.path,
+           "'" + named.key + "' is a parameter already; give the derived value another name");
+    } else if (!named.value.node.IsScalar()) {
+      fail(named.value, "expected an expression of the parameters, got " + describe(named.value.node));
+    } else {
+      derived_names.push_back(named.key);
+      derived_entries.push_back(std::move(named));
+      derived_names_.push_back(derived_names.back());
+    }
+  }
   if (!expressions_) {
-    own_expressions_ = std::make_unique<detail::ExpressionEvaluator>(names);
+    own_expressions_ = std::make_unique<detail::ExpressionEvaluator>(names, derived_names);
     expressions_ = own_expressions_.get();
   }
   expressions_->set_values(values_.empty() ? std::span<const double>(defaults) : values_);
+  for (std::size_t i = 0; i < derived_entries.size(); ++i) {
+    const auto outcome = expressions_->evaluate_derived(i, derived_entries[i].value.node.Scalar());
+    if (!outcome.error.empty()) fail(derived_entries[i].value, outcome.error);
+  }
 }
 
 void Loader::read_options(const Entry& section) {
@@ -1303,6 +1329,7 @@ YAML::Node parse_tree(std::string_view text, const std::string& file_name, const
 struct CheckedModel {
   Model model;
   std::vector<Parameter> parameters;
+  std::vector<std::string> derived;
 };
 
 CheckedModel read_checked(const YAML::Node& root, const std::string& file_name,
@@ -1311,7 +1338,7 @@ CheckedModel read_checked(const YAML::Node& root, const std::string& file_name,
   Model model = loader.read(root);
   auto defects = loader.merge(find_defects(model));
   if (!defects.empty()) throw InputError(std::move(defects));
-  return {std::move(model), loader.parameters()};
+  return {std::move(model), loader.parameters(), loader.derived_names()};
 }
 
 std::string read_model_text(const std::filesystem::path& path, const LoadLimits& limits) {
@@ -1346,13 +1373,13 @@ ModelFamily family_of(const YAML::Node& root, const std::string& file_name) {
   auto tree = std::make_shared<const YAML::Node>(YAML::Clone(root));
   std::vector<std::string> names;
   for (const auto& p : at_defaults.parameters) names.push_back(p.name);
-  auto make_builder = [tree, file_name, names]() -> ModelFamily::Builder {
+  auto make_builder = [tree, file_name, names, derived = at_defaults.derived]() -> ModelFamily::Builder {
     auto own_tree = std::make_shared<const YAML::Node>(YAML::Clone(*tree));
-    auto expressions = std::make_shared<detail::ExpressionEvaluator>(names);
+    auto expressions = std::make_shared<detail::ExpressionEvaluator>(names, derived);
     return [own_tree, expressions, file_name](std::span<const double> values) {
-      if (values.size() != expressions->parameter_names().size())
+      if (values.size() != expressions->parameter_count())
         throw UsageError("the model '" + file_name + "' has " +
-                         std::to_string(expressions->parameter_names().size()) +
+                         std::to_string(expressions->parameter_count()) +
                          " parameters; got " + std::to_string(values.size()) + " values");
       return read_checked(*own_tree, file_name, expressions.get(), values).model;
     };

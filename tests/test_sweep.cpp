@@ -1,0 +1,330 @@
+// Sweeps: every row equals an independent solve of its pose, whatever the threads and the
+// order; failures become statuses; the CSV, pose and summary files say exactly that.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "stiffmsa/analysis.hpp"
+#include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/io/sweep_file.hpp"
+#include "stiffmsa/sweep.hpp"
+
+namespace stiffmsa {
+namespace {
+
+std::string example(const std::string& name) { return std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + name; }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+const ModelFamily& three_rpr() {
+  static const ModelFamily family = load_model_family(example("planar-3rpr-parametric.yaml"));
+  return family;
+}
+
+// Two pinned bars from A (-1, 0) and B (1, 0) meeting at P (0, h): a stiff triangle for h != 0,
+// a mechanism for h = 0 (P can move along y to first order).
+const char* const kTwoBarTruss = R"(format: stiffmsa/1
+name: two-bar-truss
+parameters:
+  h: 0.5
+  load: 0
+materials:
+  steel: {E: 2.1e11, nu: 0.3}
+sections:
+  bar: {shape: circle, D: 0.02}
+points:
+  A: [-1, 0, 0]
+  B: [1, 0, 0]
+  P: [0, h, 0]
+links:
+  left: {type: beam, from: A, to: P, material: steel, section: bar}
+  right: {type: beam, from: B, to: P, material: steel, section: bar}
+joints:
+  pin: {type: revolute, at: P, links: [left, right], axis: [0, 0, 1]}
+supports:
+  a: {type: revolute, at: A, axis: [0, 0, 1]}
+  b: {type: revolute, at: B, axis: [0, 0, 1]}
+loads:
+  - {at: P, link: left, wrench: [0, "-load", 0, 0, 0, 0]}
+end_effectors:
+  tip: {at: P, link: left}
+)";
+
+// The measures a sweep reports, computed here from an independent solve of the pose.
+struct Independent {
+  PrincipalStiffness principal;
+  double deflection_translation, deflection_rotation;
+  Mat6 compliance;
+};
+Independent solve_alone(const ModelFamily& family, const std::vector<std::string>& swept, std::span<const double> pose) {
+  std::vector<double> values = family.default_values();
+  for (std::size_t k = 0; k < swept.size(); ++k) values[*family.find_parameter(swept[k])] = pose[k];
+  const Result r = solve(family.build(values));
+  const auto& e = r.end_effectors.front();
+  return {principal_stiffness(*e.compliance), e.deflection->head<3>().norm(), e.deflection->tail<3>().norm(),
+          *e.compliance};
+}
+
+TEST(Grid, FirstAxisVariesFastestAndEndsAreExact) {
+  const PoseTable t = grid_poses({{"x", -0.2, 0.1, 4}, {"y", 1, 2, 2}});
+  ASSERT_EQ(t.size(), 8u);
+  EXPECT_EQ(t.parameters, (std::vector<std::string>{"x", "y"}));
+  const std::vector<double> expected{-0.2, 1, -0.1, 1, 0, 1, 0.1, 1, -0.2, 2, -0.1, 2, 0, 2, 0.1, 2};
+  ASSERT_EQ(t.values.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(t.values[i], expected[i], 1e-15) << i;
+  EXPECT_EQ(t.pose(3)[0], 0.1);  // the stop exactly as written
+  EXPECT_EQ(grid_poses({{"x", 7, 9, 1}}).values, std::vector<double>{7});
+}
+
+TEST(Grid, RefusesEmptyRepeatedAndHugeGrids) {
+  EXPECT_THROW(grid_poses({{"x", 0, 1, 0}}), UsageError);
+  EXPECT_THROW(grid_poses({{"x", 0, 1, 3}, {"x", 0, 1, 3}}), UsageError);
+  EXPECT_THROW(grid_poses({{"x", 0, 1, 100000}, {"y", 0, 1, 100000}}), UsageError);
+  EXPECT_THROW(grid_poses({{"x", 0, NAN, 3}}), UsageError);
+}
+
+TEST(Sweep, EveryRowEqualsAnIndependentSolve) {
+  const PoseTable poses = grid_poses({{"x", 0.3, 0.6, 4}, {"y", 0.2, 0.45, 3}, {"phi", 0.0, 0.3, 2}});
+  SweepOptions options;
+  options.keep_matrices = true;
+  const SweepResult s = sweep(three_rpr(), poses, options);
+  ASSERT_EQ(s.results.size(), 24u);
+  EXPECT_EQ(s.end_effectors, std::vector<std::string>{"platform"});
+  EXPECT_EQ(s.units, (std::vector<std::string>{"m", "m", "rad"}));
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    ASSERT_EQ(s.results[i].status, PoseStatus::ok) << i << ": " << s.results[i].message;
+    const Independent alone = solve_alone(three_rpr(), poses.parameters, poses.pose(i));
+    const EndEffectorMeasures& m = s.results[i].end_effectors[0];
+    // The same arithmetic on the same numbers: equal to the last bit, not just close.
+    EXPECT_EQ(m.principal.translational, alone.principal.translational) << i;
+    EXPECT_EQ(m.principal.rotational, alone.principal.rotational) << i;
+    EXPECT_EQ(m.deflection_translation, alone.deflection_translation) << i;
+    EXPECT_EQ(m.deflection_rotation, alone.deflection_rotation) << i;
+    EXPECT_EQ(*m.compliance, alone.compliance) << i;
+  }
+}
+
+TEST(Sweep, ResultDoesNotDependOnThreadsOrPoseOrder) {
+  const PoseTable forward = grid_poses({{"px", 0.1, 0.4, 9}, {"py", 0.1, 0.4, 8}});
+  PoseTable backward = forward;
+  backward.grid.clear();
+  const std::size_t n = forward.size(), k = forward.parameters.size();
+  for (std::size_t i = 0; i < n; ++i)
+    std::copy_n(forward.values.begin() + static_cast<long>((n - 1 - i) * k), k, backward.values.begin() + static_cast<long>(i * k));
+  const ModelFamily family = load_model_family(example("tripteron-parametric.yaml"));
+  SweepOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  one.keep_matrices = two.keep_matrices = true;
+  const SweepResult a = sweep(family, forward, one);
+  const SweepResult b = sweep(family, forward, two);
+  const SweepResult c = sweep(family, backward, two);
+  EXPECT_EQ(b.threads, 2u);
+  std::size_t ok = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const PoseResult& ra = a.results[i];
+    for (const PoseResult* other : {&b.results[i], &c.results[n - 1 - i]}) {
+      ASSERT_EQ(other->status, ra.status) << i;
+      EXPECT_EQ(other->message, ra.message) << i;
+      if (ra.status != PoseStatus::ok) continue;
+      EXPECT_EQ(*other->end_effectors[0].compliance, *ra.end_effectors[0].compliance) << i;
+      EXPECT_EQ(other->end_effectors[0].deflection_translation, ra.end_effectors[0].deflection_translation) << i;
+    }
+    ok += ra.status == PoseStatus::ok ? 1 : 0;
+  }
+  EXPECT_GT(ok, n / 2);  // the comparison covered real solves
+  EXPECT_EQ(sweep_to_csv(a, true), sweep_to_csv(b, true));
+}
+
+TEST(Sweep, UnreachablePosesAreInvalidAndTheSweepGoesOn) {
+  const ModelFamily family = load_model_family(example("tripteron-parametric.yaml"));
+  const SweepResult s = sweep(family, grid_poses({{"px", 0.3, 0.7, 3}}));
+  EXPECT_EQ(s.results[0].status, PoseStatus::ok) << s.results[0].message;
+  EXPECT_EQ(s.results[1].status, PoseStatus::invalid);
+  EXPECT_TRUE(contains(s.results[1].message, "derived.")) << s.results[1].message;
+  EXPECT_TRUE(contains(s.results[1].message, "gives nan for L1 = 0.25")) << s.results[1].message;
+  EXPECT_TRUE(s.results[1].end_effectors.empty());
+  EXPECT_EQ(s.results[2].status, PoseStatus::invalid);
+}
+
+TEST(Sweep, AMechanismPoseIsAFreeMotion) {
+  const ModelFamily family = parse_model_family(kTwoBarTruss, "truss.yaml");
+  for (double load : {0.0, 10.0}) {
+    SweepResult s = sweep(family.with_defaults(std::vector<double>{0.5, load}), grid_poses({{"h", -0.5, 0.5, 3}}));
+    EXPECT_EQ(s.results[0].status, PoseStatus::ok) << s.results[0].message;
+    EXPECT_EQ(s.results[1].status, PoseStatus::free_motion) << load;
+    EXPECT_FALSE(s.results[1].message.empty());
+    EXPECT_EQ(s.results[2].status, PoseStatus::ok);
+    // Mirror images: the same stiffness.
+    EXPECT_NEAR(s.results[0].end_effectors[0].principal.translational(0),
+                s.results[2].end_effectors[0].principal.translational(0),
+                1e-9 * s.results[2].end_effectors[0].principal.translational(0));
+  }
+}
+
+TEST(Sweep, FailedAccuracyChecksMakeASingularPose) {
+  SweepOptions options;
+  options.solve.max_relative_residual = 1e-300;  // no floating-point solve meets this
+  const SweepResult s = sweep(three_rpr(), grid_poses({{"x", 0.4, 0.5, 2}}), options);
+  for (const auto& r : s.results) {
+    EXPECT_EQ(r.status, PoseStatus::singular);
+    EXPECT_TRUE(contains(r.message, "residual")) << r.message;
+  }
+}
+
+TEST(Sweep, TopologyChangeIsAnInvalidPose) {
+  // A family of the caller's whose second link appears only for n > 0.5.
+  const auto make = [](std::span<const double> v) {
+    Model m;
+    m.add_point("a", Vec3::Zero());
+    m.add_point("b", Vec3(1, 0, 0));
+    m.add_beam("l1", "a", "b", {2.1e11, 0.3, {}}, Section::circle(0.02));
+    if (v[0] > 0.5) {
+      m.add_point("c", Vec3(2, 0, 0));
+      m.add_beam("l2", "b", "c", {2.1e11, 0.3, {}}, Section::circle(0.02));
+      m.add_end_effector("tip", "c");
+    } else {
+      m.add_end_effector("tip", "b");
+    }
+    m.add_support("clamp", "a", {}, Connection{});
+    return m;
+  };
+  const ModelFamily family("grows", {{"n", 0, "", {}}}, [make] { return ModelFamily::Builder(make); });
+  const SweepResult s = sweep(family, grid_poses({{"n", 0, 1, 2}}));
+  EXPECT_EQ(s.results[0].status, PoseStatus::ok) << s.results[0].message;
+  EXPECT_EQ(s.results[1].status, PoseStatus::invalid);
+  EXPECT_TRUE(contains(s.results[1].message, "topology")) << s.results[1].message;
+}
+
+TEST(Sweep, UnknownParameterIsAUsageError) {
+  try {
+    sweep(three_rpr(), grid_poses({{"xx", 0, 1, 2}}));
+    FAIL() << "swept a parameter the model does not have";
+  } catch (const UsageError& e) {
+    EXPECT_TRUE(contains(e.what(), "no parameter 'xx'")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "did you mean 'x'")) << e.what();
+  }
+}
+
+TEST(Sweep, ProgressReachesTheEnd) {
+  std::size_t last_done = 0, calls = 0, total_seen = 0;
+  SweepOptions options;
+  options.progress = [&](std::size_t done, std::size_t total) {
+    ++calls;
+    last_done = done;
+    total_seen = total;
+  };
+  sweep(three_rpr(), grid_poses({{"x", 0.3, 0.6, 10}}), options);
+  EXPECT_GE(calls, 1u);
+  EXPECT_EQ(last_done, 10u);
+  EXPECT_EQ(total_seen, 10u);
+}
+
+// ---- files ---------------------------------------------------------------------------------
+
+std::vector<std::string> split(const std::string& line, char separator) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t end; (end = line.find(separator, start)) != std::string::npos; start = end + 1)
+    fields.push_back(line.substr(start, end - start));
+  fields.push_back(line.substr(start));
+  return fields;
+}
+
+TEST(SweepCsv, HeaderRowsAndValuesReadBackExactly) {
+  const ModelFamily family = load_model_family(example("tripteron-parametric.yaml"));
+  const SweepResult s = sweep(family, grid_poses({{"px", 0.3, 0.7, 3}}));
+  const auto lines = split(sweep_to_csv(s, false), '\n');
+  ASSERT_EQ(lines.size(), 5u);  // header, 3 rows, and the empty text after the last newline
+  EXPECT_EQ(lines[0],
+            "px,status,message,platform.k_trans_min,platform.k_trans_max,platform.k_rot_min,platform.k_rot_max,"
+            "platform.deflection_trans,platform.deflection_rot");
+  const auto row = split(lines[1], ',');
+  ASSERT_EQ(row.size(), 9u);
+  EXPECT_EQ(row[0], "0.3");
+  EXPECT_EQ(row[1], "ok");
+  const auto columns = sweep_columns(s, false);
+  for (std::size_t c = 0; c < columns.size(); ++c) EXPECT_EQ(std::stod(row[3 + c]), column_value(s, columns[c], 0)) << c;
+  // The invalid row: its message is quoted (it has commas) and its values are empty.
+  EXPECT_TRUE(contains(lines[2], "0.5,invalid,\"")) << lines[2];
+  EXPECT_TRUE(lines[2].ends_with(",,,,,,")) << lines[2];
+}
+
+TEST(SweepCsv, FullAddsTheMatricesWithUnits) {
+  const SweepResult s = sweep(three_rpr(), grid_poses({{"x", 0.4, 0.5, 2}}), SweepOptions{.keep_matrices = true});
+  const auto columns = sweep_columns(s, true);
+  ASSERT_EQ(columns.size(), 6u + 72u);
+  EXPECT_EQ(columns[6].name, "platform.C11");
+  EXPECT_EQ(columns[6].unit, "m/N");
+  EXPECT_EQ(columns[6 + 35].name, "platform.C66");
+  EXPECT_EQ(columns[6 + 35].unit, "rad/(N·m)");
+  EXPECT_EQ(columns[6 + 36 + 3].name, "platform.K14");
+  EXPECT_EQ(columns[6 + 36 + 3].unit, "N/rad");
+  const auto header = split(split(sweep_to_csv(s, true), '\n')[0], ',');
+  EXPECT_EQ(header.size(), 3u + 78u);
+  const auto row = split(split(sweep_to_csv(s, true), '\n')[1], ',');
+  const Mat6 C = *s.results[0].end_effectors[0].compliance;
+  EXPECT_EQ(std::stod(row[3 + 6 + 5]), C(0, 5));  // C16
+}
+
+TEST(SweepSummary, NamesTheWorstPosePerColumn) {
+  const SweepResult s = sweep(three_rpr(), grid_poses({{"x", 0.2, 0.7, 6}, {"y", 0.15, 0.5, 4}}));
+  const auto summary = nlohmann::json::parse(sweep_summary_to_json(s, false, "map.csv"));
+  EXPECT_EQ(summary["format"], "stiffmsa-sweep/1");
+  EXPECT_EQ(summary["csv"], "map.csv");
+  EXPECT_EQ(summary["poses"], 24);
+  EXPECT_EQ(summary["status"]["ok"], 24);
+  EXPECT_EQ(summary["parameters"][1]["grid"]["count"], 4);
+  // The softest pose by brute force.
+  std::size_t softest = 0;
+  for (std::size_t i = 1; i < s.results.size(); ++i)
+    if (s.results[i].end_effectors[0].principal.translational(0) <
+        s.results[softest].end_effectors[0].principal.translational(0))
+      softest = i;
+  const auto& worst = summary["worst"]["platform.k_trans_min"];
+  EXPECT_EQ(worst["pose"], softest);
+  EXPECT_EQ(worst["csv_line"], softest + 2);
+  EXPECT_EQ(worst["criterion"], "smallest");
+  EXPECT_EQ(worst["value"].get<double>(), s.results[softest].end_effectors[0].principal.translational(0));
+  EXPECT_EQ(worst["parameters"]["x"].get<double>(), s.poses.pose(softest)[0]);
+  EXPECT_EQ(summary["worst"]["platform.deflection_trans"]["criterion"], "largest");
+}
+
+TEST(PoseFile, ReadsHeaderRowsCommentsAndBlankLines) {
+  const PoseTable t = parse_pose_table("# poses\nx, y\n0.1,0.2\n\n-3e-1 , 4\n", "poses.csv");
+  EXPECT_EQ(t.parameters, (std::vector<std::string>{"x", "y"}));
+  EXPECT_EQ(t.values, (std::vector<double>{0.1, 0.2, -0.3, 4}));
+  EXPECT_TRUE(t.grid.empty());
+}
+
+TEST(PoseFile, DefectsNameTheLineAndColumn) {
+  try {
+    parse_pose_table("x,y\n0.1,0.2\n0.3\n0.4,abc\n", "poses.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.diagnostics().size(), 2u);
+    EXPECT_EQ(e.diagnostics()[0].location.line, 3);
+    EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected 2 values")) << e.what();
+    EXPECT_EQ(e.diagnostics()[1].location.line, 4);
+    EXPECT_EQ(e.diagnostics()[1].key_path, "y");
+    EXPECT_TRUE(contains(e.diagnostics()[1].message, "'abc'")) << e.what();
+  }
+  EXPECT_THROW(parse_pose_table("", "p.csv"), InputError);
+  EXPECT_THROW(parse_pose_table("x,x\n1,2\n", "p.csv"), InputError);
+  EXPECT_THROW(parse_pose_table("x\n", "p.csv"), InputError);
+  EXPECT_THROW(parse_pose_table("x\ninf\n", "p.csv"), InputError);
+}
+
+TEST(PoseFile, SweepOverListedPosesMatchesTheGrid) {
+  const PoseTable listed = parse_pose_table("y,x\n0.3,0.5\n0.2,0.4\n", "p.csv");
+  const SweepResult s = sweep(three_rpr(), listed);
+  const Independent alone = solve_alone(three_rpr(), {"x", "y"}, std::vector<double>{0.4, 0.2});
+  EXPECT_EQ(s.results[1].end_effectors[0].principal.translational, alone.principal.translational);
+}
+
+}  // namespace
+}  // namespace stiffmsa
