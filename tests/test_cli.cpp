@@ -1,5 +1,7 @@
 // End to end: the stiffmsa program as a user runs it, its exit codes, messages and result file.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -345,4 +347,92 @@ TEST_F(Cli, IdleMotionIsRefusedWithAHintThenAcceptedByFlagOrModelOption) {
                                                                    "options: {accept_idle_motions: true}\n");
   const CliRun by_option = run("solve " + shell_quoted(with_option.string()));
   EXPECT_EQ(by_option.exit_code, exit_success) << by_option.out << by_option.err;
+}
+
+namespace {
+
+std::string example_path(const std::string& name) {
+  return shell_quoted(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + name);
+}
+
+std::size_t line_count(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+}  // namespace
+
+TEST_F(Cli, SweepWritesRowsSummaryAndMaps) {
+  const fs::path csv = folder_ / "map.csv";
+  const CliRun r = run("sweep " + example_path("planar-3rpr-parametric.yaml") +
+                       " --grid x=0.3:0.6:4 --grid y=0.2:0.4:3 --set phi=0.1 --plot --csv " + shell_quoted(csv.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.out << r.err;
+  const std::string rows = read_file(csv);
+  EXPECT_EQ(line_count(rows), 1u + 12u);
+  EXPECT_TRUE(rows.starts_with("x,y,status,message,platform.k_trans_min,")) << rows.substr(0, 200);
+  const auto summary = nlohmann::json::parse(read_file(folder_ / "map.summary.json"));
+  EXPECT_EQ(summary["poses"], 12);
+  EXPECT_EQ(summary["status"]["ok"], 12);
+  for (const char* plot : {"map.platform.k_trans_min.png", "map.platform.k_trans_min.svg",
+                           "map.platform.deflection_trans.png", "map.platform.deflection_trans.svg"})
+    EXPECT_GT(fs::file_size(folder_ / plot), 1000u) << plot;
+  EXPECT_TRUE(contains(r.out, "12 poses over x, y")) << r.out;
+  EXPECT_TRUE(contains(r.out, "smallest platform.k_trans_min")) << r.out;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // no progress bar when stderr is not a terminal
+}
+
+TEST_F(Cli, SweepSetChangesTheUnsweptParameters) {
+  const fs::path a = folder_ / "a.csv", b = folder_ / "b.csv";
+  ASSERT_EQ(run("sweep " + example_path("planar-3rpr-parametric.yaml") + " --grid x=0.4:0.5:2 --csv " +
+                shell_quoted(a.string())).exit_code, exit_success);
+  ASSERT_EQ(run("sweep " + example_path("planar-3rpr-parametric.yaml") + " --grid x=0.4:0.5:2 --set k_actuator=3e7 --csv " +
+                shell_quoted(b.string())).exit_code, exit_success);
+  EXPECT_NE(read_file(a), read_file(b));
+}
+
+TEST_F(Cli, SweepOverAPoseFileWithFullMatrices) {
+  const fs::path poses = write_model("poses.csv", "px,py\n0.3,0.25\n0.7,0.25\n");
+  const fs::path csv = folder_ / "rows.csv";
+  const CliRun r = run("sweep " + example_path("tripteron-parametric.yaml") + " --poses " + shell_quoted(poses.string()) +
+                       " --full --threads 1 --csv " + shell_quoted(csv.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  const std::string rows = read_file(csv);
+  EXPECT_TRUE(contains(rows, ",platform.C11,")) << rows.substr(0, 300);
+  EXPECT_TRUE(contains(rows, ",platform.K66\n")) << rows.substr(0, 900);
+  EXPECT_TRUE(contains(rows, "\n0.7,0.25,invalid,\"")) << rows;  // out of reach, and the sweep went on
+  EXPECT_TRUE(contains(r.out, "invalid 1")) << r.out;
+}
+
+TEST_F(Cli, SweepUsageErrorsNameTheOption) {
+  const fs::path csv = folder_ / "x.csv";
+  const std::string model = example_path("planar-3rpr-parametric.yaml");
+  const std::string out = " --csv " + shell_quoted(csv.string());
+  struct Case {
+    std::string arguments, expected;
+  };
+  for (const Case& c : std::vector<Case>{
+           {" --grid x=0.1:0.2", "three values"},
+           {" --grid x=0.1:0.2:0", "at least 1"},
+           {" --grid =0.1:0.2:3", "no parameter name"},
+           {" --grid xx=0.1:0.2:3", "did you mean 'x'"},
+           {"", "either as --grid"},
+           {" --grid x=0:1:2 --grid y=0:1:2 --grid phi=0:1:2 --plot", "2-D grid"},
+           {" --grid x=0:1:2 --set q=1", "no parameter 'q'"},
+           {" --grid x=0:1:2 --set x", "NAME=VALUE"},
+       }) {
+    const CliRun r = run("sweep " + model + c.arguments + out);
+    EXPECT_EQ(r.exit_code, exit_invalid_input) << c.arguments;
+    EXPECT_TRUE(contains(r.err, c.expected)) << c.arguments << ": " << r.err;
+    EXPECT_FALSE(fs::exists(csv)) << c.arguments;
+  }
+}
+
+TEST_F(Cli, SolveTakesParameterValues) {
+  const fs::path json = folder_ / "r.json";
+  const CliRun r = run("solve " + example_path("tripteron-parametric.yaml") + " --set px=0.2 --set py=0.2 --json " +
+                       shell_quoted(json.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  const CliRun unreachable = run("solve " + example_path("tripteron-parametric.yaml") + " --set px=0.9");
+  EXPECT_EQ(unreachable.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(unreachable.err, "derived.")) << unreachable.err;
+  EXPECT_TRUE(contains(unreachable.err, "tripteron-parametric.yaml:")) << unreachable.err;
 }
