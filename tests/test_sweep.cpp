@@ -224,6 +224,60 @@ TEST(Sweep, ProgressReachesTheEnd) {
   EXPECT_EQ(total_seen, 10u);
 }
 
+// ---- the examples' maps against theory ------------------------------------------------------
+
+// The 3-RPR loses its rotational stiffness where the three leg lines meet in one point (a
+// parallel singularity): there, the lines' homogeneous coordinates are linearly dependent.
+double leg_line_concurrency(double x, double y, double phi) {
+  const double r = 0.12;
+  const Vec3 base[3] = {{0, 0, 1}, {1, 0, 1}, {0.5, 0.9, 1}};
+  Mat3 lines;
+  for (int i = 0; i < 3; ++i) {
+    const double angle = phi + (i - 1) * 2 * M_PI / 3;
+    const Vec3 corner(x + r * std::cos(angle), y + r * std::sin(angle), 1);
+    lines.row(i) = base[i].cross(corner).normalized().transpose();
+  }
+  return lines.determinant();
+}
+
+TEST(ExampleMaps, ThreeRprIsSoftestWhereItsLegLinesMeet) {
+  const GridAxis phi{"phi", -1.2, 1.2, 241};
+  const SweepResult s = sweep(three_rpr(), grid_poses({phi}));
+  std::vector<double> k_rot;
+  std::size_t softest = 0;
+  for (std::size_t i = 0; i < s.results.size(); ++i) {
+    ASSERT_EQ(s.results[i].status, PoseStatus::ok) << i;
+    k_rot.push_back(s.results[i].end_effectors[0].principal.rotational(0));
+    if (k_rot[i] < k_rot[softest]) softest = i;
+  }
+  // The singular orientation, found independently: where the concurrency changes sign.
+  double singular_phi = NAN;
+  for (std::size_t i = 0; i + 1 < phi.count; ++i) {
+    const double a = leg_line_concurrency(0.46, 0.33, phi.value(i));
+    const double b = leg_line_concurrency(0.46, 0.33, phi.value(i + 1));
+    if (a * b <= 0) singular_phi = phi.value(i) - a * (phi.value(i + 1) - phi.value(i)) / (b - a);
+  }
+  ASSERT_FALSE(std::isnan(singular_phi)) << "no singular orientation in the swept range";
+  const double step = (phi.stop - phi.start) / static_cast<double>(phi.count - 1);
+  EXPECT_LE(std::abs(phi.value(softest) - singular_phi), step) << phi.value(softest) << " vs " << singular_phi;
+  std::vector<double> sorted = k_rot;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+  EXPECT_LT(k_rot[softest], 1e-3 * sorted[sorted.size() / 2]);  // decades below the typical pose
+}
+
+TEST(ExampleMaps, TripteronSoftensAsItsLegsStretch) {
+  // Along the diagonal px = py every leg reaches further as t grows.
+  PoseTable diagonal{{"px", "py"}, {}, {}};
+  for (double t = 0.18; t < 0.385; t += 0.04) diagonal.values.insert(diagonal.values.end(), {t, t});
+  const SweepResult s = sweep(load_model_family(example("tripteron-parametric.yaml")), diagonal);
+  for (std::size_t i = 1; i < s.results.size(); ++i)
+    EXPECT_LT(s.results[i].end_effectors[0].principal.translational(0),
+              s.results[i - 1].end_effectors[0].principal.translational(0))
+        << "at t = " << diagonal.pose(i)[0];
+  EXPECT_LT(s.results.back().end_effectors[0].principal.translational(0),
+            0.7 * s.results.front().end_effectors[0].principal.translational(0));
+}
+
 // ---- files ---------------------------------------------------------------------------------
 
 std::vector<std::string> split(const std::string& line, char separator) {
