@@ -101,9 +101,12 @@ class ProgressBar {
     std::fflush(stderr);
   }
 
-  ~ProgressBar() {
+  // Clears the bar, so that what is printed next starts on a clean line.
+  void finish() {
     if (drawn_) std::fprintf(stderr, "\r\033[K");
+    drawn_ = false;
   }
+  ~ProgressBar() { finish(); }
 
  private:
   double seconds_since_start() const {
@@ -263,6 +266,7 @@ int run_sweep(const SweepCommand& command) {
   options.threads = command.threads;
   options.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
   const SweepResult result = sweep(family, poses, options);
+  bar.finish();
 
   std::vector<fs::path> files{csv, summary};
   write_sweep_csv(result, command.full, csv);

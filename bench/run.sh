@@ -8,12 +8,16 @@
 #   3. the `stiffmsa solve` command on generated model files (bench/make_models.py): the
 #      100 000-link chain and the frame, wall time and peak memory from /usr/bin/time; and the
 #      chain file read by stiffmsa_chain, which times load_model apart from the solve;
-#   4. the tables of bench/README.md, from those files (bench/summarize.py).
+#   4. stiffmsa_sweep on both cores: sweeps of the two parametric examples over fixed grids
+#      with 1 and 2 threads (poses/s, speed-up of the second core) and the per-pose split
+#      between building the member and solving it, saved to bench/results-<date>-sweep.jsonl;
+#   5. the tables of bench/README.md, from those files (bench/summarize.py).
 #
 # Usage: bench/run.sh [Google Benchmark options, e.g. --benchmark_filter=6axis]
 # Environment: BENCH_CPU (core to pin to, default 0), BENCH_DATE (default today), BENCH_RUN
 #   (a suffix for the result files, e.g. run1), BUILD_DIR (default build-bench), SKIP_CHAIN=1,
-#   SKIP_CLI=1 to leave parts 2 and 3 out.
+#   SKIP_CLI=1, SKIP_SWEEP=1 to leave parts 2, 3 and 4 out; BENCH_SWEEP_CPUS (cores for part 4,
+#   default 0,1), SWEEP_REPEATS (default 7).
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -24,7 +28,7 @@ pin=(taskset -c "$cpu")
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DSTIFFMSA_BUILD_BENCH=ON -DSTIFFMSA_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j2 --target stiffmsa_bench stiffmsa_chain stiffmsa_cli
+cmake --build "$build" -j2 --target stiffmsa_bench stiffmsa_chain stiffmsa_cli stiffmsa_sweep
 
 # The library measured: the last commit that changed its sources, and whether src/ or
 # include/ differ from it.
@@ -68,5 +72,12 @@ if [[ -z "${SKIP_CLI:-}" ]]; then
     | tee -a "$out-chain.jsonl"
 fi
 
-echo "== 4. tables"
+if [[ -z "${SKIP_SWEEP:-}" ]]; then
+  # Not pinned to one core like the rest: the point is what the second core adds.
+  echo "== 4. sweeps with 1 and 2 threads (JSON lines); machine: $(uptime)"
+  taskset -c "${BENCH_SWEEP_CPUS:-0,1}" "$build/bench/stiffmsa_sweep" --repeats "${SWEEP_REPEATS:-7}" \
+    | tee "$out-sweep.jsonl"
+fi
+
+echo "== 5. tables"
 python3 "$root/bench/summarize.py" "$out"

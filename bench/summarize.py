@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Prints the Markdown tables of bench/README.md from the files bench/run.sh writes:
-PREFIX.json (Google Benchmark), PREFIX-chain.jsonl (stiffmsa_chain) and PREFIX-cli.txt.
+PREFIX.json (Google Benchmark), PREFIX-chain.jsonl (stiffmsa_chain), PREFIX-cli.txt and
+PREFIX-sweep.jsonl (stiffmsa_sweep).
 
     bench/summarize.py bench/results-2026-11-21-run1 [bench/results-2026-11-21-run2 ...]
 
@@ -176,6 +177,74 @@ def klu_fill_table(runs):
                           f"| {b['nnz_LU']:.0f} | {b['nnz_LU'] / b['nnz_A']:.2f} | {b['x_err']:.1e} |")
 
 
+def sweep_rows(prefixes):
+    """Per model, every repeat of every run pooled (stiffmsa_sweep prints each repeat)."""
+    pooled_keys = ["wall_s_1", "wall_s_2", "cpu_s_1", "cpu_s_2", "steal_ticks_1", "steal_ticks_2", "build_s", "solve_s"]
+    rows = {}
+    for prefix in prefixes:
+        if os.path.exists(prefix + "-sweep.jsonl"):
+            for line in open(prefix + "-sweep.jsonl"):
+                if line.strip():
+                    r = json.loads(line)
+                    row = rows.get(r["model"])
+                    if row is None:
+                        rows[r["model"]] = r
+                    else:
+                        for key in pooled_keys:
+                            row[key] = row[key] + r[key]
+                        row["make_builder_s"] = min(row["make_builder_s"], r["make_builder_s"])
+    return rows
+
+
+def median(values):
+    v = sorted(values)
+    return v[len(v) // 2] if len(v) % 2 else (v[len(v) // 2 - 1] + v[len(v) // 2]) / 2
+
+
+SWEEP_LABELS = {"3rpr": "3-RPR", "tripteron": "tripteron"}
+
+
+def sweep_tables(rows, runs):
+    """Throughput with 1 and 2 threads (wall time of whole sweep() calls: lowest of the repeats,
+    median in parentheses), and one pose split into building the member and solving it."""
+    print("| model, grid | poses (ok) | 1 thread, poses/s | 2 threads, poses/s | per core at 2 threads, poses/s "
+          "| speed-up time(1)/time(2): lowest times (median of the paired repeats; range) "
+          "| CPU busy at 2 threads, cores (median) |")
+    print("|---|--:|--:|--:|--:|--:|--:|")
+    for key, r in rows.items():
+        n = r["poses"]
+        t1, t2 = r["wall_s_1"], r["wall_s_2"]
+        paired = [a / b for a, b in zip(t1, t2)]
+        busy = [c / w for c, w in zip(r["cpu_s_2"], t2)]
+        failed = "; ".join(f"{count} {status}" for status, count in r["statuses"].items() if status != "ok")
+        print(f"| {SWEEP_LABELS.get(key, key)} ({r['file']}), {r['grid']} | {n} ({r['statuses'].get('ok', 0)}"
+              f"{'; ' + failed if failed else ''}) "
+              f"| {n / min(t1):.0f} ({n / median(t1):.0f}) | {n / min(t2):.0f} ({n / median(t2):.0f}) "
+              f"| {n / min(t2) / 2:.0f} ({n / median(t2) / 2:.0f}) "
+              f"| {min(t1) / min(t2):.2f} ({median(paired):.2f}; {min(paired):.2f}–{max(paired):.2f}) "
+              f"| {median(busy):.2f} |")
+    print("\nOne pose on one thread, µs (lowest of the repeats):\n")
+    print("| model | sweep, 1 thread | build the member (`make_builder()` once, then the builder) "
+          "| `solve(workspace, member)` | the rest | fixed model, public `solve` |")
+    print("|---|--:|--:|--:|--:|--:|")
+    for key, r in rows.items():
+        n = r["poses"]
+        pose = 1e6 * min(r["wall_s_1"]) / n
+        build = 1e6 * min(r["build_s"]) / n
+        solve = 1e6 * min(r["solve_s"]) / n
+        fixed = runs.get(f"{key}/public_solve/{r['solver']}")
+        fixed = f"{fixed['cpu_us']:.1f}" if fixed else "–"
+        print(f"| {SWEEP_LABELS.get(key, key)}, {n} poses ({r['solver']}) | {pose:.1f} "
+              f"| {build:.1f} ({100 * build / pose:.0f} %) | {solve:.1f} ({100 * solve / pose:.0f} %) "
+              f"| {pose - build - solve:.1f} ({100 * (pose - build - solve) / pose:.0f} %) | {fixed} |")
+    for key, r in rows.items():
+        cpu1, cpu2 = median(r["cpu_s_1"]), median(r["cpu_s_2"])
+        print(f"\n{SWEEP_LABELS.get(key, key)}: make_builder() {1e6 * r['make_builder_s']:.0f} µs once; CPU per pose "
+              f"(median) {1e6 * cpu1 / r['poses']:.0f} µs on 1 thread, {1e6 * cpu2 / r['poses']:.0f} µs on 2; "
+              f"steal ticks per sweep (largest) {max(r['steal_ticks_1'] + r['steal_ticks_2']):.0f}; "
+              f"{len(r['wall_s_1'])} repeats.")
+
+
 def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
@@ -218,6 +287,10 @@ def main():
         print("|---|---|--:|--:|")
         for (model, solver), (seconds, kib) in cli.items():
             print(f"| {model} | {solver} | {seconds:.2f} | {kib / 1024:.0f} |")
+    sweeps = sweep_rows(prefixes)
+    if sweeps:
+        print("\n### Sweeps (stiffmsa_sweep, wall time, not pinned to one core)\n")
+        sweep_tables(sweeps, runs)
 
 
 if __name__ == "__main__":

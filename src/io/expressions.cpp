@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "model/suggest.hpp"
@@ -42,10 +43,20 @@ std::optional<std::string> parameter_name_problem(const std::string& name) {
     return "'" + name +
            "' cannot be a parameter's name: a name starts with a letter and has only letters, "
            "digits and underscores";
-  const mu::Parser reference;
-  if (reference.GetFunDef().count(name) > 0)
+  // Asked for every name of every member a sweep builds: the library's names are read once.
+  struct ReservedNames {
+    std::set<std::string> functions, constants;
+  };
+  static const ReservedNames reserved = [] {
+    const mu::Parser reference;
+    ReservedNames names;
+    for (const auto& entry : reference.GetFunDef()) names.functions.insert(entry.first);
+    for (const auto& entry : reference.GetConst()) names.constants.insert(entry.first);
+    return names;
+  }();
+  if (reserved.functions.count(name) > 0)
     return "'" + name + "' cannot be a parameter's name: it is a function of the expressions";
-  if (reference.GetConst().count(name) > 0)
+  if (reserved.constants.count(name) > 0)
     return "'" + name + "' cannot be a parameter's name: it is a constant of the expressions";
   return std::nullopt;
 }

@@ -1,0 +1,185 @@
+// Sweep throughput: stiffmsa::sweep over a fixed 2-D grid of each parametric example, with 1
+// and with 2 threads, and where one pose's time goes (building the member from the file's
+// expressions vs solving it). Prints one JSON line per model; bench/summarize.py makes the
+// "Sweeps" table of bench/README.md from them.
+//
+//   stiffmsa_sweep [--repeats R] [sparse_lu|umfpack|klu]
+//
+// A separate program, not a Google Benchmark case, because run.sh pins stiffmsa_bench to one
+// core and Google Benchmark reports CPU time; here the process must own both cores and the
+// figure that matters is wall time. Each sweep is repeated R times (default 7), alternating
+// 1 and 2 threads so that a slow spell of this shared VM hits both alike; every repeat is
+// printed, and the summary takes the lowest and the median.
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "stiffmsa/stiffmsa.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// CPU time of every thread of the process: with 2 threads, CPU / wall shows whether the
+// second core was really working (and not waiting for work or descheduled by the host).
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Time the hypervisor gave the two vCPUs to someone else (the "steal" column of /proc/stat,
+// in clock ticks, both cores together): a sweep that lost many ticks was slowed by the host.
+long steal_ticks() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  long user, nice, system, idle, iowait, irq, softirq, steal;
+  if (stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal) return steal;
+  return -1;
+}
+
+struct Case {
+  std::string key;   // short name in the results
+  std::string file;  // under examples/
+  std::vector<stiffmsa::GridAxis> grid;
+};
+
+// The grids of the examples' own "stiffmsa sweep" comments (3-RPR 41×39, tripteron 31×31).
+std::vector<Case> cases() {
+  return {{"3rpr", "planar-3rpr-parametric.yaml", {{"x", 0.1, 0.9, 41}, {"y", 0.05, 0.8, 39}}},
+          {"tripteron", "tripteron-parametric.yaml", {{"px", 0.1, 0.4, 31}, {"py", 0.1, 0.4, 31}}}};
+}
+
+// Every parameter's value at each pose: the family's defaults with the swept ones replaced,
+// as the sweep hands them to its builders.
+std::vector<std::vector<double>> full_values(const stiffmsa::ModelFamily& family, const stiffmsa::PoseTable& poses) {
+  std::vector<std::size_t> swept;
+  for (const auto& name : poses.parameters) swept.push_back(*family.find_parameter(name));
+  std::vector<std::vector<double>> all(poses.size(), family.default_values());
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    for (std::size_t k = 0; k < swept.size(); ++k) all[i][swept[k]] = poses.pose(i)[k];
+  return all;
+}
+
+std::string json_list(const std::vector<double>& values) {
+  std::ostringstream out;
+  out.precision(6);
+  out << '[';
+  for (std::size_t i = 0; i < values.size(); ++i) out << (i ? ", " : "") << values[i];
+  out << ']';
+  return out.str();
+}
+
+double lowest(const std::vector<double>& values) { return *std::min_element(values.begin(), values.end()); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* usage = "usage: stiffmsa_sweep [--repeats R] [sparse_lu|umfpack|klu]\n";
+  stiffmsa::SweepOptions options;  // the default solve options, as `stiffmsa sweep` uses them
+  int repeats = 7;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--repeats" && i + 1 < argc) {
+      repeats = std::max(1, std::atoi(argv[++i]));
+    } else if (const auto kind = stiffmsa::solver_kind_from_string(arg); kind && stiffmsa::solver_available(*kind)) {
+      options.solve.solver = *kind;
+    } else {
+      std::cerr << "stiffmsa_sweep: unknown or unavailable '" << arg << "'\n" << usage;
+      return 2;
+    }
+  }
+
+  for (const Case& c : cases()) {
+    const stiffmsa::ModelFamily family =
+        stiffmsa::load_model_family(std::string(STIFFMSA_EXAMPLES_DIR) + "/" + c.file);
+    const stiffmsa::PoseTable poses = stiffmsa::grid_poses(c.grid);
+    const double count = static_cast<double>(poses.size());
+
+    // One untimed sweep first: page faults of fresh memory, TBB's worker threads, caches.
+    options.threads = 2;
+    const stiffmsa::SweepResult first = stiffmsa::sweep(family, poses, options);
+    std::map<std::string, int> statuses;
+    for (const auto& r : first.results) ++statuses[stiffmsa::to_string(r.status)];
+
+    // Whole sweep() calls, wall and process CPU time, 1 and 2 threads in turn.
+    std::map<std::size_t, std::vector<double>> wall, cpu, steal;
+    for (int r = 0; r < repeats; ++r)
+      for (std::size_t threads : {std::size_t{1}, std::size_t{2}}) {
+        options.threads = threads;
+        const long steal_before = steal_ticks();
+        const double cpu_before = process_cpu_seconds();
+        const auto start = Clock::now();
+        const stiffmsa::SweepResult result = stiffmsa::sweep(family, poses, options);
+        wall[threads].push_back(seconds_since(start));
+        cpu[threads].push_back(process_cpu_seconds() - cpu_before);
+        steal[threads].push_back(static_cast<double>(steal_ticks() - steal_before));
+        if (result.threads != threads) std::cerr << "stiffmsa_sweep: asked for " << threads << " threads, got " << result.threads << "\n";
+      }
+
+    // Where one pose goes, on one thread: building every member with one builder (what each
+    // sweep thread does), then solving the members already built with one workspace.
+    const auto values = full_values(family, poses);
+    auto start = Clock::now();
+    stiffmsa::ModelFamily::Builder build = family.make_builder();
+    const double make_builder_s = seconds_since(start);
+    std::vector<double> build_s, solve_s;
+    std::vector<stiffmsa::Model> members;
+    for (int r = 0; r < repeats; ++r) {
+      std::vector<stiffmsa::Model> built;
+      built.reserve(values.size());
+      start = Clock::now();
+      for (const auto& v : values) {
+        try {
+          built.push_back(build(v));
+        } catch (const stiffmsa::InputError&) {
+          // an invalid pose (e.g. out of reach): the sweep pays for the attempt too
+        }
+      }
+      build_s.push_back(seconds_since(start));
+      members = std::move(built);
+    }
+    stiffmsa::Workspace workspace(family.build(family.default_values()));
+    for (int r = 0; r < repeats; ++r) {
+      start = Clock::now();
+      for (const stiffmsa::Model& member : members) {
+        try {
+          stiffmsa::solve(workspace, member, options.solve);
+        } catch (const stiffmsa::SingularModelError&) {
+          // a singular or free-moving pose: the sweep pays for the attempt too
+        }
+      }
+      solve_s.push_back(seconds_since(start));
+    }
+
+    std::ostringstream status_json;
+    for (const auto& [name, n] : statuses) status_json << (status_json.tellp() ? ", " : "") << '"' << name << "\": " << n;
+    std::printf(
+        "{\"model\": \"%s\", \"file\": \"%s\", \"solver\": \"%s\", \"grid\": \"%s=%g:%g:%zu %s=%g:%g:%zu\", "
+        "\"poses\": %zu, \"statuses\": {%s}, \"members_built\": %zu, \"repeats\": %d, "
+        "\"wall_s_1\": %s, \"wall_s_2\": %s, \"cpu_s_1\": %s, \"cpu_s_2\": %s, \"steal_ticks_1\": %s, "
+        "\"steal_ticks_2\": %s, \"make_builder_s\": %.6g, \"build_s\": %s, \"solve_s\": %s, "
+        "\"best_poses_per_s_1\": %.1f, \"best_poses_per_s_2\": %.1f}\n",
+        c.key.c_str(), c.file.c_str(), stiffmsa::to_string(options.solve.solver), c.grid[0].parameter.c_str(),
+        c.grid[0].start, c.grid[0].stop, c.grid[0].count, c.grid[1].parameter.c_str(), c.grid[1].start,
+        c.grid[1].stop, c.grid[1].count, poses.size(), status_json.str().c_str(), members.size(), repeats,
+        json_list(wall[1]).c_str(), json_list(wall[2]).c_str(), json_list(cpu[1]).c_str(), json_list(cpu[2]).c_str(),
+        json_list(steal[1]).c_str(), json_list(steal[2]).c_str(), make_builder_s, json_list(build_s).c_str(),
+        json_list(solve_s).c_str(), count / lowest(wall[1]), count / lowest(wall[2]));
+    std::fflush(stdout);
+  }
+  return 0;
+}
