@@ -37,10 +37,7 @@ struct CheckCommand {
 
 // A result file written over the model would destroy the user's input.
 void refuse_to_overwrite_model(const fs::path& model_file, const fs::path& json_file) {
-  std::error_code model_error, json_error;
-  const fs::path model = fs::weakly_canonical(model_file, model_error);
-  const fs::path json = fs::weakly_canonical(json_file, json_error);
-  if (!model_error && !json_error && model == json) {
+  if (same_file(model_file, json_file)) {
     throw UsageError("the result file '" + json_file.string() +
                      "' is the model file; choose another name for --json");
   }
@@ -67,8 +64,12 @@ int run_solve(const SolveCommand& command) {
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
   const SolveOptions options = solve_options(command.solver, command.accept_idle_motions);
-  const ModelFamily family = load_model_family(command.model_file, command.limits);
-  const Model model = family.build(parameter_values(family, command.settings));
+  // Without --set the file is read once, as any model; with it, as a family.
+  const Model model = [&] {
+    if (command.settings.empty()) return load_model(command.model_file, command.limits);
+    const ModelFamily family = load_model_family(command.model_file, command.limits);
+    return family.build(parameter_values(family, command.settings));
+  }();
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);

@@ -143,7 +143,8 @@ std::vector<SweepColumn> plotted_columns(const SweepResult& sweep, const SweepCo
     if (!column) {
       std::vector<std::string> names;
       for (const auto& c : sweep_columns(sweep, false)) names.push_back(c.name);
-      throw UsageError("--plot-column '" + name + "': no such column; columns are " + comma_separated(names));
+      throw UsageError("--plot-column '" + name + "': no such column; columns are " + comma_separated(names) +
+                       " and the compliance and stiffness entries E.C11 … E.K66");
     }
     columns.push_back(*column);
   }
@@ -158,10 +159,18 @@ std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& 
   const auto& grid = sweep.poses.grid;
   for (const auto& column : plotted_columns(sweep, command)) {
     std::vector<double> values(sweep.results.size());
+    bool any_failed = false, any_rigid = false;
     for (std::size_t pose = 0; pose < values.size(); ++pose) {
       values[pose] = column_value(sweep, column, pose);
-      if (std::isinf(values[pose])) values[pose] = NAN;  // a rigid direction has no colour
+      any_failed = any_failed || std::isnan(values[pose]);
+      if (std::isinf(values[pose])) {
+        values[pose] = NAN;  // a rigidly held direction has no colour on the scale
+        any_rigid = true;
+      }
     }
+    const std::string no_value = any_rigid ? (any_failed ? "no value: failed pose, or rigid (infinite)"
+                                                         : "rigid direction (infinite stiffness)")
+                                           : "no value (failed pose)";
     const auto worst = worst_pose(sweep, column);
     const std::string label = worst ? std::string(column.worst_is_largest ? "largest" : "smallest") + ": " +
                                           with_unit(column_value(sweep, column, *worst), column.unit)
@@ -175,10 +184,11 @@ std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& 
     for (const char* extension : {".png", ".svg"}) {
       const fs::path file = base.string() + "." + column.name + extension;
       if (grid.size() == 1) {
-        LinePlot plot{title, axis(0), column.name, column.unit, values, scale_for(values), worst, label};
+        LinePlot plot{title, axis(0), column.name, column.unit, values, scale_for(values), worst, label, no_value};
         write_plot(plot, file);
       } else {
-        Heatmap plot{title, axis(0), axis(1), column.name, column.unit, values, scale_for(values), std::nullopt, label};
+        Heatmap plot{title, axis(0), axis(1), column.name, column.unit, values, scale_for(values), std::nullopt, label,
+                     no_value};
         if (worst) plot.marked = std::pair{*worst % grid[0].count, *worst / grid[0].count};
         write_plot(plot, file);
       }
@@ -220,7 +230,46 @@ void print_sweep_summary(std::ostream& out, const SweepResult& sweep, const std:
   out << '\n';
 }
 
+// What --plot needs of the grid, checked before any pose is solved.
+void check_plot_grid(const std::vector<GridAxis>& axes, bool from_pose_file) {
+  if (from_pose_file || axes.empty() || axes.size() > 2)
+    throw UsageError("--plot draws a line over a 1-D grid or a map over a 2-D grid; this sweep has " +
+                     (from_pose_file ? std::string("a list of poses") : std::to_string(axes.size()) + " grid axes"));
+  for (const auto& axis : axes) {
+    const bool ascending = axis.start < axis.stop || (axes.size() == 1 && axis.count == 1);
+    if (!ascending || (axes.size() == 2 && axis.count < 2))
+      throw UsageError("--plot: the grid of '" + axis.parameter + "' must run upwards (START < STOP)" +
+                       (axes.size() == 2 ? " with at least 2 values" : "") + " for a plot");
+  }
+}
+
+// Output files must not be inputs or each other, and their folder must exist: checked before
+// the sweep, so that a long sweep does not end in an error that writes nothing.
+void check_files(const SweepCommand& command, const fs::path& csv, const fs::path& summary) {
+  std::vector<std::pair<fs::path, std::string>> inputs{{command.model_file, "the model file"}};
+  if (!command.poses_file.empty()) inputs.emplace_back(command.poses_file, "the pose file");
+  for (const auto& [output, option] : {std::pair{csv, "--csv"}, std::pair{summary, "the summary (--summary)"}}) {
+    for (const auto& [input, what] : inputs)
+      if (same_file(output, input))
+        throw UsageError(std::string(option) + " '" + output.string() + "' is " + what + "; choose another name");
+    const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+    std::error_code error;
+    if (!fs::is_directory(folder, error))
+      throw UsageError(std::string(option) + " '" + output.string() + "': the folder '" + folder.string() +
+                       "' does not exist");
+  }
+  if (same_file(csv, summary))
+    throw UsageError("the summary '" + summary.string() + "' would replace the CSV; choose another name for --summary");
+}
+
 }  // namespace
+
+bool same_file(const fs::path& a, const fs::path& b) {
+  std::error_code a_error, b_error;
+  const fs::path first = fs::weakly_canonical(a, a_error);
+  const fs::path second = fs::weakly_canonical(b, b_error);
+  return !a_error && !b_error && first == second;
+}
 
 std::vector<double> parameter_values(const ModelFamily& family, const std::vector<std::string>& settings) {
   std::vector<double> values = family.default_values();
@@ -247,22 +296,30 @@ int run_sweep(const SweepCommand& command) {
     throw UsageError("give the poses either as --grid NAME=START:STOP:COUNT (one per swept parameter) or as --poses FILE.csv");
   std::vector<GridAxis> axes;
   for (const auto& spec : command.grids) axes.push_back(parse_grid(spec));
-  if (command.plot && (command.grids.empty() || axes.size() > 2))
-    throw UsageError("--plot draws a line over a 1-D grid or a map over a 2-D grid; this sweep has " +
-                     (command.grids.empty() ? std::string("a list of poses") : std::to_string(axes.size()) + " grid axes"));
+  if (command.plot) check_plot_grid(axes, !command.poses_file.empty());
   const fs::path csv(command.csv_file);
   const fs::path summary = command.summary_file.empty()
                                ? csv.parent_path() / (csv.stem().string() + ".summary.json")
                                : fs::path(command.summary_file);
+  check_files(command, csv, summary);
 
   const ModelFamily loaded = load_model_family(command.model_file, command.limits);
   const ModelFamily family = loaded.with_defaults(parameter_values(loaded, command.settings));
   const PoseTable poses = command.poses_file.empty() ? grid_poses(std::move(axes)) : read_pose_table(command.poses_file);
 
-  ProgressBar bar(!command.quiet);
   SweepOptions options;
   options.solve = command.solve;
   options.keep_matrices = command.full;
+  if (command.plot) {
+    // The columns to plot exist, and a matrix entry is kept for its plot even without --full.
+    SweepResult columns_of;
+    for (const auto& e : family.build(family.default_values()).end_effectors) columns_of.end_effectors.push_back(e.name);
+    for (const auto& column : plotted_columns(columns_of, command))
+      if (column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness)
+        options.keep_matrices = true;
+  }
+
+  ProgressBar bar(!command.quiet);
   options.threads = command.threads;
   options.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
   const SweepResult result = sweep(family, poses, options);

@@ -1,6 +1,7 @@
 #pragma once
 // `stiffmsa sweep`: a model family solved over a grid or a list of poses, written as a CSV with
 // a JSON summary beside it and, on request, stiffness maps.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ struct SweepCommand {
 };
 
 int run_sweep(const SweepCommand& command);
+
+// Whether two paths name the same file (existing or not), for refusing to write over an input.
+bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);
 
 // "name=value" pairs applied to a family's defaults (also `solve --set`). Throws UsageError.
 std::vector<double> parameter_values(const ModelFamily& family, const std::vector<std::string>& settings);

@@ -227,6 +227,37 @@ TEST(ParametricFile, InvalidMemberThrowsWithTheKey) {
   }
 }
 
+TEST(ParametricFile, MessagesOfAMemberGiveTheLineOfTheKey) {
+  const ModelFamily family = parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml");
+  try {
+    family.build(std::vector<double>{0.05, 0.02, 100});
+    FAIL() << "accepted the square root of a negative number";
+  } catch (const InputError& e) {
+    const Diagnostic& d = e.diagnostics().front();
+    EXPECT_EQ(d.key_path, "derived.half");
+    EXPECT_EQ(d.location.file, "p.yaml");
+    EXPECT_EQ(d.location.line, 8);  // where `half:` is, not the top of the file
+    EXPECT_EQ(d.location.column, 9);
+    EXPECT_TRUE(contains(d.message, "for L = 0.05")) << d.message;
+  }
+}
+
+TEST(ParametricFile, AssignmentIsNotAnExpression) {
+  // muparser would assign x here, changing it for every expression after this one.
+  const std::string e = first_error(with("\"-F\"", "\"F = 3\""));
+  EXPECT_TRUE(contains(e, "loads[0].wrench[1]")) << e;
+  EXPECT_TRUE(contains(e, "assigns a value")) << e;
+  const Model m = parse_model(with("\"-F\"", "\"F == 100 ? -1 : 1\""), "p.yaml");
+  EXPECT_EQ(m.loads[0].wrench(1), -1.0);
+  EXPECT_EQ(parse_model(with("\"-F\"", "\"F >= 100\""), "p.yaml").loads[0].wrench(1), 1.0);
+}
+
+TEST(ParametricFile, ParameterDefaultMessageSaysWhereComputedValuesGo) {
+  const std::string e = first_error(with("  F: 100", "  F: \"2*L\""));
+  EXPECT_TRUE(contains(e, "plain finite number")) << e;
+  EXPECT_TRUE(contains(e, "`derived:`")) << e;
+}
+
 TEST(ParametricExamples, DefaultsReproduceTheFixedExamples) {
   // The parametric 3-RPR at its defaults is the fixed example up to the 4-digit rounding of
   // that file's coordinates.

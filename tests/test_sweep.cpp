@@ -108,7 +108,10 @@ TEST(Sweep, EveryRowEqualsAnIndependentSolve) {
   }
 }
 
-TEST(Sweep, ResultDoesNotDependOnThreadsOrPoseOrder) {
+class SweepWithEverySolver : public ::testing::TestWithParam<SolverKind> {};
+
+TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
+  if (!solver_available(GetParam())) GTEST_SKIP() << to_string(GetParam()) << " is not built in";
   const PoseTable forward = grid_poses({{"px", 0.1, 0.4, 9}, {"py", 0.1, 0.4, 8}});
   PoseTable backward = forward;
   backward.grid.clear();
@@ -119,6 +122,7 @@ TEST(Sweep, ResultDoesNotDependOnThreadsOrPoseOrder) {
   SweepOptions one, two;
   one.threads = 1;
   two.threads = 2;
+  one.solve.solver = two.solve.solver = GetParam();
   one.keep_matrices = two.keep_matrices = true;
   const SweepResult a = sweep(family, forward, one);
   const SweepResult b = sweep(family, forward, two);
@@ -138,6 +142,24 @@ TEST(Sweep, ResultDoesNotDependOnThreadsOrPoseOrder) {
   }
   EXPECT_GT(ok, n / 2);  // the comparison covered real solves
   EXPECT_EQ(sweep_to_csv(a, true), sweep_to_csv(b, true));
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, SweepWithEverySolver,
+                         ::testing::Values(SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST(Sweep, ABuilderThatThrowsFailsOnlyItsPose) {
+  const ModelFamily base = parse_model_family(kTwoBarTruss, "truss.yaml");
+  const ModelFamily family("picky", base.parameters(), [&base] {
+    return ModelFamily::Builder([build = base.make_builder()](std::span<const double> v) mutable {
+      if (v[0] == 0.25) throw std::runtime_error("no model at h = 0.25");
+      return build(v);
+    });
+  });
+  const SweepResult s = sweep(family, grid_poses({{"h", 0.25, 0.5, 2}}));
+  EXPECT_EQ(s.results[0].status, PoseStatus::invalid);
+  EXPECT_TRUE(contains(s.results[0].message, "no model at h = 0.25")) << s.results[0].message;
+  EXPECT_EQ(s.results[1].status, PoseStatus::ok) << s.results[1].message;
 }
 
 TEST(Sweep, UnreachablePosesAreInvalidAndTheSweepGoesOn) {
@@ -353,6 +375,12 @@ TEST(PoseFile, ReadsHeaderRowsCommentsAndBlankLines) {
   EXPECT_EQ(t.parameters, (std::vector<std::string>{"x", "y"}));
   EXPECT_EQ(t.values, (std::vector<double>{0.1, 0.2, -0.3, 4}));
   EXPECT_TRUE(t.grid.empty());
+}
+
+TEST(PoseFile, ReadsWhatSpreadsheetsWrite) {
+  const PoseTable t = parse_pose_table("\xEF\xBB\xBF\"x\",\"y\"\r\n\"0.1\",0.2\r\n", "poses.csv");
+  EXPECT_EQ(t.parameters, (std::vector<std::string>{"x", "y"}));
+  EXPECT_EQ(t.values, (std::vector<double>{0.1, 0.2}));
 }
 
 TEST(PoseFile, DefectsNameTheLineAndColumn) {

@@ -81,7 +81,7 @@ struct SweepResult {
   std::vector<std::string> units;  // of the swept parameters, as the family gives them
   std::vector<std::string> end_effectors;
   std::vector<PoseResult> results;  // one per pose, in pose order
-  std::size_t threads = 1;          // threads used
+  std::size_t threads = 1;          // threads that solved poses (at most SweepOptions::threads)
   double seconds = 0;               // wall time of the solves
 };
 

@@ -5,11 +5,13 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <new>
 #include <set>
 
 #include "model/suggest.hpp"
@@ -84,9 +86,14 @@ std::string one_line(const SingularModelError& e) {
 PoseResult measure(const Result& result, const SweepOptions& options) {
   PoseResult pose;
   const SolveReport& report = result.report;
-  if (report.relative_residual > options.solve.max_relative_residual || report.equilibrium_error > 1e-8) {
+  const bool residual_failed = report.relative_residual > options.solve.max_relative_residual;
+  if (residual_failed || report.equilibrium_error > 1e-8) {
     pose.status = PoseStatus::singular;
-    pose.message = report.warnings.empty() ? "the solve failed its accuracy checks" : report.warnings.front();
+    // The warning about the check that failed, not the ill-conditioning note before it.
+    const char* const failed_check = residual_failed ? "residual" : "balance";
+    pose.message = "the solve failed its accuracy checks";
+    for (const auto& warning : report.warnings)
+      if (warning.find(failed_check) != std::string::npos) pose.message = warning;
     return pose;
   }
   for (const auto& effector : result.end_effectors) {
@@ -126,6 +133,16 @@ PoseResult solve_one(ModelFamily::Builder& build, Workspace& workspace, std::spa
     pose.status = e.cause() == SingularModelError::Cause::free_motion ? PoseStatus::free_motion
                                                                         : PoseStatus::singular;
     pose.message = one_line(e);
+  } catch (const Error& e) {
+    // A factorisation that failed on this pose's numbers (a QR of a near-mechanism, say).
+    pose.status = PoseStatus::singular;
+    pose.message = e.what();
+  } catch (const std::bad_alloc&) {
+    throw;  // not the pose's fault: the sweep as a whole cannot go on
+  } catch (const std::exception& e) {
+    // A caller's builder may throw anything; the pose fails, the sweep goes on.
+    pose.status = PoseStatus::invalid;
+    pose.message = std::string("the model could not be built: ") + e.what();
   }
   return pose;
 }
@@ -168,9 +185,10 @@ struct Worker {
 SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const SweepOptions& options) {
   options.solve.validate();
   const PoseValues defaults = pose_values(family, poses);
-  // The defaults' own defects are the caller's error, not a pose's: they throw here.
+  // The defaults' own defects are the caller's error, not a pose's: they throw here, and the
+  // defaults fix the topology every thread's workspace is built for.
   const Model reference = family.build(defaults.all);
-  const Workspace reference_workspace(reference);
+  (void)Workspace(reference);
 
   SweepResult sweep_result;
   sweep_result.model = reference.name;
@@ -180,10 +198,10 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   const std::size_t count = poses.size();
   sweep_result.results.resize(count);
 
-  const std::size_t threads = options.threads == 0
-                                  ? static_cast<std::size_t>(tbb::info::default_concurrency())
-                                  : options.threads;
-  sweep_result.threads = threads;
+  // More threads than this only queue for the same cores.
+  constexpr std::size_t max_threads = 1024;
+  const std::size_t threads = std::min(
+      max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency()) : options.threads);
   tbb::enumerable_thread_specific<Worker> workers(
       [&] { return Worker{family.make_builder(), Workspace(reference), defaults}; });
 
@@ -208,6 +226,7 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
     });
   });
   sweep_result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  sweep_result.threads = std::max<std::size_t>(1, workers.size());  // the threads that took part
   if (options.progress) {
     std::lock_guard lock(progress_lock);
     options.progress(count, count);

@@ -7,10 +7,10 @@ namespace stiffmsa::detail {
 
 void throw_topology_changed() {
   throw InputError({}, "",
-                   "the model's topology (its points, links, joints, supports, end effectors, or "
-                   "which blocks of a matrix link's stiffness are singular) differs from the one "
-                   "the workspace was built for; a workspace, like a sweep, solves models of one "
-                   "topology");
+                   "these values change the model's topology (its points, links, joints, supports, "
+                   "end effectors, or which blocks of a matrix link's stiffness are singular) from "
+                   "that of the model the analysis was set up for (in a sweep: the model at the "
+                   "parameters' defaults); one analysis solves models of one topology");
 }
 
 

@@ -2,11 +2,12 @@
 
 #include <muParser.h>
 
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <set>
-#include <sstream>
 
 #include "model/suggest.hpp"
 
@@ -17,16 +18,26 @@ namespace {
 // Shortest text that reads back as the same double, for messages that quote a value.
 std::string number_text(double value) {
   if (std::isnan(value)) return "nan";  // whatever its sign bit
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  for (int digits = 1; digits < 17; ++digits) {
-    std::ostringstream shorter;
-    shorter.precision(digits);
-    shorter << value;
-    if (std::stod(shorter.str()) == value) return shorter.str();
+  std::array<char, 32> buffer;
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return error == std::errc() ? std::string(buffer.data(), end) : std::string("?");
+}
+
+// muparser reads `x = 1` as an assignment to x, which would change a parameter for every
+// expression evaluated after it; a number only computes a value. (`==`, `<=`, `>=` and `!=`
+// compare.)
+bool assigns(const std::string& text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '=') continue;
+    const char before = i > 0 ? text[i - 1] : ' ';
+    const char after = i + 1 < text.size() ? text[i + 1] : ' ';
+    if (after == '=') {
+      ++i;
+      continue;
+    }
+    if (before != '<' && before != '>' && before != '!' && before != '=') return true;
   }
-  return out.str();
+  return false;
 }
 
 bool is_identifier(const std::string& name) {
@@ -85,6 +96,11 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
   if (slot) return *slot;
   slot = std::make_unique<Compiled>();
   Compiled& compiled = *slot;
+  if (assigns(text)) {
+    compiled.error = "the expression '" + text +
+                     "' assigns a value with '='; an expression only computes a number (compare with '==')";
+    return compiled;
+  }
   try {
     // muparser built by GCC rounds its _pi to 13 digits (a speed trade of its own); angles
     // in a stiffness model need every digit.
@@ -139,17 +155,22 @@ ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate_derived(std::size_t i
 
 ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& text) {
   Compiled& compiled = compile(text);
-  if (!compiled.error.empty()) return {0, compiled.error};
+  if (!compiled.error.empty()) return {0, compiled.error, false};
   double value = 0;
   try {
     value = compiled.parser.Eval();
   } catch (const mu::Parser::exception_type& e) {
-    return {0, "cannot evaluate the expression '" + text + "': " + e.GetMsg()};
+    return {0, "cannot evaluate the expression '" + text + "': " + e.GetMsg(), false};
   }
-  if (std::isfinite(value)) return {value, {}};
+  if (std::isfinite(value)) return {value, {}, false};
+  bool uses_failed_value = false;
+  for (std::size_t i = parameter_count_; i < names_.size(); ++i)
+    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) && compiled.parser.GetUsedVar().count(names_[i]) > 0);
   const std::string inputs = inputs_of(compiled);
-  return {0, "the expression '" + text + "' gives " + number_text(value) +
-                 (inputs.empty() ? std::string() : " for " + inputs) + ", not a finite number"};
+  return {0,
+          "the expression '" + text + "' gives " + number_text(value) +
+              (inputs.empty() ? std::string() : " for " + inputs) + ", not a finite number",
+          uses_failed_value};
 }
 
 }  // namespace stiffmsa::detail

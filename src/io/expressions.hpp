@@ -36,6 +36,9 @@ class ExpressionEvaluator {
   struct Outcome {
     double value = 0;
     std::string error;  // empty on success: a sentence naming what is wrong
+    // The error only repeats one already reported: the expression uses a derived value that
+    // could not be computed.
+    bool follows_earlier_error = false;
   };
   // The value of `text` for the current parameter values. A syntax error, an unknown name
   // or a value that is not finite is an error that names the parameters involved.

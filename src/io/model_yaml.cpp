@@ -231,6 +231,7 @@ class Loader {
   void read_format(const std::vector<Entry>& top, const Value& root);
   void read_name(const std::vector<Entry>& top);
   void read_parameters(const Entry* parameters, const Entry* derived);
+  double parameter_default(const Value& v);
   std::optional<double> expression(const Value& v);
   void read_options(const Entry& section);
   void read_materials(const Entry& section);
@@ -424,6 +425,10 @@ std::optional<double> Loader::expression(const Value& v) {
       error == std::errc() && stop == end && std::isfinite(value))
     return value;
   const auto outcome = expressions_->evaluate(text);
+  if (outcome.follows_earlier_error) {
+    spoil(v.path);  // the derived value it uses is reported where it is defined
+    return std::nullopt;
+  }
   if (!outcome.error.empty()) {
     fail(v, outcome.error);
     return std::nullopt;
@@ -623,6 +628,20 @@ void Loader::read_name(const std::vector<Entry>& top) {
   if (!stem.empty()) model_.name = stem;
 }
 
+// A parameter's default: a plain number (the file's other numbers may be expressions).
+double Loader::parameter_default(const Value& v) {
+  if (v.node.IsScalar()) {
+    const std::string& text = v.node.Scalar();
+    double value = 0;
+    const char* first = text.data() + (text.rfind('+', 0) == 0 ? 1 : 0);
+    const auto [stop, error] = std::from_chars(first, text.data() + text.size(), value);
+    if (error == std::errc() && stop == text.data() + text.size() && std::isfinite(value)) return value;
+  }
+  fail(v, "a parameter's default is a plain finite number, got " + describe(v.node) +
+              "; a value computed from parameters belongs in `derived:`");
+  return 0;
+}
+
 // Parameters are read before anything that may use them. Their defaults are plain numbers:
 // an expression here would make the file's meaning depend on the order of its keys.
 void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
@@ -639,10 +658,10 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       const auto e = fixed_mapping(named.value);
       check_keys(e, named.value.path, kParameterKeys, {}, "a parameter");
       if (const Entry* d = required(e, named.value, "default"))
-        parameter.default_value = number(d->value).value_or(0);
+        parameter.default_value = parameter_default(d->value);
       if (const Entry* unit = find(e, "unit")) parameter.unit = text(unit->value).value_or("");
     } else if (named.value.node.IsScalar()) {
-      parameter.default_value = number(named.value).value_or(0);
+      parameter.default_value = parameter_default(named.value);
     } else {
       fail(named.value, "expected a number or {default: number, unit: text}, got " +
                             describe(named.value.node));
@@ -675,7 +694,10 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   expressions_->set_values(values_.empty() ? std::span<const double>(defaults) : values_);
   for (std::size_t i = 0; i < derived_entries.size(); ++i) {
     const auto outcome = expressions_->evaluate_derived(i, derived_entries[i].value.node.Scalar());
-    if (!outcome.error.empty()) fail(derived_entries[i].value, outcome.error);
+    if (outcome.follows_earlier_error)
+      spoil(derived_entries[i].value.path);
+    else if (!outcome.error.empty())
+      fail(derived_entries[i].value, outcome.error);
   }
 }
 
@@ -1366,15 +1388,16 @@ std::string read_model_text(const std::filesystem::path& path, const LoadLimits&
   return text;
 }
 
-// Each builder re-reads the parsed file with its own copy of the tree and its own compiled
-// expressions, so builders on different threads share nothing that changes.
-ModelFamily family_of(const YAML::Node& root, const std::string& file_name) {
-  CheckedModel at_defaults = read_checked(root, file_name, nullptr, {});
-  auto tree = std::make_shared<const YAML::Node>(YAML::Clone(root));
+// Each builder parses the text once into a tree of its own (a cloned tree would lose the file
+// positions that messages give) and compiles its own expressions, so builders on different
+// threads share nothing that changes.
+ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+  CheckedModel at_defaults = read_checked(parse_tree(text, file_name, limits), file_name, nullptr, {});
+  auto shared_text = std::make_shared<const std::string>(text);
   std::vector<std::string> names;
   for (const auto& p : at_defaults.parameters) names.push_back(p.name);
-  auto make_builder = [tree, file_name, names, derived = at_defaults.derived]() -> ModelFamily::Builder {
-    auto own_tree = std::make_shared<const YAML::Node>(YAML::Clone(*tree));
+  auto make_builder = [shared_text, file_name, limits, names, derived = at_defaults.derived]() -> ModelFamily::Builder {
+    auto own_tree = std::make_shared<const YAML::Node>(parse_tree(*shared_text, file_name, limits));
     auto expressions = std::make_shared<detail::ExpressionEvaluator>(names, derived);
     return [own_tree, expressions, file_name](std::span<const double> values) {
       if (values.size() != expressions->parameter_count())
@@ -1405,7 +1428,7 @@ Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
 
 ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
                                const LoadLimits& limits) {
-  return family_of(parse_tree(text, file_name, limits), file_name);
+  return family_of(text, file_name, limits);
 }
 
 ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits) {

@@ -500,7 +500,7 @@ void draw_heatmap(cairo_t* cr, const Heatmap& plot) {
   draw_vertical_ticks(cr, bar, colours, bar_ticks, true);
   draw_vertical_title(cr, bar, titled(plot.quantity, plot.unit), bar.right + bar_labels);
 
-  if (any_missing) draw_legend(cr, frame, true, "no value (failed pose)");
+  if (any_missing) draw_legend(cr, frame, true, plot.no_value_label);
   if (plot.marked) {
     const auto [ix, iy] = *plot.marked;
     draw_marker(cr, frame, frame.x(x_range, plot.x.values[ix]), frame.y(y_range, plot.y.values[iy]),
@@ -518,7 +518,7 @@ void draw_line_plot(cairo_t* cr, const LinePlot& plot) {
   const bool marked_missing = plot.marked && !heights[*plot.marked];
   std::string legend;
   if (std::count(heights.begin(), heights.end(), std::nullopt) > 0) {
-    legend = "gaps: no value (failed pose)";
+    legend = "gaps: " + plot.no_value_label;
   }
   if (marked_missing && !plot.marked_label.empty()) {
     legend += (legend.empty() ? "" : ";   ") + plot.marked_label + " (no value)";

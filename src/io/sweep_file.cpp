@@ -25,15 +25,35 @@ std::string trimmed(std::string_view text) {
   return std::string(text.substr(first, last - first + 1));
 }
 
+// Fields of one CSV line; a quoted field (RFC 4180, as spreadsheets and our own writer quote)
+// loses its quotes and keeps its commas.
 std::vector<std::string> split_fields(std::string_view line) {
   std::vector<std::string> fields;
-  std::size_t start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    fields.push_back(trimmed(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
-    if (comma == std::string_view::npos) return fields;
-    start = comma + 1;
+  std::string field;
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        field += c;
+      }
+    } else if (c == '"' && trimmed(field).empty()) {
+      quoted = true;
+      field.clear();
+    } else if (c == ',') {
+      fields.push_back(trimmed(field));
+      field.clear();
+    } else {
+      field += c;
+    }
   }
+  fields.push_back(trimmed(field));
+  return fields;
 }
 
 // ---- writing -----------------------------------------------------------------------------
@@ -89,6 +109,8 @@ nlohmann::json json_number(double value) {
 }  // namespace
 
 PoseTable parse_pose_table(std::string_view text, const std::string& file_name) {
+  // Spreadsheets start a UTF-8 CSV with a byte-order mark; it is not part of the first name.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   PoseTable table;
   std::size_t line_number = 0;
   std::size_t start = 0;
@@ -285,7 +307,8 @@ std::string sweep_summary_to_json(const SweepResult& sweep, bool full, const std
   summary["worst"] = std::move(worst);
   summary["threads"] = sweep.threads;
   summary["seconds"] = sweep.seconds;
-  return summary.dump(2) + "\n";
+  // Names come from the user's files, which may hold bytes that are not UTF-8.
+  return summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 void write_sweep_csv(const SweepResult& sweep, bool full, const std::filesystem::path& file) {

@@ -33,7 +33,9 @@ class EigenSparseLU final : public LinearSolver {
 };
 
 #if STIFFMSA_HAVE_SUITESPARSE
-// UMFPACK: multifrontal LU; its symbolic object survives numeric refactorisations.
+// UMFPACK: multifrontal LU; its symbolic object survives numeric refactorisations. The
+// symbolic analysis sees the pattern only: given values, UMFPACK would let the first matrix it
+// saw steer its strategy, and a sweep's results would depend on which pose came first.
 class UmfpackLU final : public LinearSolver {
  public:
   UmfpackLU() { umfpack_di_defaults(control_); }
@@ -41,7 +43,7 @@ class UmfpackLU final : public LinearSolver {
   void analyze(const SparseMatrix& a) override {
     release();
     const int status = umfpack_di_symbolic(static_cast<int>(a.rows()), static_cast<int>(a.cols()),
-                                           a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr(),
+                                           a.outerIndexPtr(), a.innerIndexPtr(), nullptr,
                                            &symbolic_, control_, nullptr);
     if (status != UMFPACK_OK) throw Error("UMFPACK symbolic analysis failed (status " + std::to_string(status) + ")");
   }

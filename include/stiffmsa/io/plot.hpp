@@ -32,6 +32,8 @@ struct Heatmap {
   // A pose to mark with a symbol and a label (the worst pose): {ix, iy}.
   std::optional<std::pair<std::size_t, std::size_t>> marked;
   std::string marked_label;  // e.g. "softest: 1.24e+05 N/m"
+  // What a NaN cell means, for the legend.
+  std::string no_value_label = "no value (failed pose)";
 };
 
 struct LinePlot {
@@ -43,6 +45,7 @@ struct LinePlot {
   PlotScale scale = PlotScale::linear;
   std::optional<std::size_t> marked;
   std::string marked_label;
+  std::string no_value_label = "no value (failed pose)";
 };
 
 // Writes the picture to `file`: `.png` or `.svg`. Throws UsageError for another extension or
