@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "io/expressions.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/io/model_file.hpp"
 
@@ -256,6 +257,23 @@ TEST(ParametricFile, ParameterDefaultMessageSaysWhereComputedValuesGo) {
   const std::string e = first_error(with("  F: 100", "  F: \"2*L\""));
   EXPECT_TRUE(contains(e, "plain finite number")) << e;
   EXPECT_TRUE(contains(e, "`derived:`")) << e;
+}
+
+TEST(Expressions, ManyDistinctExpressionsStayCorrectBeyondTheKeptParsers) {
+  detail::ExpressionEvaluator evaluator({"x"}, {});
+  const int count = 20'100;  // more than the evaluator keeps compiled
+  for (double x : {1.0, 2.5}) {
+    evaluator.set_values(std::vector<double>{x});
+    for (int i = 0; i < count; i += (i < 19'990 ? 97 : 1)) {
+      const auto outcome = evaluator.evaluate("x * 2 + " + std::to_string(i));
+      ASSERT_TRUE(outcome.error.empty()) << outcome.error;
+      EXPECT_EQ(outcome.value, x * 2 + i) << i;
+    }
+  }
+  for (int i = 0; i < count; ++i) evaluator.evaluate("x + " + std::to_string(i));
+  EXPECT_EQ(evaluator.evaluate("x + 20099").value, 2.5 + 20099);
+  EXPECT_EQ(evaluator.evaluate("x + 5").value, 7.5);
+  EXPECT_FALSE(evaluator.evaluate("x +* 5").error.empty());
 }
 
 TEST(ParametricExamples, DefaultsReproduceTheFixedExamples) {

@@ -56,6 +56,7 @@ class ExpressionEvaluator {
   std::size_t parameter_count_;
   std::unique_ptr<double[]> values_;  // muparser reads the parameters through these addresses
   std::unordered_map<std::string, std::unique_ptr<Compiled>> compiled_;
+  std::unique_ptr<Compiled> scratch_;  // the latest expression beyond those kept
 };
 
 }  // namespace stiffmsa::detail
