@@ -2,10 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "io/expressions.hpp"
+#include "model/model_numbers.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/io/model_file.hpp"
 
@@ -274,6 +278,80 @@ TEST(Expressions, ManyDistinctExpressionsStayCorrectBeyondTheKeptParsers) {
   EXPECT_EQ(evaluator.evaluate("x + 20099").value, 2.5 + 20099);
   EXPECT_EQ(evaluator.evaluate("x + 5").value, 7.5);
   EXPECT_FALSE(evaluator.evaluate("x +* 5").error.empty());
+}
+
+// The file with its parameters' defaults replaced by `values`: read by the loader from scratch,
+// it is the member a builder must make without reading the file again.
+std::string with_defaults(const std::string& text, const ModelFamily& family, const std::vector<double>& values) {
+  std::istringstream in(text);
+  std::string out, line;
+  bool in_parameters = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] != ' ' && line[0] != '#') in_parameters = line.starts_with("parameters:");
+    for (std::size_t k = 0; in_parameters && k < values.size(); ++k) {
+      const std::string key = "  " + family.parameters()[k].name + ":";
+      if (line.starts_with(key)) {
+        std::ostringstream value;
+        value.precision(17);
+        value << values[k];
+        line = key + " " + value.str();
+      }
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+std::vector<double> numbers_of(Model model) {
+  std::vector<double> numbers;
+  detail::for_each_number(model, [&](double& v) { numbers.push_back(v); });
+  return numbers;
+}
+
+TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
+  std::mt19937 random(20261121);
+  std::uniform_real_distribution<double> nudge(-0.05, 0.05);
+  const auto read_text = [](const std::string& file) {
+    std::ifstream in(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  for (const std::string& text : {std::string(kCantilever), read_text("planar-3rpr-parametric.yaml"),
+                                  read_text("tripteron-parametric.yaml")}) {
+    const ModelFamily family = parse_model_family(text, "p.yaml");
+    auto build = family.make_builder();
+    for (int pose = 0; pose < 5; ++pose) {
+      std::vector<double> values = family.default_values();
+      for (double& v : values) v *= 1 + nudge(random);
+      const Model member = build(values);
+      const Model read = parse_model(with_defaults(text, family, values), "p.yaml");
+      EXPECT_EQ(numbers_of(member), numbers_of(read)) << family.name() << " pose " << pose;
+      ASSERT_EQ(member.points.size(), read.points.size());
+      for (std::size_t i = 0; i < member.points.size(); ++i) EXPECT_EQ(member.points[i].name, read.points[i].name);
+      EXPECT_EQ(numbers_of(member).size(), numbers_of(family.build(family.default_values())).size());
+    }
+  }
+}
+
+TEST(ParametricFile, ExpressionFailureOfAMemberNamesItsKey) {
+  const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
+  try {
+    family.build(std::vector<double>{0.5, -0.02, 100});
+    FAIL() << "accepted a negative diameter";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.diagnostics().front().key_path, "section.D")) << e.what();
+  }
+  const ModelFamily divided = parse_model_family(with("tip: [L, \"0\", 0]", "tip: [L, \"1 / (F - 50)\", 0]"), "p.yaml");
+  try {
+    divided.build(std::vector<double>{0.5, 0.02, 50});
+    FAIL() << "accepted a division by zero";
+  } catch (const InputError& e) {
+    const Diagnostic& d = e.diagnostics().front();
+    EXPECT_EQ(d.key_path, "points.tip[1]");
+    EXPECT_EQ(d.location.line, 14);
+    EXPECT_TRUE(contains(d.message, "gives inf for F = 50")) << d.message;
+  }
 }
 
 TEST(ParametricExamples, DefaultsReproduceTheFixedExamples) {

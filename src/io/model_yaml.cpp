@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "io/expressions.hpp"
+#include "model/model_numbers.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
@@ -144,6 +145,23 @@ const Entry* find(const std::vector<Entry>& entries, const std::string& key) {
   return nullptr;
 }
 
+// An expression of the file, where it stands: what a message about its value needs.
+struct ExpressionSite {
+  std::string text;
+  std::string path;
+  SourceLocation at;
+};
+
+// While probing (Loader::probe_expressions), expression k reads as this value, which no real
+// model holds (about 1e301), so that the numbers it fills can be found in the model built.
+double probe_value(std::size_t k) { return std::ldexp(1.0 + static_cast<double>(k) * 0x1p-32, 1000); }
+std::optional<std::size_t> probed_site(double value) {
+  if (!(value > 0) || !std::isfinite(value) || std::ilogb(value) != 1000) return std::nullopt;
+  const double k = (std::ldexp(value, -1000) - 1.0) * 0x1p32;
+  if (k != std::floor(k) || k >= 0x1p32 || probe_value(static_cast<std::size_t>(k)) != value) return std::nullopt;
+  return static_cast<std::size_t>(k);
+}
+
 // A material or section defined by name, for beams to refer to.
 template <class T>
 struct Definition {
@@ -162,6 +180,12 @@ class Loader {
   Model read(const YAML::Node& root);
   const std::vector<Parameter>& parameters() const { return parameters_; }
   const std::vector<std::string>& derived_names() const { return derived_names_; }
+  const std::vector<ExpressionSite>& derived_sites() const { return derived_sites_; }
+
+  // Expressions read as probe_value(k), k counting the expressions in reading order, instead
+  // of being evaluated; sites() says which expression each k is.
+  void probe_expressions() { probing_ = true; }
+  const std::vector<ExpressionSite>& sites() const { return sites_; }
 
   // Adds find_defects()'s diagnostics to the loader's own, leaving out those about values the
   // loader already found wrong or could not read, and returns them all in file order.
@@ -285,6 +309,9 @@ class Loader {
   bool parametric_ = false;
   std::vector<Parameter> parameters_;
   std::vector<std::string> derived_names_;
+  std::vector<ExpressionSite> derived_sites_;
+  bool probing_ = false;
+  std::vector<ExpressionSite> sites_;
   Model model_;
   std::vector<Diagnostic> diagnostics_;
   std::set<std::string> spoiled_;
@@ -424,6 +451,10 @@ std::optional<double> Loader::expression(const Value& v) {
   if (const auto [stop, error] = std::from_chars(text.data(), end, value);
       error == std::errc() && stop == end && std::isfinite(value))
     return value;
+  if (probing_) {
+    sites_.push_back({text, v.path, v.at});
+    return probe_value(sites_.size() - 1);
+  }
   const auto outcome = expressions_->evaluate(text);
   if (outcome.follows_earlier_error) {
     spoil(v.path);  // the derived value it uses is reported where it is defined
@@ -683,8 +714,9 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       fail(named.value, "expected an expression of the parameters, got " + describe(named.value.node));
     } else {
       derived_names.push_back(named.key);
+      derived_names_.push_back(named.key);
+      derived_sites_.push_back({named.value.node.Scalar(), named.value.path, named.value.at});
       derived_entries.push_back(std::move(named));
-      derived_names_.push_back(derived_names.back());
     }
   }
   if (!expressions_) {
@@ -1388,26 +1420,120 @@ std::string read_model_text(const std::filesystem::path& path, const LoadLimits&
   return text;
 }
 
-// Each builder parses the text once into a tree of its own (a cloned tree would lose the file
-// positions that messages give) and compiles its own expressions, so builders on different
-// threads share nothing that changes.
-ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
-  CheckedModel at_defaults = read_checked(parse_tree(text, file_name, limits), file_name, nullptr, {});
-  auto shared_text = std::make_shared<const std::string>(text);
-  std::vector<std::string> names;
-  for (const auto& p : at_defaults.parameters) names.push_back(p.name);
-  auto make_builder = [shared_text, file_name, limits, names, derived = at_defaults.derived]() -> ModelFamily::Builder {
-    auto own_tree = std::make_shared<const YAML::Node>(parse_tree(*shared_text, file_name, limits));
-    auto expressions = std::make_shared<detail::ExpressionEvaluator>(names, derived);
-    return [own_tree, expressions, file_name](std::span<const double> values) {
-      if (values.size() != expressions->parameter_count())
-        throw UsageError("the model '" + file_name + "' has " +
-                         std::to_string(expressions->parameter_count()) +
-                         " parameters; got " + std::to_string(values.size()) + " values");
-      return read_checked(*own_tree, file_name, expressions.get(), values).model;
+// What a builder needs to make a member without reading the file again: the member at the
+// defaults, each expression's site, and which of the member's numbers each one fills.
+struct NumberBindings {
+  Model reference;
+  std::vector<ExpressionSite> sites;
+  std::vector<ExpressionSite> derived;
+  std::vector<std::pair<std::size_t, std::size_t>> filled;  // (number in visiting order, site)
+  std::size_t number_count = 0;
+};
+
+// Reads the file once more with every expression probed, and finds where each probe landed.
+// Nullopt when that cannot be told for sure (a probe value lost or changed on its way into
+// the model, a real number in the probes' range): builders then read the file for each member.
+std::optional<NumberBindings> bind_numbers(const YAML::Node& root, const std::string& file_name, Model reference,
+                                           std::vector<ExpressionSite> derived) {
+  Loader prober(file_name);
+  prober.probe_expressions();
+  Model probed = prober.read(root);
+  NumberBindings bindings{std::move(reference), prober.sites(), std::move(derived), {}, 0};
+  std::vector<bool> bound(bindings.sites.size(), false);
+  bool doubtful = false;
+  detail::for_each_number(probed, [&](double& value) {
+    if (const auto site = probed_site(value); site && *site < bound.size()) {
+      bindings.filled.emplace_back(bindings.number_count, *site);
+      bound[*site] = true;
+    } else if (std::isfinite(value) && std::abs(value) > 0x1p999) {
+      doubtful = true;  // a changed probe, or a real number that could be mistaken for one
+    }
+    ++bindings.number_count;
+  });
+  std::size_t reference_count = 0;
+  detail::for_each_number(bindings.reference, [&](double&) { ++reference_count; });
+  if (doubtful || reference_count != bindings.number_count || std::find(bound.begin(), bound.end(), false) != bound.end())
+    return std::nullopt;
+  return bindings;
+}
+
+// A builder that evaluates the expressions for the member's values and writes them into a copy
+// of the member at the defaults, then validates it: the file is not read again.
+ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bindings,
+                                       std::vector<std::string> names, std::vector<std::string> derived_names) {
+  auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
+  auto site_values = std::make_shared<std::vector<double>>(bindings->sites.size());
+  return [bindings, expressions, site_values](std::span<const double> values) {
+    if (values.size() != expressions->parameter_count())
+      throw UsageError("the model '" + bindings->reference.source_file + "' has " +
+                       std::to_string(expressions->parameter_count()) + " parameters; got " +
+                       std::to_string(values.size()) + " values");
+    expressions->set_values(values);
+    std::vector<Diagnostic> defects;
+    const auto report = [&](const ExpressionSite& site, const detail::ExpressionEvaluator::Outcome& outcome) {
+      if (!outcome.error.empty() && !outcome.follows_earlier_error) defects.push_back({site.at, site.path, outcome.error});
     };
+    for (std::size_t i = 0; i < bindings->derived.size(); ++i)
+      report(bindings->derived[i], expressions->evaluate_derived(i, bindings->derived[i].text));
+    bool all_values = true;
+    for (std::size_t k = 0; k < bindings->sites.size(); ++k) {
+      const auto outcome = expressions->evaluate(bindings->sites[k].text);
+      report(bindings->sites[k], outcome);
+      all_values = all_values && outcome.error.empty();
+      (*site_values)[k] = outcome.value;
+    }
+    if (!all_values) {
+      if (defects.empty()) defects.push_back({{}, "", "an expression of the model has no value for these parameters"});
+      throw InputError(std::move(defects));
+    }
+    Model member = bindings->reference;
+    auto next = bindings->filled.begin();
+    std::size_t index = 0;
+    detail::for_each_number(member, [&](double& value) {
+      for (; next != bindings->filled.end() && next->first == index; ++next) value = (*site_values)[next->second];
+      ++index;
+    });
+    auto member_defects = find_defects(member);
+    if (!member_defects.empty()) throw InputError(std::move(member_defects));
+    return member;
   };
-  return ModelFamily(at_defaults.model.name, std::move(at_defaults.parameters), make_builder);
+}
+
+// Builders of a file whose numbers could not be bound read the file for each member: each
+// parses the text once into a tree of its own (a cloned tree would lose the file positions
+// that messages give), so builders on different threads share nothing that changes.
+ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, const std::string& file_name,
+                                       const LoadLimits& limits, std::vector<std::string> names,
+                                       std::vector<std::string> derived_names) {
+  auto own_tree = std::make_shared<const YAML::Node>(parse_tree(*text, file_name, limits));
+  auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
+  return [own_tree, expressions, file_name](std::span<const double> values) {
+    if (values.size() != expressions->parameter_count())
+      throw UsageError("the model '" + file_name + "' has " + std::to_string(expressions->parameter_count()) +
+                       " parameters; got " + std::to_string(values.size()) + " values");
+    return read_checked(*own_tree, file_name, expressions.get(), values).model;
+  };
+}
+
+ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+  const YAML::Node root = parse_tree(text, file_name, limits);
+  Loader loader(file_name);
+  Model at_defaults = loader.read(root);
+  auto defects = loader.merge(find_defects(at_defaults));
+  if (!defects.empty()) throw InputError(std::move(defects));
+  std::vector<std::string> names;
+  for (const auto& p : loader.parameters()) names.push_back(p.name);
+  const std::vector<std::string> derived_names = loader.derived_names();
+  const std::string name = at_defaults.name;
+  std::shared_ptr<const NumberBindings> bindings;
+  if (auto bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites()))
+    bindings = std::make_shared<const NumberBindings>(std::move(*bound));
+  auto shared_text = std::make_shared<const std::string>(text);
+  auto make_builder = [bindings, shared_text, file_name, limits, names, derived_names]() -> ModelFamily::Builder {
+    if (bindings) return refilling_builder(bindings, names, derived_names);
+    return rereading_builder(shared_text, file_name, limits, names, derived_names);
+  };
+  return ModelFamily(name, loader.parameters(), make_builder);
 }
 
 }  // namespace
