@@ -20,7 +20,8 @@ mkdir -p "$logs"
 common="halt_on_error=1:exitcode=86:print_stacktrace=1:log_path=$logs/report"
 export ASAN_OPTIONS="$common:detect_leaks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1:strict_string_checks=1"
 export UBSAN_OPTIONS="$common"
-export LSAN_OPTIONS="$common:suppressions=$root/scripts/lsan-suppressions.txt"
+# print_suppressions=0: the count of suppressed leaks would otherwise be a report file of its own.
+export LSAN_OPTIONS="$common:suppressions=$root/scripts/lsan-suppressions.txt:print_suppressions=0"
 
 # Debug with -O1: sanitizers at a bearable speed, with assert(), Eigen's index checks and
 # libstdc++'s container checks switched on.
