@@ -67,8 +67,8 @@ int run_solve(const SolveCommand& command) {
   // Without --set the file is read once, as any model; with it, as a family.
   const Model model = [&] {
     if (command.settings.empty()) return load_model(command.model_file, command.limits);
-    const ModelFamily family = load_model_family(command.model_file, command.limits);
-    return family.build(parameter_values(family, command.settings));
+    const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+    return family.build(family.default_values());
   }();
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.

@@ -271,24 +271,18 @@ bool same_file(const fs::path& a, const fs::path& b) {
   return !a_error && !b_error && first == second;
 }
 
-std::vector<double> parameter_values(const ModelFamily& family, const std::vector<std::string>& settings) {
-  std::vector<double> values = family.default_values();
+ParameterSettings parse_settings(const std::vector<std::string>& settings) {
+  ParameterSettings parsed;
   for (const auto& setting : settings) {
     const auto equals = setting.find('=');
-    const auto value = equals == std::string::npos ? std::nullopt : parse_number(std::string_view(setting).substr(equals + 1));
+    const auto value = equals == std::string::npos || equals == 0
+                           ? std::nullopt
+                           : parse_number(std::string_view(setting).substr(equals + 1));
     if (!value) throw UsageError("--set '" + setting + "': write NAME=VALUE with a finite number, e.g. x=0.1");
-    const std::string name = setting.substr(0, equals);
-    const auto index = family.find_parameter(name);
-    if (!index) {
-      std::vector<std::string> names;
-      for (const auto& p : family.parameters()) names.push_back(p.name);
-      throw UsageError("--set '" + setting + "': the model has no parameter '" + name + "'" +
-                       (names.empty() ? std::string("; it declares no `parameters:`")
-                                      : "; its parameters are " + comma_separated(names)));
-    }
-    values[*index] = *value;
+    if (!parsed.emplace(setting.substr(0, equals), *value).second)
+      throw UsageError("--set '" + setting + "': the parameter is set twice");
   }
-  return values;
+  return parsed;
 }
 
 int run_sweep(const SweepCommand& command) {
@@ -303,8 +297,7 @@ int run_sweep(const SweepCommand& command) {
                                : fs::path(command.summary_file);
   check_files(command, csv, summary);
 
-  const ModelFamily loaded = load_model_family(command.model_file, command.limits);
-  const ModelFamily family = loaded.with_defaults(parameter_values(loaded, command.settings));
+  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
   const PoseTable poses = command.poses_file.empty() ? grid_poses(std::move(axes)) : read_pose_table(command.poses_file);
 
   SweepOptions options;

@@ -30,7 +30,7 @@ int run_sweep(const SweepCommand& command);
 // Whether two paths name the same file (existing or not), for refusing to write over an input.
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);
 
-// "name=value" pairs applied to a family's defaults (also `solve --set`). Throws UsageError.
-std::vector<double> parameter_values(const ModelFamily& family, const std::vector<std::string>& settings);
+// The "name=value" pairs of --set (sweep and solve). Throws UsageError.
+ParameterSettings parse_settings(const std::vector<std::string>& settings);
 
 }  // namespace stiffmsa::cli

@@ -111,6 +111,28 @@ TEST(ParametricFile, BuilderKeepsNoStateBetweenMembers) {
   EXPECT_EQ(first.loads[0].wrench, again.loads[0].wrench);
 }
 
+TEST(ParametricFile, SettingsReplaceTheDefaultsTheFamilyIsCheckedAt) {
+  const std::string invalid_defaults = with("  D: 0.02", "  D: -0.02");
+  EXPECT_THROW(parse_model_family(invalid_defaults, "p.yaml"), InputError);
+  const ModelFamily family = parse_model_family(invalid_defaults, "p.yaml", {}, {{"D", 0.03}, {"F", 7}});
+  EXPECT_EQ(family.default_values(), (std::vector<double>{0.5, 0.03, 7}));
+  EXPECT_EQ(family.build(family.default_values()).loads[0].wrench(1), -7.0);
+  try {
+    parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml", {}, {{"L", 0.05}});
+    FAIL() << "accepted a negative square root";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "for L = 0.05")) << e.what();  // the values checked, not the file's
+  }
+  try {
+    parse_model_family(kCantilever, "p.yaml", {}, {{"LL", 1}});
+    FAIL() << "accepted a setting of no parameter";
+  } catch (const UsageError& e) {
+    EXPECT_TRUE(contains(e.what(), "no parameter 'LL'; did you mean 'L'")) << e.what();
+  }
+  EXPECT_THROW(load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml", {}, {{"x", 1}}),
+               UsageError);
+}
+
 TEST(ParametricFile, WithDefaultsChangesWhatUnsweptParametersKeep) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
   const ModelFamily longer = family.with_defaults(std::vector<double>{1.0, 0.02, 100});

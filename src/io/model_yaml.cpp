@@ -182,6 +182,11 @@ class Loader {
   const std::vector<std::string>& derived_names() const { return derived_names_; }
   const std::vector<ExpressionSite>& derived_sites() const { return derived_sites_; }
 
+  // Values that replace the file's parameter defaults; names that are no parameter are kept in
+  // unknown_settings().
+  void set_defaults(const ParameterSettings* settings) { settings_ = settings; }
+  const std::vector<std::string>& unknown_settings() const { return unknown_settings_; }
+
   // Expressions read as probe_value(k), k counting the expressions in reading order, instead
   // of being evaluated; sites() says which expression each k is.
   void probe_expressions() { probing_ = true; }
@@ -312,6 +317,8 @@ class Loader {
   std::vector<ExpressionSite> derived_sites_;
   bool probing_ = false;
   std::vector<ExpressionSite> sites_;
+  const ParameterSettings* settings_ = nullptr;
+  std::vector<std::string> unknown_settings_;
   Model model_;
   std::vector<Diagnostic> diagnostics_;
   std::set<std::string> spoiled_;
@@ -702,6 +709,18 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
     parameters_.push_back(std::move(parameter));
   }
   parametric_ = true;
+  if (settings_) {
+    for (const auto& [name, value] : *settings_) {
+      const auto found = std::find(names.begin(), names.end(), name);
+      if (found == names.end()) {
+        unknown_settings_.push_back(name);
+        continue;
+      }
+      const auto index = static_cast<std::size_t>(found - names.begin());
+      defaults[index] = value;
+      parameters_[index].default_value = value;
+    }
+  }
   std::vector<Entry> derived_entries;
   std::vector<std::string> derived_names;
   for (auto& named : derived ? named_mapping(*derived) : std::vector<Entry>{}) {
@@ -1515,10 +1534,23 @@ ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, 
   };
 }
 
-ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits,
+                      const ParameterSettings& settings) {
   const YAML::Node root = parse_tree(text, file_name, limits);
   Loader loader(file_name);
+  loader.set_defaults(&settings);
   Model at_defaults = loader.read(root);
+  // Settings for a file without `parameters:` reach no read_parameters(): all are unknown.
+  std::vector<std::string> unknown = loader.unknown_settings();
+  if (loader.parameters().empty() && loader.derived_names().empty())
+    for (const auto& [name, value] : settings) unknown.push_back(name);
+  if (!unknown.empty()) {
+    std::vector<std::string> names;
+    for (const auto& p : loader.parameters()) names.push_back(p.name);
+    throw UsageError("the model '" + file_name + "' has no parameter '" + unknown.front() + "'" +
+                     (names.empty() ? std::string("; it declares no `parameters:`")
+                                    : detail::suggestion(unknown.front(), names, "its parameters are")));
+  }
   auto defects = loader.merge(find_defects(at_defaults));
   if (!defects.empty()) throw InputError(std::move(defects));
   std::vector<std::string> names;
@@ -1553,12 +1585,13 @@ Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
 }
 
 ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
-                               const LoadLimits& limits) {
-  return family_of(text, file_name, limits);
+                               const LoadLimits& limits, const ParameterSettings& settings) {
+  return family_of(text, file_name, limits, settings);
 }
 
-ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits) {
-  return parse_model_family(read_model_text(path, limits), path.string(), limits);
+ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits,
+                              const ParameterSettings& settings) {
+  return parse_model_family(read_model_text(path, limits), path.string(), limits, settings);
 }
 
 }  // namespace stiffmsa

@@ -3,6 +3,7 @@
 // unknown keys are checked here with file positions; the model is then validated.
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 
@@ -40,12 +41,17 @@ Model load_model(const std::filesystem::path& path, const LoadLimits& limits);
 Model parse_model(std::string_view text, const std::string& file_name);
 Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits);
 
+// Values that replace a file's parameter defaults (as `stiffmsa … --set x=0.1` gives them).
+using ParameterSettings = std::map<std::string, double>;
+
 // A parametric model file (its top-level `parameters:`) as a family of models: checked here
-// at the parameters' defaults, each member built from its parameter values. A file without
-// parameters is a family of one model. load_model() and parse_model() give the member at
-// the defaults.
-ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits = {});
+// at the parameters' defaults, where `settings` replace those of the file, and each member
+// built from its parameter values. A file without parameters is a family of one model.
+// load_model() and parse_model() give the member at the file's defaults. Throws UsageError
+// when a setting names no parameter.
+ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits = {},
+                              const ParameterSettings& settings = {});
 ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
-                               const LoadLimits& limits = {});
+                               const LoadLimits& limits = {}, const ParameterSettings& settings = {});
 
 }  // namespace stiffmsa
