@@ -1399,19 +1399,14 @@ YAML::Node parse_tree(std::string_view text, const std::string& file_name, const
   return root;
 }
 
-struct CheckedModel {
-  Model model;
-  std::vector<Parameter> parameters;
-  std::vector<std::string> derived;
-};
-
-CheckedModel read_checked(const YAML::Node& root, const std::string& file_name,
-                          detail::ExpressionEvaluator* expressions, std::span<const double> values) {
+// A model read from a parsed file and validated, with the file's positions in every message.
+Model read_checked(const YAML::Node& root, const std::string& file_name, detail::ExpressionEvaluator* expressions,
+                   std::span<const double> values) {
   Loader loader(file_name, expressions, values);
   Model model = loader.read(root);
   auto defects = loader.merge(find_defects(model));
   if (!defects.empty()) throw InputError(std::move(defects));
-  return {std::move(model), loader.parameters(), loader.derived_names()};
+  return model;
 }
 
 std::string read_model_text(const std::filesystem::path& path, const LoadLimits& limits) {
@@ -1530,7 +1525,7 @@ ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, 
     if (values.size() != expressions->parameter_count())
       throw UsageError("the model '" + file_name + "' has " + std::to_string(expressions->parameter_count()) +
                        " parameters; got " + std::to_string(values.size()) + " values");
-    return read_checked(*own_tree, file_name, expressions.get(), values).model;
+    return read_checked(*own_tree, file_name, expressions.get(), values);
   };
 }
 
@@ -1575,7 +1570,7 @@ Model parse_model(std::string_view text, const std::string& file_name) {
 }
 
 Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
-  return read_checked(parse_tree(text, file_name, limits), file_name, nullptr, {}).model;
+  return read_checked(parse_tree(text, file_name, limits), file_name, nullptr, {});
 }
 
 Model load_model(const std::filesystem::path& path) { return load_model(path, LoadLimits{}); }
