@@ -10,12 +10,14 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/errors.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/io/result_file.hpp"
 #include "stiffmsa/model.hpp"
+#include "stiffmsa/parametric.hpp"
 
 namespace {
 
@@ -42,6 +44,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (const auto& e : result.end_effectors)
         if (e.compliance) static_cast<void>(stiffmsa::principal_stiffness(*e.compliance));
       static_cast<void>(stiffmsa::result_to_json(result));
+    }
+    // A parametric file also as a family: binding its expressions, and one member away from
+    // the defaults (the values that fail are the documented InputError).
+    if (text.find("parameters") == std::string_view::npos && text.find("derived") == std::string_view::npos) return 0;
+    const stiffmsa::ModelFamily family = stiffmsa::parse_model_family(text, "fuzz.yaml");
+    if (!family.parameters().empty()) {
+      std::vector<double> values = family.default_values();
+      for (double& v : values) v = v * 1.25 + 0.5;
+      static_cast<void>(stiffmsa::check(family.build(values)));
     }
   } catch (const stiffmsa::InputError& e) {
     for (const auto& d : e.diagnostics()) static_cast<void>(d.to_string());
