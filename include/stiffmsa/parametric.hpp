@@ -39,9 +39,11 @@ class ModelFamily {
   // parameters a sweep does not vary keep.
   ModelFamily with_defaults(std::span<const double> values) const;
 
-  Builder make_builder() const { return make_builder_(); }
+  // A builder of the family's members; it throws UsageError when not given one value per
+  // parameter.
+  Builder make_builder() const;
   // One member; for many, make a builder once.
-  Model build(std::span<const double> values) const { return make_builder_()(values); }
+  Model build(std::span<const double> values) const { return make_builder()(values); }
 
  private:
   std::string name_;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <new>
 #include <set>
 
@@ -186,9 +187,18 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   options.solve.validate();
   const PoseValues defaults = pose_values(family, poses);
   // The defaults' own defects are the caller's error, not a pose's: they throw here, and the
-  // defaults fix the topology every thread's workspace is built for.
+  // defaults fix the topology every thread's workspace is built for. The workspace built here
+  // goes to the first thread, so a one-thread sweep analyses the topology once.
   const Model reference = family.build(defaults.all);
-  (void)Workspace(reference);
+  std::optional<Workspace> first_workspace(std::in_place, reference);
+  std::mutex first_workspace_lock;
+  const auto take_workspace = [&] {
+    std::lock_guard lock(first_workspace_lock);
+    if (!first_workspace) return Workspace(reference);
+    Workspace taken = std::move(*first_workspace);
+    first_workspace.reset();
+    return taken;
+  };
 
   SweepResult sweep_result;
   sweep_result.model = reference.name;
@@ -203,7 +213,7 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   const std::size_t threads = std::min(
       max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency()) : options.threads);
   tbb::enumerable_thread_specific<Worker> workers(
-      [&] { return Worker{family.make_builder(), Workspace(reference), defaults}; });
+      [&] { return Worker{family.make_builder(), take_workspace(), defaults}; });
 
   std::atomic<std::size_t> done{0};
   std::mutex progress_lock;

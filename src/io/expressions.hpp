@@ -29,7 +29,6 @@ class ExpressionEvaluator {
   ExpressionEvaluator(const ExpressionEvaluator&) = delete;
   ExpressionEvaluator& operator=(const ExpressionEvaluator&) = delete;
 
-  std::size_t parameter_count() const { return parameter_count_; }
   // One value per parameter, in the order of the names.
   void set_values(std::span<const double> values);
 

@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "io/expressions.hpp"
+#include "io/plain_number.hpp"
 #include "model/model_numbers.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
@@ -453,11 +454,7 @@ std::optional<double> Loader::number(const Value& v) {
 // `2e11` exactly what it says).
 std::optional<double> Loader::expression(const Value& v) {
   const std::string& text = v.node.Scalar();
-  double value = 0;
-  const char* end = text.data() + text.size();
-  if (const auto [stop, error] = std::from_chars(text.data(), end, value);
-      error == std::errc() && stop == end && std::isfinite(value))
-    return value;
+  if (const auto value = detail::plain_number(text)) return value;
   if (probing_) {
     sites_.push_back({text, v.path, v.at});
     return probe_value(sites_.size() - 1);
@@ -668,13 +665,8 @@ void Loader::read_name(const std::vector<Entry>& top) {
 
 // A parameter's default: a plain number (the file's other numbers may be expressions).
 double Loader::parameter_default(const Value& v) {
-  if (v.node.IsScalar()) {
-    const std::string& text = v.node.Scalar();
-    double value = 0;
-    const char* first = text.data() + (text.rfind('+', 0) == 0 ? 1 : 0);
-    const auto [stop, error] = std::from_chars(first, text.data() + text.size(), value);
-    if (error == std::errc() && stop == text.data() + text.size() && std::isfinite(value)) return value;
-  }
+  if (v.node.IsScalar())
+    if (const auto value = detail::plain_number(v.node.Scalar())) return *value;
   fail(v, "a parameter's default is a plain finite number, got " + describe(v.node) +
               "; a value computed from parameters belongs in `derived:`");
   return 0;
@@ -1478,10 +1470,6 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
   auto site_values = std::make_shared<std::vector<double>>(bindings->sites.size());
   return [bindings, expressions, site_values](std::span<const double> values) {
-    if (values.size() != expressions->parameter_count())
-      throw UsageError("the model '" + bindings->reference.source_file + "' has " +
-                       std::to_string(expressions->parameter_count()) + " parameters; got " +
-                       std::to_string(values.size()) + " values");
     expressions->set_values(values);
     std::vector<Diagnostic> defects;
     const auto report = [&](const ExpressionSite& site, const detail::ExpressionEvaluator::Outcome& outcome) {
@@ -1496,10 +1484,9 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
       all_values = all_values && outcome.error.empty();
       (*site_values)[k] = outcome.value;
     }
-    if (!all_values) {
-      if (defects.empty()) defects.push_back({{}, "", "an expression of the model has no value for these parameters"});
-      throw InputError(std::move(defects));
-    }
+    // A value that is missing without a defect of its own follows from a derived value's,
+    // which is reported: defects is never empty here.
+    if (!all_values) throw InputError(std::move(defects));
     Model member = bindings->reference;
     auto next = bindings->filled.begin();
     std::size_t index = 0;
@@ -1522,9 +1509,6 @@ ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, 
   auto own_tree = std::make_shared<const YAML::Node>(parse_tree(*text, file_name, limits));
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
   return [own_tree, expressions, file_name](std::span<const double> values) {
-    if (values.size() != expressions->parameter_count())
-      throw UsageError("the model '" + file_name + "' has " + std::to_string(expressions->parameter_count()) +
-                       " parameters; got " + std::to_string(values.size()) + " values");
     return read_checked(*own_tree, file_name, expressions.get(), values);
   };
 }

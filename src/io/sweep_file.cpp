@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "io/plain_number.hpp"
 #include "stiffmsa/io/result_file.hpp"
 
 namespace stiffmsa {
@@ -144,15 +145,9 @@ PoseTable parse_pose_table(std::string_view text, const std::string& file_name) 
       continue;
     }
     for (std::size_t k = 0; k < fields.size(); ++k) {
-      double value = 0;
-      const std::string& field = fields[k];
-      const char* first = field.data() + (field.rfind('+', 0) == 0 ? 1 : 0);
-      const auto [stop, error] = std::from_chars(first, field.data() + field.size(), value);
-      if (field.empty() || error != std::errc() || stop != field.data() + field.size() || !std::isfinite(value)) {
-        defect(line_number, 0, table.parameters[k], "expected a finite number, got '" + field + "'");
-        value = kNaN;
-      }
-      table.values.push_back(value);
+      const auto value = detail::plain_number(fields[k]);
+      if (!value) defect(line_number, 0, table.parameters[k], "expected a finite number, got '" + fields[k] + "'");
+      table.values.push_back(value.value_or(kNaN));
     }
     if (defects.size() >= 20) break;  // a wrong file says so in a screenful
   }
@@ -183,7 +178,7 @@ std::vector<SweepColumn> sweep_columns(const SweepResult& sweep, bool full) {
       columns.push_back({effector + "." + kMeasureNames[q], kMeasureUnits[q], static_cast<SweepQuantity>(q), e, 0, 0,
                          q >= static_cast<int>(SweepQuantity::deflection_trans)});
     if (!full) continue;
-    for (const auto [quantity, letter] :
+    for (const auto& [quantity, letter] :
          {std::pair{SweepQuantity::compliance, 'C'}, std::pair{SweepQuantity::stiffness, 'K'}})
       for (int row = 0; row < 6; ++row)
         for (int col = 0; col < 6; ++col)

@@ -19,6 +19,15 @@ std::vector<double> ModelFamily::default_values() const {
   return values;
 }
 
+ModelFamily::Builder ModelFamily::make_builder() const {
+  return [count = parameters_.size(), name = name_, build = make_builder_()](std::span<const double> values) mutable {
+    if (values.size() != count)
+      throw UsageError("the model '" + name + "' has " + std::to_string(count) + " parameters; got " +
+                       std::to_string(values.size()) + " values");
+    return build(values);
+  };
+}
+
 ModelFamily ModelFamily::with_defaults(std::span<const double> values) const {
   if (values.size() != parameters_.size())
     throw UsageError("the model '" + name_ + "' has " + std::to_string(parameters_.size()) +
