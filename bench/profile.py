@@ -39,7 +39,7 @@ STAGES = [
     ("  pattern analysis (ordering)", r"(EigenSparseLU|KluLU|UmfpackLU)::analyze$|analyzePattern|^klu_analyze$|"
                                       r"^umfpack_di_symbolic$"),
     ("  numeric LU", r"(EigenSparseLU|KluLU|UmfpackLU)::factorize$"),
-    ("  condition estimate", r"FactorizedSystem::estimate_inverse_norm1$"),
+    ("  condition estimate", r"detail::estimate_inverse_norm1$"),
     ("FactorizedSystem::solve (refined)", r"^stiffmsa::detail::FactorizedSystem::solve$"),
     ("  solve_once (scaling + triangular solves)", r"^stiffmsa::detail::FactorizedSystem::solve_once$"),
     ("  relative_residual", r"^stiffmsa::detail::relative_residual$"),

@@ -188,30 +188,27 @@ bool FactorizedSystem::factorize(const SparseMatrix& a, double singular_rcond) {
   }
   rcond_ = 0;
   if (!solver_->factorize(scaled_)) return false;
-  const double inverse_norm = estimate_inverse_norm1();
+  const double inverse_norm = estimate_inverse_norm1(*solver_, scaled_.rows());
   const double a_norm = norm_1(scaled_);
   rcond_ = (std::isfinite(inverse_norm) && inverse_norm > 0 && a_norm > 0) ? 1.0 / (a_norm * inverse_norm) : 0.0;
   return rcond_ >= singular_rcond;
 }
 
-// Hager's estimate of ‖Â⁻¹‖₁ (Higham's refinement, LAPACK xLACON), with Higham's
-// alternating-sign test vector as a safeguard.
-double FactorizedSystem::estimate_inverse_norm1() const {
-  const Index n = scaled_.rows();
+double estimate_inverse_norm1(const LinearSolver& lu, Index n) {
   if (n == 0) return 0;
   MatX x = MatX::Constant(n, 1, 1.0 / static_cast<double>(n));
   double estimate = 0;
   Index previous_j = -1;
   for (int iteration = 0; iteration < 5; ++iteration) {
     MatX y = x;
-    solver_->solve(y);
+    lu.solve(y);
     const double norm = y.lpNorm<1>();
     if (!std::isfinite(norm)) return INFINITY;
     if (iteration > 0 && norm <= estimate) break;
     estimate = norm;
     MatX sign(n, 1);
     for (Index i = 0; i < n; ++i) sign(i) = y(i) >= 0 ? 1.0 : -1.0;
-    solver_->solve_transposed(sign);
+    lu.solve_transposed(sign);
     Index j = 0;
     sign.col(0).cwiseAbs().maxCoeff(&j);
     if (iteration > 0 && (j == previous_j || std::abs(sign(j)) <= (sign.transpose() * x)(0, 0))) break;
@@ -222,7 +219,7 @@ double FactorizedSystem::estimate_inverse_norm1() const {
   MatX alternating(n, 1);
   for (Index i = 0; i < n; ++i)
     alternating(i) = (i % 2 ? -1.0 : 1.0) * (1.0 + static_cast<double>(i) / std::max<Index>(n - 1, 1));
-  solver_->solve(alternating);
+  lu.solve(alternating);
   const double alternative = 2.0 * alternating.lpNorm<1>() / (3.0 * static_cast<double>(n));
   if (!std::isfinite(alternative)) return INFINITY;
   return std::max(estimate, alternative);

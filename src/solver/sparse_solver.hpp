@@ -24,6 +24,11 @@ class LinearSolver {
 
 std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
 
+// Hager's estimate of ‖A⁻¹‖₁ from a factorisation of the n×n matrix A (Higham's refinement,
+// LAPACK xLACON, with Higham's alternating-sign test vector as a safeguard); +inf when a solve
+// overflows.
+double estimate_inverse_norm1(const LinearSolver& lu, Index n);
+
 // Row and column scaling by powers of two (so scaling itself adds no rounding) that brings
 // every row and column of |A| to a largest entry near 1.
 struct Equilibration {
@@ -50,7 +55,6 @@ class FactorizedSystem {
 
 
  private:
-  double estimate_inverse_norm1() const;
   MatX solve_once(const MatX& b) const;
 
   std::unique_ptr<LinearSolver> solver_;
