@@ -24,7 +24,7 @@ using namespace stiffmsa::cli;
 struct SolveCommand {
   std::string model_file;
   std::string json_file;  // empty: no result file
-  std::string solver = "sparse_lu";
+  std::string solver = "auto";
   bool accept_idle_motions = false;
   std::vector<std::string> settings;  // parametric models: "name=value"
   LoadLimits limits;
@@ -46,12 +46,12 @@ void refuse_to_overwrite_model(const fs::path& model_file, const fs::path& json_
 SolveOptions solve_options(const std::string& solver, bool accept_idle_motions) {
   SolveOptions options;
   // CLI11 has already checked the name against the list of solvers.
-  options.solver = solver_kind_from_string(solver).value_or(SolverKind::sparse_lu);
+  options.solver = solver_kind_from_string(solver).value_or(SolverKind::automatic);
   options.accept_idle_motions = accept_idle_motions;
   if (!solver_available(options.solver)) {
     throw UsageError("solver '" + solver +
                      "' is not available in this build of stiffmsa (built without SuiteSparse); "
-                     "use --solver sparse_lu");
+                     "use --solver auto or sparse_lu");
   }
   options.validate();
   return options;
@@ -127,8 +127,9 @@ int run(int argc, char** argv) {
       app.add_subcommand("solve", "Solve a model and print the stiffness of its end effectors");
   solve_app->add_option("MODEL", solve_command.model_file, "Model file (YAML or JSON)")->required();
   solve_app->add_option("--json", solve_command.json_file, "Write the result file to this path");
-  solve_app->add_option("--solver", solve_command.solver, "Sparse linear solver")
-      ->check(CLI::IsMember({"sparse_lu", "umfpack", "klu"}))
+  solve_app->add_option("--solver", solve_command.solver,
+                        "Sparse LU: auto (klu, or sparse_lu where klu would fill in), sparse_lu, umfpack, klu")
+      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
       ->capture_default_str();
   solve_app->add_flag("--accept-idle-motions", solve_command.accept_idle_motions,
                       "Solve despite free motions that move no end effector (the spin of a "
@@ -144,7 +145,7 @@ int run(int argc, char** argv) {
   add_limit_options(*check_app, check_command.limits);
 
   SweepCommand sweep_command;
-  std::string sweep_solver = "sparse_lu";
+  std::string sweep_solver = "auto";
   bool sweep_accept_idle_motions = false;
   CLI::App* sweep_app = app.add_subcommand(
       "sweep", "Solve a parametric model over a grid or a list of poses and write one CSV row per pose");
@@ -167,8 +168,9 @@ int run(int argc, char** argv) {
                         "Write the JSON summary here (default: beside the CSV, NAME.summary.json)");
   sweep_app->add_option("--threads", sweep_command.threads, "Threads to use (default: every core)")->check(at_least_one);
   sweep_app->add_flag("--quiet", sweep_command.quiet, "No progress bar");
-  sweep_app->add_option("--solver", sweep_solver, "Sparse linear solver")
-      ->check(CLI::IsMember({"sparse_lu", "umfpack", "klu"}))
+  sweep_app->add_option("--solver", sweep_solver,
+                        "Sparse LU: auto (klu, or sparse_lu where klu would fill in), sparse_lu, umfpack, klu")
+      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
       ->capture_default_str();
   sweep_app->add_flag("--accept-idle-motions", sweep_accept_idle_motions,
                       "Solve despite free motions that move no end effector");

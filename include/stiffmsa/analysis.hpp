@@ -10,18 +10,22 @@
 
 namespace stiffmsa {
 
-enum class SolverKind { sparse_lu, umfpack, klu };
+// `automatic` picks, per pattern, KLU (robots, chains) or Eigen's SparseLU (where KLU's ordering
+// predicts heavy fill, as on building frames); the result's report names the one used.
+enum class SolverKind { automatic, sparse_lu, umfpack, klu };
 const char* to_string(SolverKind s);
 std::optional<SolverKind> solver_kind_from_string(const std::string& s);
 bool solver_available(SolverKind s);
 
 struct SolveOptions {
-  SolverKind solver = SolverKind::sparse_lu;
+  SolverKind solver = SolverKind::automatic;
   // Below this reciprocal condition estimate of the equilibrated system, it is singular.
   double singular_rcond = 1e-14;
   // A solve whose relative residual stays above this after refinement is reported as failed.
   double max_relative_residual = 1e-10;
-  // Iterative refinement steps with the same factorisation (Frame3DD-style).
+  // At most this many iterative refinement steps per right-hand side, with the same
+  // factorisation; a column is refined only while its backward error times the condition
+  // estimate exceeds 1e-14.
   int refinement_steps = 2;
   // Solve despite idle free motions (see ModelOptions); either this or the model's own
   // option turns it on.

@@ -62,6 +62,7 @@ PrincipalStiffness principal_stiffness(const Mat6& compliance) {
 
 const char* to_string(SolverKind s) {
   switch (s) {
+    case SolverKind::automatic: return "auto";
     case SolverKind::sparse_lu: return "sparse_lu";
     case SolverKind::umfpack: return "umfpack";
     case SolverKind::klu: return "klu";
@@ -70,7 +71,7 @@ const char* to_string(SolverKind s) {
 }
 
 std::optional<SolverKind> solver_kind_from_string(const std::string& s) {
-  for (SolverKind k : {SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu})
+  for (SolverKind k : {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu})
     if (s == to_string(k)) return k;
   return std::nullopt;
 }

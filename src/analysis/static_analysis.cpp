@@ -20,7 +20,7 @@ namespace stiffmsa {
 using detail::Index;
 
 bool solver_available(SolverKind s) {
-  return s == SolverKind::sparse_lu || STIFFMSA_HAVE_SUITESPARSE;
+  return s == SolverKind::automatic || s == SolverKind::sparse_lu || STIFFMSA_HAVE_SUITESPARSE;
 }
 
 void SolveOptions::validate() const {
@@ -41,7 +41,7 @@ struct Workspace::Impl {
   std::unique_ptr<detail::Assembler> assembler;
   detail::SparseMatrix matrix;
   std::unique_ptr<detail::FactorizedSystem> system;
-  SolverKind solver_kind = SolverKind::sparse_lu;
+  SolverKind solver_kind = SolverKind::automatic;
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {

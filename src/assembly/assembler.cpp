@@ -25,22 +25,28 @@ class PositionRecorder final : public EquationWriter {
   }
 };
 
+// Checks every write against the recorded sequence: write k must land in slot slots[k], the
+// one position (row, column) of the pattern that the k-th write of the recording went to.
 class ValueWriter final : public EquationWriter {
  public:
-  ValueWriter(const std::vector<int>& rows, const std::vector<int>& columns,
-              const std::vector<int>& slots, double* values)
-      : rows_(rows), columns_(columns), slots_(slots), values_(values) {}
+  ValueWriter(const std::vector<int>& slots, const std::vector<int>& outer, const std::vector<int>& inner,
+              double* values)
+      : slots_(slots), outer_(outer), inner_(inner), values_(values) {}
   void add(Index row, Index column, double value) override {
-    if (next_ >= rows_.size() || rows_[next_] != row || columns_[next_] != column)
+    if (next_ >= slots_.size() || column < 0 || column + 1 >= static_cast<Index>(outer_.size()))
       throw_topology_changed();
-    values_[slots_[next_++]] += value;
+    const int slot = slots_[next_++];
+    if (slot < outer_[static_cast<std::size_t>(column)] || slot >= outer_[static_cast<std::size_t>(column) + 1] ||
+        inner_[static_cast<std::size_t>(slot)] != row)
+      throw_topology_changed();
+    values_[slot] += value;
   }
   std::size_t written() const { return next_; }
 
  private:
-  const std::vector<int>& rows_;
-  const std::vector<int>& columns_;
   const std::vector<int>& slots_;
+  const std::vector<int>& outer_;
+  const std::vector<int>& inner_;
   double* values_;
   std::size_t next_ = 0;
 };
@@ -58,27 +64,36 @@ Assembler::Assembler(const Blocks& blocks, Index unknowns) : unknowns_(unknowns)
   if (row != unknowns)
     throw Error("internal error: the element blocks give " + std::to_string(row) +
                 " equations for " + std::to_string(unknowns) + " unknowns");
-  rows_ = std::move(recorder.rows);
-  columns_ = std::move(recorder.columns);
+  const std::vector<int>& rows = recorder.rows;
+  const std::vector<int>& columns = recorder.columns;
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    if (rows[k] < 0 || rows[k] >= unknowns || columns[k] < 0 || columns[k] >= unknowns)
+      throw Error("internal error: an element block writes outside the system");
 
-  // Sort positions by (column, row) and merge duplicates into one slot each.
-  std::vector<int> order(rows_.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return columns_[a] != columns_[b] ? columns_[a] < columns_[b] : rows_[a] < rows_[b];
-  });
-  slots_.assign(rows_.size(), -1);
-  outer_.assign(static_cast<std::size_t>(unknowns) + 1, 0);
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const int e = order[k];
-    const bool repeat = k > 0 && rows_[order[k - 1]] == rows_[e] && columns_[order[k - 1]] == columns_[e];
-    if (!repeat) {
-      inner_.push_back(rows_[e]);
-      ++outer_[static_cast<std::size_t>(columns_[e]) + 1];
-    }
-    slots_[e] = static_cast<int>(inner_.size()) - 1;
+  // The positions by column (a counting sort: linear in their number), each column's by row;
+  // repeated positions share one slot.
+  const auto n = static_cast<std::size_t>(unknowns);
+  std::vector<int> column_start(n + 1, 0);
+  for (int c : columns) ++column_start[static_cast<std::size_t>(c) + 1];
+  std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
+  std::vector<int> order(rows.size());
+  {
+    std::vector<int> next(column_start.begin(), column_start.end() - 1);
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      order[static_cast<std::size_t>(next[static_cast<std::size_t>(columns[k])]++)] = static_cast<int>(k);
   }
-  std::partial_sum(outer_.begin(), outer_.end(), outer_.begin());
+  slots_.assign(rows.size(), -1);
+  outer_.assign(n + 1, 0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto begin = order.begin() + column_start[j], end = order.begin() + column_start[j + 1];
+    std::sort(begin, end, [&](int a, int b) { return rows[static_cast<std::size_t>(a)] < rows[static_cast<std::size_t>(b)]; });
+    for (auto k = begin; k != end; ++k) {
+      const int r = rows[static_cast<std::size_t>(*k)];
+      if (k == begin || r != rows[static_cast<std::size_t>(*(k - 1))]) inner_.push_back(r);
+      slots_[static_cast<std::size_t>(*k)] = static_cast<int>(inner_.size()) - 1;
+    }
+    outer_[j + 1] = static_cast<int>(inner_.size());
+  }
 }
 
 void Assembler::fill(const Blocks& blocks, SparseMatrix& matrix) const {
@@ -89,11 +104,11 @@ void Assembler::fill(const Blocks& blocks, SparseMatrix& matrix) const {
     std::copy(inner_.begin(), inner_.end(), matrix.innerIndexPtr());
   }
   std::fill_n(matrix.valuePtr(), inner_.size(), 0.0);
-  ValueWriter writer(rows_, columns_, slots_, matrix.valuePtr());
+  ValueWriter writer(slots_, outer_, inner_, matrix.valuePtr());
   if (blocks.size() != first_rows_.size())
     throw_topology_changed();
   for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b]->write_equations(first_rows_[b], writer);
-  if (writer.written() != rows_.size())
+  if (writer.written() != slots_.size())
     throw_topology_changed();
 }
 

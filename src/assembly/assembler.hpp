@@ -45,9 +45,8 @@ class Assembler {
  private:
   Index unknowns_ = 0;
   std::vector<Index> first_rows_;      // per block
-  std::vector<int> rows_, columns_;    // every written position, in writing order
-  std::vector<int> slots_;             // per written position: index into the value array
-  std::vector<int> outer_, inner_;     // the compressed column pattern
+  std::vector<int> slots_;           // per write, in writing order: its index in the value array
+  std::vector<int> outer_, inner_;   // the compressed column pattern
 };
 
 }  // namespace stiffmsa::detail

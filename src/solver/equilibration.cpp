@@ -5,10 +5,14 @@
 namespace stiffmsa::detail {
 
 namespace {
-// The power of two nearest to 1/sqrt(m) (m > 0), so that scaling is exact in binary.
+// For m in [2^(e−1), 2^e): 2^(−⌊e/2⌋), which brings m·f² into [½, 2). A power of two, so that
+// scaling is exact in binary; read from the exponent, with no logarithm.
 double inverse_sqrt_power_of_two(double m) {
   if (!(m > 0) || !std::isfinite(m)) return 1.0;
-  return std::exp2(-std::round(0.5 * std::log2(m)));
+  int exponent = 0;
+  std::frexp(m, &exponent);
+  const int half = exponent >= 0 ? exponent / 2 : -((1 - exponent) / 2);  // ⌊e/2⌋
+  return std::ldexp(1.0, -half);
 }
 }  // namespace
 
@@ -17,16 +21,20 @@ Equilibration equilibrate(const SparseMatrix& a, int iterations) {
   Equilibration s{VecX::Ones(n), VecX::Ones(a.cols())};
   VecX row_max(n), column_max(a.cols());
   // Ruiz's iteration: alternately divide rows and columns by the square root of their
-  // largest scaled entry; it converges to every row and column having a largest entry of 1.
+  // largest scaled entry; it converges to every row and column having a largest entry near 1.
   for (int it = 0; it < iterations; ++it) {
     row_max.setZero();
     column_max.setZero();
-    for (Index j = 0; j < a.outerSize(); ++j)
+    for (Index j = 0; j < a.outerSize(); ++j) {
+      const double column_scale = s.column(j);
+      double largest = 0;
       for (SparseMatrix::InnerIterator e(a, j); e; ++e) {
-        const double v = std::abs(e.value()) * s.row(e.row()) * s.column(j);
+        const double v = std::abs(e.value()) * s.row(e.row()) * column_scale;
         row_max(e.row()) = std::max(row_max(e.row()), v);
-        column_max(j) = std::max(column_max(j), v);
+        largest = std::max(largest, v);
       }
+      column_max(j) = largest;
+    }
     bool changed = false;
     for (Index i = 0; i < n; ++i) {
       const double f = inverse_sqrt_power_of_two(row_max(i));
