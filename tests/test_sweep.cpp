@@ -145,7 +145,7 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, SweepWithEverySolver,
-                         ::testing::Values(SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu),
+                         ::testing::Values(SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST(Sweep, ABuilderThatThrowsFailsOnlyItsPose) {

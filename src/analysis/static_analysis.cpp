@@ -471,8 +471,8 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   Result result = empty_result(model, ws);
   result.system = ws.assembler->size();
   result.system.nonzeros = count_nonzero_values(ws.matrix);
-  result.report.solver = ws.system->solver_name();
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
+  result.report.solver = ws.system->solver_name();  // `auto` has chosen by now
   result.report.reciprocal_condition = ws.system->reciprocal_condition();
   if (regular) {
     solve_regular(problem, result);

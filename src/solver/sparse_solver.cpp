@@ -3,6 +3,7 @@
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "stiffmsa/config.hpp"
@@ -260,36 +261,67 @@ void FactorizedSystem::apply_inverse(MatX& y) const {
 }
 
 namespace {
-// b − A·x accumulated in extended precision: refinement then converges to the solution as
-// exactly as double can hold it, where a residual in double would stall at cond(A)·ε. Returns
-// the backward error ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) and writes the residual to `r`.
+struct BackwardError {
+  double normwise = 0;       // ‖r‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞)
+  double componentwise = 0;  // max_i |r_i| / (|A|·|x| + |b|)_i
+};
+
+// r = b − A·x accumulated in extended precision: refinement then converges to the solution as
+// exactly as double can hold it, where a residual in double would stall at cond(A)·ε.
 class ExtendedResidual {
  public:
-  explicit ExtendedResidual(const SparseMatrix& a) : a_(a), sum_(static_cast<std::size_t>(a.rows())) {}
+  explicit ExtendedResidual(const SparseMatrix& a)
+      : a_(a), sum_(static_cast<std::size_t>(a.rows())), magnitude_(static_cast<std::size_t>(a.rows())) {}
 
   template <class X, class B, class R>
-  double operator()(const X& x, const B& b, double a_norm_inf, R&& r) {
-    for (Index i = 0; i < b.rows(); ++i) sum_[static_cast<std::size_t>(i)] = b(i);
+  BackwardError operator()(const X& x, const B& b, double a_norm_inf, R&& r) {
+    for (Index i = 0; i < b.rows(); ++i) {
+      sum_[static_cast<std::size_t>(i)] = b(i);
+      magnitude_[static_cast<std::size_t>(i)] = std::abs(b(i));
+    }
     for (Index j = 0; j < a_.outerSize(); ++j) {
       const long double xj = x(j);
       if (xj == 0) continue;
-      for (SparseMatrix::InnerIterator e(a_, j); e; ++e)
-        sum_[static_cast<std::size_t>(e.row())] -= static_cast<long double>(e.value()) * xj;
+      const double magnitude_j = std::abs(x(j));
+      for (SparseMatrix::InnerIterator e(a_, j); e; ++e) {
+        const auto i = static_cast<std::size_t>(e.row());
+        sum_[i] -= static_cast<long double>(e.value()) * xj;
+        magnitude_[i] += std::abs(e.value()) * magnitude_j;
+      }
     }
+    BackwardError error;
     double largest = 0;
+    bool finite = true;
     for (Index i = 0; i < b.rows(); ++i) {
-      r(i) = static_cast<double>(sum_[static_cast<std::size_t>(i)]);
-      largest = std::max(largest, std::abs(r(i)));
+      const auto k = static_cast<std::size_t>(i);
+      r(i) = static_cast<double>(sum_[k]);
+      const double size = std::abs(r(i));
+      finite &= std::isfinite(size);
+      largest = std::max(largest, size);
+      if (size > 0) error.componentwise = std::max(error.componentwise, magnitude_[k] > 0 ? size / magnitude_[k] : INFINITY);
     }
-    if (!(largest > 0)) return largest == 0 ? 0.0 : INFINITY;
-    const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
-    return scale > 0 ? largest / scale : INFINITY;
+    if (!finite) return {INFINITY, INFINITY};
+    if (largest > 0) {
+      const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
+      error.normwise = scale > 0 ? largest / scale : INFINITY;
+    }
+    return error;
   }
 
  private:
   const SparseMatrix& a_;
   std::vector<long double> sum_;
+  std::vector<double> magnitude_;
 };
+
+// max_i |d_i| / |x_i| over the nonzero x_i.
+template <class D, class X>
+double largest_relative_change(const D& d, const X& x) {
+  double largest = 0;
+  for (Index i = 0; i < x.rows(); ++i)
+    if (x(i) != 0) largest = std::max(largest, std::abs(d(i)) / std::abs(x(i)));
+  return largest;
+}
 }  // namespace
 
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
@@ -297,7 +329,7 @@ double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
   VecX r(a.rows());
   const double a_norm = norm_inf(a);
   double worst = 0;
-  for (Index c = 0; c < x.cols(); ++c) worst = std::max(worst, residual_of(x.col(c), b.col(c), a_norm, r));
+  for (Index c = 0; c < x.cols(); ++c) worst = std::max(worst, residual_of(x.col(c), b.col(c), a_norm, r).normwise);
   return worst;
 }
 
@@ -310,16 +342,18 @@ MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residu
   ExtendedResidual residual_of(*a_);
   MatX r(b.rows(), b.cols());
   VecX next(b.rows());
-  std::vector<double> error(static_cast<std::size_t>(b.cols()));
+  std::vector<BackwardError> error(static_cast<std::size_t>(b.cols()));
   std::vector<bool> refining(static_cast<std::size_t>(b.cols()));
   const double condition = rcond_ > 0 ? 1.0 / rcond_ : INFINITY;
+  constexpr double epsilon = std::numeric_limits<double>::epsilon();
+  // The columns share one factorisation: where one may have lost digits, all are refined.
   bool any = false;
   for (Index c = 0; c < b.cols(); ++c) {
     const auto k = static_cast<std::size_t>(c);
     error[k] = residual_of(x.col(c), b.col(c), a_norm_inf_, r.col(c));
-    refining[k] = error[k] * condition > kRefineAbove;
-    any |= refining[k];
+    any |= error[k].normwise * condition > kRefineAbove;
   }
+  for (std::size_t k = 0; k < error.size(); ++k) refining[k] = any && error[k].normwise > 0;
   for (int step = 0; step < refinement_steps && any; ++step) {
     for (Index c = 0; c < b.cols(); ++c)
       if (!refining[static_cast<std::size_t>(c)]) r.col(c).setZero();
@@ -329,20 +363,23 @@ MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residu
       const auto k = static_cast<std::size_t>(c);
       if (!refining[k]) continue;
       x.col(c) += r.col(c);
-      const double candidate = residual_of(x.col(c), b.col(c), a_norm_inf_, next);
-      if (!(candidate <= error[k])) {
+      const BackwardError candidate = residual_of(x.col(c), b.col(c), a_norm_inf_, next);
+      // Near convergence the backward error is rounding and jitters; only a step that makes
+      // it clearly worse is taken back.
+      if (!(candidate.componentwise <= 2 * error[k].componentwise + epsilon)) {
         x.col(c) -= r.col(c);
         refining[k] = false;
         continue;
       }
-      // Stop once a step no longer halves the error: the rest is rounding.
-      refining[k] = candidate <= 0.5 * error[k] && candidate * condition > kRefineAbove;
+      // Converged once the correction moves no unknown by more than a rounding of itself.
+      refining[k] = largest_relative_change(r.col(c), x.col(c)) > epsilon;
       error[k] = candidate;
       r.col(c) = next;
       any |= refining[k];
     }
   }
-  residual = error.empty() ? 0.0 : *std::max_element(error.begin(), error.end());
+  residual = 0;
+  for (const BackwardError& e : error) residual = std::max(residual, e.normwise);
   return x;
 }
 
