@@ -40,7 +40,7 @@ echo "== 1. stiffmsa_bench"
   --benchmark_out="$out.json" --benchmark_out_format=json "$@"
 
 # The solvers this build has (umfpack and klu need SuiteSparse).
-solvers=(sparse_lu)
+solvers=(auto sparse_lu)
 for solver in umfpack klu; do
   if "$build/bench/stiffmsa_chain" 10 "$solver" --once >/dev/null 2>&1; then solvers+=("$solver"); fi
 done
@@ -68,7 +68,7 @@ if [[ -z "${SKIP_CLI:-}" ]]; then
     done
   done
   echo "== 3b. the same chain file read with load_model, then solved (stiffmsa_chain)"
-  "${pin[@]}" "$build/bench/stiffmsa_chain" "$build/chain-100000.yaml" "${solvers[-1]}" --once \
+  "${pin[@]}" "$build/bench/stiffmsa_chain" "$build/chain-100000.yaml" auto --once \
     | tee -a "$out-chain.jsonl"
 fi
 

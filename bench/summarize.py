@@ -17,7 +17,7 @@ ROBOTS = [("6axis", "6-axis robot (industrial-6axis.yaml)"),
           ("6axis_rigid", "6-axis, links made rigid (the VJM's robot)"),
           ("gough_stewart", "Gough–Stewart (gough-stewart-6ups.yaml)"),
           ("tripteron", "3-leg tripteron (tripteron.yaml)")]
-SOLVERS = ["sparse_lu", "umfpack", "klu"]
+SOLVERS = ["auto", "sparse_lu", "umfpack", "klu"]
 UNIT = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}  # to µs
 
 

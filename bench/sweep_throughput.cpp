@@ -3,7 +3,7 @@
 // expressions vs solving it). Prints one JSON line per model; bench/summarize.py makes the
 // "Sweeps" table of bench/README.md from them.
 //
-//   stiffmsa_sweep [--repeats R] [sparse_lu|umfpack|klu]
+//   stiffmsa_sweep [--repeats R] [auto|sparse_lu|umfpack|klu]
 //
 // A separate program, not a Google Benchmark case, because run.sh pins stiffmsa_bench to one
 // core and Google Benchmark reports CPU time; here the process must own both cores and the
@@ -88,7 +88,7 @@ double lowest(const std::vector<double>& values) { return *std::min_element(valu
 }  // namespace
 
 int main(int argc, char** argv) {
-  const char* usage = "usage: stiffmsa_sweep [--repeats R] [sparse_lu|umfpack|klu]\n";
+  const char* usage = "usage: stiffmsa_sweep [--repeats R] [auto|sparse_lu|umfpack|klu]\n";
   stiffmsa::SweepOptions options;  // the default solve options, as `stiffmsa sweep` uses them
   int repeats = 7;
   for (int i = 1; i < argc; ++i) {
