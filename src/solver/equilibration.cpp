@@ -1,4 +1,6 @@
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "solver/sparse_solver.hpp"
 
@@ -6,13 +8,15 @@ namespace stiffmsa::detail {
 
 namespace {
 // For m in [2^(e−1), 2^e): 2^(−⌊e/2⌋), which brings m·f² into [½, 2). A power of two, so that
-// scaling is exact in binary; read from the exponent, with no logarithm.
+// scaling is exact in binary; read from and written to the exponent bits (this runs for every
+// row and column of every sweep, where frexp and ldexp calls were most of the time).
 double inverse_sqrt_power_of_two(double m) {
   if (!(m > 0) || !std::isfinite(m)) return 1.0;
-  int exponent = 0;
-  std::frexp(m, &exponent);
-  const int half = exponent >= 0 ? exponent / 2 : -((1 - exponent) / 2);  // ⌊e/2⌋
-  return std::ldexp(1.0, -half);
+  const auto biased = static_cast<int>((std::bit_cast<std::uint64_t>(m) >> 52) & 0x7ff);
+  int exponent = biased - 1022;
+  if (biased == 0) std::frexp(m, &exponent);  // subnormal
+  const int power = -(exponent >> 1);  // −⌊e/2⌋, in [−512, 537]
+  return std::bit_cast<double>(static_cast<std::uint64_t>(power + 1023) << 52);
 }
 }  // namespace
 

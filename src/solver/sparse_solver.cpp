@@ -261,10 +261,6 @@ void FactorizedSystem::apply_inverse(MatX& y) const {
 }
 
 namespace {
-struct BackwardError {
-  double normwise = 0;       // ‖r‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞)
-  double componentwise = 0;  // max_i |r_i| / (|A|·|x| + |b|)_i
-};
 
 // r = b − A·x accumulated in extended precision: refinement then converges to the solution as
 // exactly as double can hold it, where a residual in double would stall at cond(A)·ε.
@@ -324,37 +320,64 @@ double largest_relative_change(const D& d, const X& x) {
 }
 }  // namespace
 
+namespace {
+// ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) with the residual in double; `scratch` is an n-vector.
+template <class X, class B>
+double normwise_backward_error(const SparseMatrix& a, double a_norm_inf, const X& x, const B& b, VecX& scratch) {
+  scratch.noalias() = a * x;
+  scratch = b - scratch;
+  const double numerator = scratch.template lpNorm<Eigen::Infinity>();
+  if (!std::isfinite(numerator) || !x.allFinite()) return INFINITY;
+  if (numerator == 0) return 0.0;
+  const double denominator = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
+  return denominator > 0 ? numerator / denominator : INFINITY;
+}
+}  // namespace
+
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
-  ExtendedResidual residual_of(a);
-  VecX r(a.rows());
+  VecX scratch(a.rows());
   const double a_norm = norm_inf(a);
   double worst = 0;
-  for (Index c = 0; c < x.cols(); ++c) worst = std::max(worst, residual_of(x.col(c), b.col(c), a_norm, r).normwise);
+  for (Index c = 0; c < x.cols(); ++c) worst = std::max(worst, normwise_backward_error(a, a_norm, x.col(c), b.col(c), scratch));
   return worst;
 }
 
 MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residual) const {
   MatX x = b;
   apply_inverse(x);
-  // One n×k buffer holds the residuals, then (solved in place) the corrections; a column's
-  // new residual goes through one n-vector, so that a step that makes a column worse can be
-  // taken back.
-  ExtendedResidual residual_of(*a_);
-  MatX r(b.rows(), b.cols());
   VecX next(b.rows());
   std::vector<BackwardError> error(static_cast<std::size_t>(b.cols()));
-  std::vector<bool> refining(static_cast<std::size_t>(b.cols()));
   const double condition = rcond_ > 0 ? 1.0 / rcond_ : INFINITY;
-  constexpr double epsilon = std::numeric_limits<double>::epsilon();
   // The columns share one factorisation: where one may have lost digits, all are refined.
   bool any = false;
   for (Index c = 0; c < b.cols(); ++c) {
     const auto k = static_cast<std::size_t>(c);
-    error[k] = residual_of(x.col(c), b.col(c), a_norm_inf_, r.col(c));
+    error[k].normwise = normwise_backward_error(*a_, a_norm_inf_, x.col(c), b.col(c), next);
     any |= error[k].normwise * condition > kRefineAbove;
   }
-  for (std::size_t k = 0; k < error.size(); ++k) refining[k] = any && error[k].normwise > 0;
-  for (int step = 0; step < refinement_steps && any; ++step) {
+  if (any && refinement_steps > 0) refine(b, refinement_steps, x, error);
+  residual = 0;
+  for (const BackwardError& e : error) residual = std::max(residual, e.normwise);
+  return x;
+}
+
+void FactorizedSystem::refine(const MatX& b, int steps, MatX& x, std::vector<BackwardError>& error) const {
+  // One n×k buffer holds the residuals, then (solved in place) the corrections; a column's
+  // new residual goes through one n-vector, so that a step that makes a column worse can be
+  // taken back.
+  constexpr double epsilon = std::numeric_limits<double>::epsilon();
+  ExtendedResidual residual_of(*a_);
+  MatX r(b.rows(), b.cols());
+  VecX next(b.rows());
+  std::vector<bool> refining(static_cast<std::size_t>(b.cols()));
+  bool any = false;
+  for (Index c = 0; c < b.cols(); ++c) {
+    const auto k = static_cast<std::size_t>(c);
+    error[k] = residual_of(x.col(c), b.col(c), a_norm_inf_, r.col(c));
+    refining[k] = error[k].normwise > 0;
+    any |= refining[k];
+  }
+  for (int step = 0; step < steps && any; ++step) {
     for (Index c = 0; c < b.cols(); ++c)
       if (!refining[static_cast<std::size_t>(c)]) r.col(c).setZero();
     apply_inverse(r);
@@ -378,9 +401,6 @@ MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residu
       any |= refining[k];
     }
   }
-  residual = 0;
-  for (const BackwardError& e : error) residual = std::max(residual, e.normwise);
-  return x;
 }
 
 }  // namespace stiffmsa::detail

@@ -3,6 +3,7 @@
 // analyses use. The mixed system holds stiffness entries near 1e9 beside identity entries of
 // 1, so it is scaled before factorisation; residuals are measured on the unscaled system.
 #include <memory>
+#include <vector>
 
 #include "assembly/assembler.hpp"
 #include "stiffmsa/analysis.hpp"
@@ -36,6 +37,11 @@ struct Equilibration {
 };
 Equilibration equilibrate(const SparseMatrix& a, int iterations = 8);
 
+struct BackwardError {
+  double normwise = 0;       // ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞)
+  double componentwise = 0;  // max_i |b − A·x|_i / (|A|·|x| + |b|)_i
+};
+
 // A factorised system: scaling, factorisation, condition estimate and refined solves.
 class FactorizedSystem {
  public:
@@ -59,6 +65,9 @@ class FactorizedSystem {
  private:
   // y ← S_c·Â⁻¹·S_r·y, in place.
   void apply_inverse(MatX& y) const;
+  // Iterative refinement of x with residuals accumulated in extended precision; `error` gets
+  // each column's final backward errors.
+  void refine(const MatX& b, int steps, MatX& x, std::vector<BackwardError>& error) const;
 
   std::unique_ptr<LinearSolver> solver_;
   const SparseMatrix* a_ = nullptr;
@@ -69,8 +78,7 @@ class FactorizedSystem {
   double rcond_ = 0;
 };
 
-// ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞), per column, the largest; the residual is accumulated in
-// extended precision, so that it is not itself mostly rounding.
+// ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞), per column, the largest.
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b);
 
 }  // namespace stiffmsa::detail
