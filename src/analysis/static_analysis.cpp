@@ -64,15 +64,11 @@ using detail::wrench_column;
 Vec6 deflection_of(const VecX& x, int end) { return x.segment<6>(deflection_column(end)); }
 Vec6 wrench_of(const VecX& x, int end) { return x.segment<6>(wrench_column(end)); }
 
-// Where each link end sits, looked up once per solve.
-std::vector<Vec3> end_positions(const Model& model) {
-  const detail::ModelIndex index(model);
+// Where each link end sits.
+std::vector<Vec3> end_positions(const Model& model, const detail::Topology& topology) {
   std::vector<Vec3> positions;
-  positions.reserve(2 * model.links.size());
-  for (const auto& link : model.links) {
-    positions.push_back(index.point(link.from)->position);
-    positions.push_back(index.point(link.to)->position);
-  }
+  positions.reserve(topology.end_points.size());
+  for (int point : topology.end_points) positions.push_back(model.points[static_cast<std::size_t>(point)].position);
   return positions;
 }
 
@@ -91,10 +87,10 @@ struct Problem {
   std::vector<Vec6> external;  // per link end: sum of the model's loads there
   bool loaded = false;         // any nonzero load or preload
 
-  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o) : model(m), ws(w), options(o) {
-    const detail::Topology topology = detail::build_topology(model);
-    if (!(topology == ws.topology))
-      detail::throw_topology_changed();
+  // `topology_known`: the workspace was built from this very model.
+  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
+      : model(m), ws(w), options(o) {
+    if (!topology_known && !(detail::build_topology(model) == ws.topology)) detail::throw_topology_changed();
     blocks = detail::make_blocks(model, ws.topology);
     ws.assembler->fill(blocks, ws.matrix);
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
@@ -162,7 +158,7 @@ void fill_state_results(const Problem& problem, const VecX& x, Result& result) {
 double equilibrium_error(const Problem& problem, const Result& result) {
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
   double force_scale = 0, moment_scale = 0;
-  const std::vector<Vec3> positions = end_positions(problem.model);
+  const std::vector<Vec3> positions = end_positions(problem.model, problem.ws.topology);
   auto add = [&](const Vec3& at, const Vec6& w) {
     force += w.head<3>();
     const Vec3 m = w.tail<3>() + at.cross(w.head<3>());
@@ -461,13 +457,13 @@ SystemSize check(const Model& model) {
 
 namespace {
 
-Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options) {
+Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
   auto& ws = workspace.impl();
   if (!ws.system || ws.solver_kind != options.solver) {
     ws.system = std::make_unique<detail::FactorizedSystem>(options.solver);
     ws.solver_kind = options.solver;
   }
-  Problem problem(model, ws, options);
+  Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);
   result.system = ws.assembler->size();
   result.system.nonzeros = count_nonzero_values(ws.matrix);
@@ -493,13 +489,13 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
-  return solve_validated(workspace, model, options);
+  return solve_validated(workspace, model, options, true);
 }
 
 Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
   options.validate();
   stiffmsa::validate(model);
-  return solve_validated(workspace, model, options);
+  return solve_validated(workspace, model, options, false);
 }
 
 }  // namespace stiffmsa

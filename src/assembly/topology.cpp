@@ -1,6 +1,7 @@
 #include "assembly/topology.hpp"
 
-#include <map>
+#include <string_view>
+#include <unordered_map>
 #include <type_traits>
 
 #include "elements/beam_element.hpp"
@@ -50,6 +51,13 @@ Topology build_topology(const Model& model) {
   Topology t;
   t.link_count = static_cast<int>(model.links.size());
   t.group_of_end.assign(static_cast<std::size_t>(t.end_count()), -1);
+  t.end_points.reserve(static_cast<std::size_t>(t.end_count()));
+  for (const Link& link : model.links)
+    for (const std::string* point : {&link.from, &link.to}) {
+      const Point* p = index.point(*point);
+      if (!p) fail(link.origin, "links." + link.name, "no point named '" + *point + "'");
+      t.end_points.push_back(static_cast<int>(p - model.points.data()));
+    }
 
   auto claim = [&](ConnectionGroup group, const Origin& origin, const std::string& key_path) {
     const int index = static_cast<int>(t.groups.size());
@@ -79,8 +87,8 @@ Topology build_topology(const Model& model) {
   }
 
   // Link ends named nowhere: rigidly connected at their point, or free when alone there.
-  std::map<std::string, std::vector<int>> unnamed_by_point;
-  std::vector<std::string> point_order;
+  std::unordered_map<std::string_view, std::vector<int>> unnamed_by_point;
+  std::vector<std::string_view> point_order;
   for (int end = 0; end < t.end_count(); ++end) {
     if (t.group_of_end[static_cast<std::size_t>(end)] >= 0) continue;
     const Link& link = model.links[static_cast<std::size_t>(end / 2)];
@@ -89,8 +97,9 @@ Topology build_topology(const Model& model) {
     if (inserted) point_order.push_back(point);
     it->second.push_back(end);
   }
-  for (const auto& point : point_order) {
-    std::vector<int> ends = unnamed_by_point[point];
+  for (const std::string_view point_name : point_order) {
+    const std::string point(point_name);
+    std::vector<int> ends = std::move(unnamed_by_point[point_name]);
     for (const auto& e : index.ends_at(point))
       if (t.group_of_end[static_cast<std::size_t>(e.id())] >= 0) {
         const Point* p = index.point(point);
@@ -117,17 +126,11 @@ Topology build_topology(const Model& model) {
 
 namespace {
 
-const Vec3& position(const ModelIndex& index, const std::string& point) {
-  const Point* p = index.point(point);
-  if (!p) throw InputError({}, "points", "no point named '" + point + "'");
-  return p->position;
-}
-
-std::unique_ptr<ElementBlock> make_link_block(const Model& model, const ModelIndex& index, int link_number) {
+std::unique_ptr<ElementBlock> make_link_block(const Model& model, const Topology& topology, int link_number) {
   const Link& link = model.links[static_cast<std::size_t>(link_number)];
-  const Vec3& from = position(index, link.from);
-  const Vec3& to = position(index, link.to);
   const int i = 2 * link_number, j = 2 * link_number + 1;
+  const Vec3& from = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(i)])].position;
+  const Vec3& to = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(j)])].position;
   const Vec3 d = to - from;
   return std::visit(
       [&](const auto& kind) -> std::unique_ptr<ElementBlock> {
@@ -183,8 +186,7 @@ std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const Co
 std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology) {
   std::vector<std::unique_ptr<ElementBlock>> blocks;
   blocks.reserve(static_cast<std::size_t>(topology.link_count) + topology.groups.size());
-  const ModelIndex index(model);
-  for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, index, l));
+  for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, topology, l));
   for (const auto& group : topology.groups) blocks.push_back(make_connection_block(model, group));
   return blocks;
 }

@@ -24,6 +24,7 @@ struct Topology {
   int link_count = 0;
   std::vector<ConnectionGroup> groups;
   std::vector<int> group_of_end;   // per link end id
+  std::vector<int> end_points;     // per link end id: its point, an index into model.points
   std::vector<int> load_ends;      // per model.loads
   std::vector<int> effector_ends;  // per model.end_effectors
 

@@ -225,31 +225,30 @@ bool FactorizedSystem::factorize(const SparseMatrix& a, double singular_rcond) {
 
 double estimate_inverse_norm1(const LinearSolver& lu, Index n) {
   if (n == 0) return 0;
-  MatX x = MatX::Constant(n, 1, 1.0 / static_cast<double>(n));
+  // Three n×1 buffers for every iteration: this runs once per factorisation, per pose.
+  MatX x = MatX::Constant(n, 1, 1.0 / static_cast<double>(n)), y(n, 1), z(n, 1);
   double estimate = 0;
   Index previous_j = -1;
   for (int iteration = 0; iteration < 5; ++iteration) {
-    MatX y = x;
+    y = x;
     lu.solve(y);
     const double norm = y.lpNorm<1>();
     if (!std::isfinite(norm)) return INFINITY;
     if (iteration > 0 && norm <= estimate) break;
     estimate = norm;
-    MatX sign(n, 1);
-    for (Index i = 0; i < n; ++i) sign(i) = y(i) >= 0 ? 1.0 : -1.0;
-    lu.solve_transposed(sign);
+    z = y.unaryExpr([](double v) { return v >= 0 ? 1.0 : -1.0; });
+    lu.solve_transposed(z);
     Index j = 0;
-    sign.col(0).cwiseAbs().maxCoeff(&j);
-    if (iteration > 0 && (j == previous_j || std::abs(sign(j)) <= (sign.transpose() * x)(0, 0))) break;
+    z.col(0).cwiseAbs().maxCoeff(&j);
+    if (iteration > 0 && (j == previous_j || std::abs(z(j)) <= z.col(0).dot(x.col(0)))) break;
     previous_j = j;
     x.setZero();
     x(j) = 1.0;
   }
-  MatX alternating(n, 1);
   for (Index i = 0; i < n; ++i)
-    alternating(i) = (i % 2 ? -1.0 : 1.0) * (1.0 + static_cast<double>(i) / std::max<Index>(n - 1, 1));
-  lu.solve(alternating);
-  const double alternative = 2.0 * alternating.lpNorm<1>() / (3.0 * static_cast<double>(n));
+    y(i) = (i % 2 ? -1.0 : 1.0) * (1.0 + static_cast<double>(i) / static_cast<double>(std::max<Index>(n - 1, 1)));
+  lu.solve(y);
+  const double alternative = 2.0 * y.lpNorm<1>() / (3.0 * static_cast<double>(n));
   if (!std::isfinite(alternative)) return INFINITY;
   return std::max(estimate, alternative);
 }
