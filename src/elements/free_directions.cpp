@@ -4,6 +4,7 @@
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 namespace stiffmsa::detail {
@@ -77,9 +78,19 @@ FreeDirections free_directions(const Kinematics& k) {
   }
   if (p > 6)
     throw InputError({}, "free", "at most 6 free directions can be given");
-  const Eigen::JacobiSVD<MatX> svd(d.free);
-  const auto& s = svd.singularValues();
-  if (!(s(p - 1) > 1e-9 * s(0)))
+  // Independence: the built-in types are orthonormal by construction except a universal
+  // joint, whose two unit axes have singular values √(1 ± |cos θ|) (closed form: this runs for
+  // every joint of every pose); custom rows get an SVD.
+  double smallest_over_largest = 1;
+  if (k.type == JointType::universal) {
+    const double c = std::min(1.0, std::abs(d.free.row(0).dot(d.free.row(1))));
+    smallest_over_largest = std::sqrt((1 - c) / (1 + c));
+  } else if (k.type == JointType::custom) {
+    const Eigen::JacobiSVD<MatX> svd(d.free);
+    const auto& s = svd.singularValues();
+    smallest_over_largest = s(0) > 0 ? s(p - 1) / s(0) : 0.0;
+  }
+  if (!(smallest_over_largest > 1e-9))
     throw InputError({}, "free", "the free directions are linearly dependent");
   // The last 6−p columns of a full QR of Λ_pᵀ span the orthogonal complement of its rows.
   const Eigen::HouseholderQR<MatX> qr(d.free.transpose());
