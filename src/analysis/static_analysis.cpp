@@ -42,13 +42,16 @@ struct Workspace::Impl {
   detail::SparseMatrix matrix;
   std::unique_ptr<detail::FactorizedSystem> system;
   SolverKind solver_kind = SolverKind::automatic;
+  // The blocks the pattern was recorded from, until the first solve of that same model takes
+  // them (a one-shot solve would otherwise make them twice).
+  detail::Blocks recorded_blocks;
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   stiffmsa::validate(model);
   impl_->topology = detail::build_topology(model);
-  const auto blocks = detail::make_blocks(model, impl_->topology);
-  impl_->assembler = std::make_unique<detail::Assembler>(blocks, impl_->topology.unknowns());
+  impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
+  impl_->assembler = std::make_unique<detail::Assembler>(impl_->recorded_blocks, impl_->topology.unknowns());
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -91,7 +94,9 @@ struct Problem {
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
       : model(m), ws(w), options(o) {
     if (!topology_known && !(detail::build_topology(model) == ws.topology)) detail::throw_topology_changed();
-    blocks = detail::make_blocks(model, ws.topology);
+    blocks = topology_known && !ws.recorded_blocks.empty() ? std::move(ws.recorded_blocks)
+                                                           : detail::make_blocks(model, ws.topology);
+    ws.recorded_blocks.clear();
     ws.assembler->fill(blocks, ws.matrix);
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
     for (std::size_t i = 0; i < model.loads.size(); ++i) {
@@ -448,8 +453,7 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
 SystemSize check(const Model& model) {
   Workspace workspace(model);
   auto& ws = workspace.impl();
-  const auto blocks = detail::make_blocks(model, ws.topology);
-  ws.assembler->fill(blocks, ws.matrix);
+  ws.assembler->fill(ws.recorded_blocks, ws.matrix);
   SystemSize size = ws.assembler->size();
   size.nonzeros = count_nonzero_values(ws.matrix);
   return size;
