@@ -195,6 +195,20 @@ TEST(FreeDirections, RowsFollowTheDocumentedOrderAndTheComplementIsOrthonormal) 
   EXPECT_THROW(free_directions(Kinematics::custom({Vec6::Ones(), 2 * Vec6::Ones()})), InputError);
 }
 
+// A universal joint's axes are independent down to an angle of 2e-9 rad (singular-value ratio
+// ≈ θ/2 against 1e-9); 1 − cos θ would cancel to zero long before.
+TEST(FreeDirections, UniversalAxesAtTinyAnglesAreToldApartWithoutCancellation) {
+  const Vec3 a = Vec3(1, 2, 3).normalized();
+  const Vec3 across = a.cross(Vec3::UnitX()).normalized();
+  for (double angle : {1e-1, 1e-5, 1e-8, 3e-9}) {
+    const Vec3 b = std::cos(angle) * a + std::sin(angle) * across;
+    EXPECT_NO_THROW(free_directions(Kinematics::universal(a, b))) << angle;
+  }
+  EXPECT_THROW(free_directions(Kinematics::universal(a, a)), InputError);
+  EXPECT_THROW(free_directions(Kinematics::universal(a, std::cos(1e-9) * a + std::sin(1e-9) * across)), InputError);
+  EXPECT_THROW(free_directions(Kinematics::universal(a, -a)), InputError);
+}
+
 TEST(ConstraintJoint, PassiveRevoluteLetsOnlyTheAxisTurnAndPassesNoTorqueAlongIt) {
   const Vec3 axis = Vec3(1, 1, 0).normalized();
   const ConstraintJointBlock block({0, 1, 2}, free_directions(Kinematics::revolute(axis)), std::nullopt);

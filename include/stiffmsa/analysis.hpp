@@ -23,9 +23,9 @@ struct SolveOptions {
   double singular_rcond = 1e-14;
   // A solve whose relative residual stays above this after refinement is reported as failed.
   double max_relative_residual = 1e-10;
-  // At most this many iterative refinement steps per right-hand side, with the same
-  // factorisation; a column is refined only while its backward error times the condition
-  // estimate exceeds 1e-14.
+  // At most this many iterative refinement steps, with the same factorisation. Refinement runs
+  // (on every right-hand side) only where some column's backward error times the condition
+  // estimate exceeds 1e-14, a heuristic sign that digits were lost (docs/theory.md §7).
   int refinement_steps = 2;
   // Solve despite idle free motions (see ModelOptions); either this or the model's own
   // option turns it on.

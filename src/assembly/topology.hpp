@@ -1,7 +1,7 @@
 #pragma once
 // How the link ends of a model are connected: which joint, support, default rigid connection or
-// free end holds each link end, and where loads and end effectors sit. Depends on names and
-// connectivity only, never on numbers.
+// free end holds each link end, and where loads and end effectors sit. Depends on names,
+// connectivity and the order of the points, never on numbers.
 #include <memory>
 #include <string>
 #include <vector>

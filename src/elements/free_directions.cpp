@@ -79,12 +79,13 @@ FreeDirections free_directions(const Kinematics& k) {
   if (p > 6)
     throw InputError({}, "free", "at most 6 free directions can be given");
   // Independence: the built-in types are orthonormal by construction except a universal
-  // joint, whose two unit axes have singular values √(1 ± |cos θ|) (closed form: this runs for
-  // every joint of every pose); custom rows get an SVD.
+  // joint, whose two unit axes u, v have singular values √(1 ± |u·v|); their ratio is
+  // ‖u × v‖/(1 + |u·v|), written so that nearly parallel axes do not cancel (closed form: this
+  // runs for every joint of every pose). Custom rows get an SVD.
   double smallest_over_largest = 1;
   if (k.type == JointType::universal) {
-    const double c = std::min(1.0, std::abs(d.free.row(0).dot(d.free.row(1))));
-    smallest_over_largest = std::sqrt((1 - c) / (1 + c));
+    const Vec3 u = d.free.row(0).tail<3>().transpose(), v = d.free.row(1).tail<3>().transpose();
+    smallest_over_largest = u.cross(v).norm() / (1 + std::abs(u.dot(v)));
   } else if (k.type == JointType::custom) {
     const Eigen::JacobiSVD<MatX> svd(d.free);
     const auto& s = svd.singularValues();

@@ -212,6 +212,7 @@ bool FactorizedSystem::factorize(const SparseMatrix& a, double singular_rcond) {
       target.valueRef() = e.value() * scaling_.row(e.row()) * scaling_.column(j);
   }
   if (reanalyse) {
+    analyzed_ = false;  // stays so if the analysis throws: scaled_ already has the new pattern
     solver_->analyze(scaled_);
     analyzed_ = true;
   }
@@ -362,12 +363,12 @@ MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residu
 
 void FactorizedSystem::refine(const MatX& b, int steps, MatX& x, std::vector<BackwardError>& error) const {
   // One n×k buffer holds the residuals, then (solved in place) the corrections; a column's
-  // new residual goes through one n-vector, so that a step that makes a column worse can be
-  // taken back.
+  // new residual goes through one n-vector, and its previous values through another, so that
+  // a step that makes a column worse can be taken back.
   constexpr double epsilon = std::numeric_limits<double>::epsilon();
   ExtendedResidual residual_of(*a_);
   MatX r(b.rows(), b.cols());
-  VecX next(b.rows());
+  VecX next(b.rows()), previous(b.rows());
   std::vector<bool> refining(static_cast<std::size_t>(b.cols()));
   bool any = false;
   for (Index c = 0; c < b.cols(); ++c) {
@@ -384,12 +385,13 @@ void FactorizedSystem::refine(const MatX& b, int steps, MatX& x, std::vector<Bac
     for (Index c = 0; c < b.cols(); ++c) {
       const auto k = static_cast<std::size_t>(c);
       if (!refining[k]) continue;
+      previous = x.col(c);
       x.col(c) += r.col(c);
       const BackwardError candidate = residual_of(x.col(c), b.col(c), a_norm_inf_, next);
       // Near convergence the backward error is rounding and jitters; only a step that makes
       // it clearly worse is taken back.
       if (!(candidate.componentwise <= 2 * error[k].componentwise + epsilon)) {
-        x.col(c) -= r.col(c);
+        x.col(c) = previous;
         refining[k] = false;
         continue;
       }

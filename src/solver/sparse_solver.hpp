@@ -55,9 +55,10 @@ class FactorizedSystem {
   double reciprocal_condition() const { return rcond_; }
   const char* solver_name() const { return solver_->name(); }
 
-  // Solves A·X = B. A column is refined (at most `refinement_steps` times) while its backward
-  // error over the reciprocal condition, a bound on the digits it may have lost, exceeds
-  // kRefineAbove; `relative_residual` gets the largest backward error over the columns.
+  // Solves A·X = B. Where some column's normwise backward error over the reciprocal condition
+  // exceeds kRefineAbove (a heuristic, not a bound: the error is of the unscaled system, the
+  // condition of the scaled one), every column is refined, at most `refinement_steps` times;
+  // `relative_residual` gets the largest backward error over the columns.
   MatX solve(const MatX& b, int refinement_steps, double& relative_residual) const;
 
   static constexpr double kRefineAbove = 1e-14;
