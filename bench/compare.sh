@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The library before and after a change, in one session: builds BASELINE (a commit) in a git
+# worktree under build-compare/, and the working tree in build-bench/, then alternates the two
+# ROUNDS times (default 3) on one core: the robots' public solve with each solver, the chain of
+# 10 000 and 100 000 links (one process each: time, peak memory, tip error) and the `stiffmsa
+# solve` command on the 100 000-link file. This VM's timings drift from process to process and
+# hour to hour, so only figures taken side by side are compared; the table takes the best of
+# the rounds. Results: bench/results-<date>-compare.txt (raw) and the table on stdout.
+#
+# Usage: bench/compare.sh BASELINE [ROUNDS]     e.g. bench/compare.sh 0847040
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+baseline="$(git -C "$root" rev-parse --short "${1:?usage: bench/compare.sh BASELINE [ROUNDS]}")"
+rounds="${2:-3}"
+base_src="$root/build-compare/$baseline"
+out="$root/bench/results-${BENCH_DATE:-$(date +%F)}-compare.txt"
+pin=(taskset -c "${BENCH_CPU:-0}")
+targets=(stiffmsa_bench stiffmsa_chain stiffmsa_cli)
+
+[[ -d "$base_src" ]] || git -C "$root" worktree add --detach "$base_src" "$baseline" >/dev/null
+for side in "$base_src" "$root"; do
+  cmake -S "$side" -B "$side/build-bench" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DSTIFFMSA_BUILD_BENCH=ON -DSTIFFMSA_BUILD_TESTS=OFF >/dev/null
+  cmake --build "$side/build-bench" -j2 --target "${targets[@]}"
+done
+chain_file="$root/build-bench/chain-100000.yaml"
+[[ -f "$chain_file" ]] || python3 "$root/bench/make_models.py" chain 100000 >"$chain_file"
+
+solvers_of() {  # the solvers a build knows (auto arrived with the tuning)
+  if "$1/bench/stiffmsa_chain" 10 auto --once >/dev/null 2>&1; then echo auto sparse_lu klu; else echo sparse_lu klu; fi
+}
+: >"$out"
+for round in $(seq "$rounds"); do
+  for side in before after; do
+    dir="$base_src/build-bench"; [[ $side == after ]] && dir="$root/build-bench"
+    read -r -a solvers <<<"$(solvers_of "$dir")"
+    filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$"
+    "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_format=json 2>/dev/null |
+      python3 -c "import json, sys
+for b in json.load(sys.stdin)['benchmarks']: print('$side', 'pose', b['name'], b['cpu_time'], 'us')" | tee -a "$out"
+    for n in 10000 100000; do
+      for s in "${solvers[@]}"; do
+        "${pin[@]}" "$dir/bench/stiffmsa_chain" "$n" "$s" --once |
+          python3 -c "import json, sys
+d = json.loads(sys.stdin.read())
+print('$side', 'chain', f\"{d['links']}/{d['solver']}\", d['solve_s'], 's', d['peak_mib'], 'MiB', d['tip_error'])" | tee -a "$out"
+      done
+    done
+    for s in "${solvers[@]}"; do
+      /usr/bin/time -f "$side cli chain-100000/$s %e s %M KiB" "${pin[@]}" \
+        "$dir/stiffmsa" solve "$chain_file" --solver "$s" 2>&1 >/dev/null | tail -1 | tee -a "$out"
+    done
+  done
+done
+
+python3 - "$out" <<'PY'
+import sys
+best = {}
+for line in open(sys.argv[1]):
+    f = line.split()
+    side, kind, name, value = f[0], f[1], f[2], float(f[3])
+    extra = ""
+    if kind == "chain": extra = f"{float(f[5]):.0f} MiB, tip error {f[7]}"
+    if kind == "cli": extra = f"{int(f[5]) / 1024:.0f} MiB"
+    key = (kind, name)
+    if side not in best.setdefault(key, {}) or value < best[key][side][0]:
+        best[key][side] = (value, f[4], extra)
+print("| what | before | after | after/before |")
+print("|---|--:|--:|--:|")
+for (kind, name), sides in sorted(best.items()):
+    b, a = sides.get("before"), sides.get("after")
+    show = lambda x: f"{x[0]:.4g} {x[1]}" + (f" ({x[2]})" if x[2] else "") if x else "–"
+    ratio = f"{a[0] / b[0]:.2f}" if a and b else "–"
+    print(f"| {kind} {name} | {show(b)} | {show(a)} | {ratio} |")
+PY
