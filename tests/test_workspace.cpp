@@ -55,6 +55,18 @@ TEST(Workspace, ADifferentTopologyIsRejected) {
   EXPECT_EQ(workspace.size().unknowns, 3 * 24);
 }
 
+// Same names and connectivity, but the elbow is now rigid: its block writes other positions,
+// which the refill catches against the recorded pattern.
+TEST(Workspace, ABlockThatWritesOtherPositionsIsRejected) {
+  Workspace workspace(arm(0.5, 2e5));
+  Model other = arm(0.5, 2e5);
+  other.joints.back().connection = Connection{};
+  EXPECT_THROW(solve(workspace, other), InputError);
+  const Result again = solve(workspace, arm(0.62, 2e5));  // the workspace still serves its topology
+  EXPECT_LT(reference::relative_difference_scaled(*again.end_effectors[0].compliance,
+                                                  *solve(arm(0.62, 2e5)).end_effectors[0].compliance), 1e-13);
+}
+
 TEST(Workspace, CheckReportsTheSquareSystemWithoutSolving) {
   const SystemSize size = check(arm(0.5, 2e5));
   EXPECT_EQ(size.unknowns, 72);
