@@ -96,6 +96,14 @@ const CLI::Validator at_least_one(
     "N >= 1");
 
 // The bounds on a model file (LoadLimits), for a file larger than real models are.
+void add_solver_option(CLI::App& command, std::string& solver) {
+  command
+      .add_option("--solver", solver,
+                  "Sparse LU: auto (klu, or sparse_lu where klu would fill in), sparse_lu, umfpack, klu")
+      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
+      ->capture_default_str();
+}
+
 void add_limit_options(CLI::App& command, LoadLimits& limits) {
   command
       .add_option("--max-file-size", limits.max_file_bytes,
@@ -127,10 +135,7 @@ int run(int argc, char** argv) {
       app.add_subcommand("solve", "Solve a model and print the stiffness of its end effectors");
   solve_app->add_option("MODEL", solve_command.model_file, "Model file (YAML or JSON)")->required();
   solve_app->add_option("--json", solve_command.json_file, "Write the result file to this path");
-  solve_app->add_option("--solver", solve_command.solver,
-                        "Sparse LU: auto (klu, or sparse_lu where klu would fill in), sparse_lu, umfpack, klu")
-      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
-      ->capture_default_str();
+  add_solver_option(*solve_app, solve_command.solver);
   solve_app->add_flag("--accept-idle-motions", solve_command.accept_idle_motions,
                       "Solve despite free motions that move no end effector (the spin of a "
                       "leg about its own axis); as `options: {accept_idle_motions: true}`");
@@ -168,10 +173,7 @@ int run(int argc, char** argv) {
                         "Write the JSON summary here (default: beside the CSV, NAME.summary.json)");
   sweep_app->add_option("--threads", sweep_command.threads, "Threads to use (default: every core)")->check(at_least_one);
   sweep_app->add_flag("--quiet", sweep_command.quiet, "No progress bar");
-  sweep_app->add_option("--solver", sweep_solver,
-                        "Sparse LU: auto (klu, or sparse_lu where klu would fill in), sparse_lu, umfpack, klu")
-      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
-      ->capture_default_str();
+  add_solver_option(*sweep_app, sweep_solver);
   sweep_app->add_flag("--accept-idle-motions", sweep_accept_idle_motions,
                       "Solve despite free motions that move no end effector");
   add_limit_options(*sweep_app, sweep_command.limits);

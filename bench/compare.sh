@@ -27,14 +27,21 @@ done
 chain_file="$root/build-bench/chain-100000.yaml"
 [[ -f "$chain_file" ]] || python3 "$root/bench/make_models.py" chain 100000 >"$chain_file"
 
-solvers_of() {  # the solvers a build knows (auto arrived with the tuning)
-  if "$1/bench/stiffmsa_chain" 10 auto --once >/dev/null 2>&1; then echo auto sparse_lu klu; else echo sparse_lu klu; fi
+solvers_of() {  # the solvers a build knows (auto arrived with the tuning; klu needs SuiteSparse)
+  local solver
+  for solver in auto sparse_lu klu; do
+    if "$1/bench/stiffmsa_chain" 10 "$solver" --once >/dev/null 2>&1; then printf '%s ' "$solver"; fi
+  done
 }
+declare -A build_of=([before]="$base_src/build-bench" [after]="$root/build-bench")
+declare -A solvers_on=([before]="$(solvers_of "${build_of[before]}")" [after]="$(solvers_of "${build_of[after]}")")
 : >"$out"
 for round in $(seq "$rounds"); do
-  for side in before after; do
-    dir="$base_src/build-bench"; [[ $side == after ]] && dir="$root/build-bench"
-    read -r -a solvers <<<"$(solvers_of "$dir")"
+  # Alternate which side goes first, so that a drift within a round favours neither.
+  order=(before after); (( round % 2 == 0 )) && order=(after before)
+  for side in "${order[@]}"; do
+    dir="${build_of[$side]}"
+    read -r -a solvers <<<"${solvers_on[$side]}"
     filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$"
     "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_format=json 2>/dev/null |
       python3 -c "import json, sys

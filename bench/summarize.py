@@ -46,14 +46,20 @@ def lowest(dicts, key):
     return merged, sorted(spreads)
 
 
+def jsonl_records(prefixes, suffix):
+    """(prefix, record) for every non-blank line of every PREFIX+SUFFIX file that exists."""
+    for prefix in prefixes:
+        if os.path.exists(prefix + suffix):
+            with open(prefix + suffix) as lines:
+                for line in lines:
+                    if line.strip():
+                        yield prefix, json.loads(line)
+
+
 def chain_rows(prefixes):
     rows = {}
-    for prefix in prefixes:
-        if os.path.exists(prefix + "-chain.jsonl"):
-            for line in open(prefix + "-chain.jsonl"):
-                if line.strip():
-                    r = json.loads(line)
-                    rows.setdefault((r.get("source", "code"), r["solver"], r["links"]), {})[prefix] = r
+    for prefix, r in jsonl_records(prefixes, "-chain.jsonl"):
+        rows.setdefault((r.get("source", "code"), r["solver"], r["links"]), {})[prefix] = r
     return {k: min(v.values(), key=lambda r: r["solve_s"]) for k, v in rows.items()}
 
 
@@ -181,18 +187,14 @@ def sweep_rows(prefixes):
     """Per model, every repeat of every run pooled (stiffmsa_sweep prints each repeat)."""
     pooled_keys = ["wall_s_1", "wall_s_2", "cpu_s_1", "cpu_s_2", "steal_ticks_1", "steal_ticks_2", "build_s", "solve_s"]
     rows = {}
-    for prefix in prefixes:
-        if os.path.exists(prefix + "-sweep.jsonl"):
-            for line in open(prefix + "-sweep.jsonl"):
-                if line.strip():
-                    r = json.loads(line)
-                    row = rows.get(r["model"])
-                    if row is None:
-                        rows[r["model"]] = r
-                    else:
-                        for key in pooled_keys:
-                            row[key] = row[key] + r[key]
-                        row["make_builder_s"] = min(row["make_builder_s"], r["make_builder_s"])
+    for _, r in jsonl_records(prefixes, "-sweep.jsonl"):
+        row = rows.get(r["model"])
+        if row is None:
+            rows[r["model"]] = r
+        else:
+            for key in pooled_keys:
+                row[key] = row[key] + r[key]
+            row["make_builder_s"] = min(row["make_builder_s"], r["make_builder_s"])
     return rows
 
 

@@ -4,7 +4,6 @@
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
-#include <algorithm>
 #include <cmath>
 
 namespace stiffmsa::detail {

@@ -714,7 +714,6 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
     }
   }
   std::vector<Entry> derived_entries;
-  std::vector<std::string> derived_names;
   for (auto& named : derived ? named_mapping(*derived) : std::vector<Entry>{}) {
     if (auto problem = detail::parameter_name_problem(named.key)) {
       fail(named.key_at, named.value.path, *problem);
@@ -724,14 +723,13 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
     } else if (!named.value.node.IsScalar()) {
       fail(named.value, "expected an expression of the parameters, got " + describe(named.value.node));
     } else {
-      derived_names.push_back(named.key);
       derived_names_.push_back(named.key);
       derived_sites_.push_back({named.value.node.Scalar(), named.value.path, named.value.at});
       derived_entries.push_back(std::move(named));
     }
   }
   if (!expressions_) {
-    own_expressions_ = std::make_unique<detail::ExpressionEvaluator>(names, derived_names);
+    own_expressions_ = std::make_unique<detail::ExpressionEvaluator>(names, derived_names_);
     expressions_ = own_expressions_.get();
   }
   expressions_->set_values(values_.empty() ? std::span<const double>(defaults) : values_);
@@ -1433,7 +1431,6 @@ struct NumberBindings {
   std::vector<ExpressionSite> sites;
   std::vector<ExpressionSite> derived;
   std::vector<std::pair<std::size_t, std::size_t>> filled;  // (number in visiting order, site)
-  std::size_t number_count = 0;
 };
 
 // Reads the file once more with every expression probed, and finds where each probe landed.
@@ -1444,21 +1441,22 @@ std::optional<NumberBindings> bind_numbers(const YAML::Node& root, const std::st
   Loader prober(file_name);
   prober.probe_expressions();
   Model probed = prober.read(root);
-  NumberBindings bindings{std::move(reference), prober.sites(), std::move(derived), {}, 0};
+  NumberBindings bindings{std::move(reference), prober.sites(), std::move(derived), {}};
+  std::size_t number_count = 0;
   std::vector<bool> bound(bindings.sites.size(), false);
   bool doubtful = false;
   detail::for_each_number(probed, [&](double& value) {
     if (const auto site = probed_site(value); site && *site < bound.size()) {
-      bindings.filled.emplace_back(bindings.number_count, *site);
+      bindings.filled.emplace_back(number_count, *site);
       bound[*site] = true;
     } else if (std::isfinite(value) && std::abs(value) > 0x1p999) {
       doubtful = true;  // a changed probe, or a real number that could be mistaken for one
     }
-    ++bindings.number_count;
+    ++number_count;
   });
   std::size_t reference_count = 0;
   detail::for_each_number(bindings.reference, [&](double&) { ++reference_count; });
-  if (doubtful || reference_count != bindings.number_count || std::find(bound.begin(), bound.end(), false) != bound.end())
+  if (doubtful || reference_count != number_count || std::find(bound.begin(), bound.end(), false) != bound.end())
     return std::nullopt;
   return bindings;
 }
@@ -1523,23 +1521,22 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   std::vector<std::string> unknown = loader.unknown_settings();
   if (loader.parameters().empty() && loader.derived_names().empty())
     for (const auto& [name, value] : settings) unknown.push_back(name);
+  std::vector<std::string> names;
+  for (const auto& p : loader.parameters()) names.push_back(p.name);
   if (!unknown.empty()) {
-    std::vector<std::string> names;
-    for (const auto& p : loader.parameters()) names.push_back(p.name);
     throw UsageError("the model '" + file_name + "' has no parameter '" + unknown.front() + "'" +
                      (names.empty() ? std::string("; it declares no `parameters:`")
                                     : detail::suggestion(unknown.front(), names, "its parameters are")));
   }
   auto defects = loader.merge(find_defects(at_defaults));
   if (!defects.empty()) throw InputError(std::move(defects));
-  std::vector<std::string> names;
-  for (const auto& p : loader.parameters()) names.push_back(p.name);
   const std::vector<std::string> derived_names = loader.derived_names();
   const std::string name = at_defaults.name;
   std::shared_ptr<const NumberBindings> bindings;
   if (auto bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites()))
     bindings = std::make_shared<const NumberBindings>(std::move(*bound));
-  auto shared_text = std::make_shared<const std::string>(text);
+  // The text is kept only for builders that must read it again.
+  auto shared_text = bindings ? nullptr : std::make_shared<const std::string>(text);
   auto make_builder = [bindings, shared_text, file_name, limits, names, derived_names]() -> ModelFamily::Builder {
     if (bindings) return refilling_builder(bindings, names, derived_names);
     return rereading_builder(shared_text, file_name, limits, names, derived_names);

@@ -12,6 +12,15 @@ std::optional<std::size_t> ModelFamily::find_parameter(const std::string& name) 
   return std::nullopt;
 }
 
+namespace {
+// One value per parameter, or a UsageError that says how many.
+void check_value_count(const std::string& model, std::size_t parameters, std::size_t values) {
+  if (values != parameters)
+    throw UsageError("the model '" + model + "' has " + std::to_string(parameters) + " parameters; got " +
+                     std::to_string(values) + " values");
+}
+}  // namespace
+
 std::vector<double> ModelFamily::default_values() const {
   std::vector<double> values;
   values.reserve(parameters_.size());
@@ -21,17 +30,13 @@ std::vector<double> ModelFamily::default_values() const {
 
 ModelFamily::Builder ModelFamily::make_builder() const {
   return [count = parameters_.size(), name = name_, build = make_builder_()](std::span<const double> values) mutable {
-    if (values.size() != count)
-      throw UsageError("the model '" + name + "' has " + std::to_string(count) + " parameters; got " +
-                       std::to_string(values.size()) + " values");
+    check_value_count(name, count, values.size());
     return build(values);
   };
 }
 
 ModelFamily ModelFamily::with_defaults(std::span<const double> values) const {
-  if (values.size() != parameters_.size())
-    throw UsageError("the model '" + name_ + "' has " + std::to_string(parameters_.size()) +
-                     " parameters; got " + std::to_string(values.size()) + " values");
+  check_value_count(name_, parameters_.size(), values.size());
   ModelFamily changed = *this;
   for (std::size_t i = 0; i < values.size(); ++i) changed.parameters_[i].default_value = values[i];
   return changed;

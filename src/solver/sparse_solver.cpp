@@ -262,6 +262,14 @@ void FactorizedSystem::apply_inverse(MatX& y) const {
 
 namespace {
 
+// ‖r‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) from ‖r‖∞ (finite, ≥ 0).
+template <class X, class B>
+double normwise(double residual_norm, double a_norm_inf, const X& x, const B& b) {
+  if (residual_norm == 0) return 0.0;
+  const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
+  return scale > 0 ? residual_norm / scale : INFINITY;
+}
+
 // r = b − A·x accumulated in extended precision: refinement then converges to the solution as
 // exactly as double can hold it, where a residual in double would stall at cond(A)·ε.
 class ExtendedResidual {
@@ -297,10 +305,7 @@ class ExtendedResidual {
       if (size > 0) error.componentwise = std::max(error.componentwise, magnitude_[k] > 0 ? size / magnitude_[k] : INFINITY);
     }
     if (!finite) return {INFINITY, INFINITY};
-    if (largest > 0) {
-      const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
-      error.normwise = scale > 0 ? largest / scale : INFINITY;
-    }
+    error.normwise = normwise(largest, a_norm_inf, x, b);
     return error;
   }
 
@@ -328,9 +333,7 @@ double normwise_backward_error(const SparseMatrix& a, double a_norm_inf, const X
   scratch = b - scratch;
   const double numerator = scratch.template lpNorm<Eigen::Infinity>();
   if (!std::isfinite(numerator) || !x.allFinite()) return INFINITY;
-  if (numerator == 0) return 0.0;
-  const double denominator = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
-  return denominator > 0 ? numerator / denominator : INFINITY;
+  return normwise(numerator, a_norm_inf, x, b);
 }
 }  // namespace
 
