@@ -286,6 +286,32 @@ void part_lu_solve(benchmark::State& state, const Robot& robot, SolverKind kind)
   }
 }
 
+#if STIFFMSA_HAVE_SUITESPARSE
+// KLU's numeric refactorisation with the pivot order of the first pose, against klu_factor.
+void part_klu_refactor(benchmark::State& state, const Robot& robot, bool refactor) {
+  auto scaled = scaled_matrices(robot);
+  klu_common common;
+  klu_defaults(&common);
+  common.tol = 1.0;
+  const int n = static_cast<int>(scaled.front().rows());
+  klu_symbolic* symbolic = klu_analyze(n, scaled.front().outerIndexPtr(), scaled.front().innerIndexPtr(), &common);
+  klu_numeric* numeric = klu_factor(scaled.front().outerIndexPtr(), scaled.front().innerIndexPtr(), scaled.front().valuePtr(), symbolic, &common);
+  std::size_t p = 0;
+  for (auto _ : state) {
+    auto& a = scaled[p];
+    if (refactor) {
+      klu_refactor(a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr(), symbolic, numeric, &common);
+    } else {
+      klu_free_numeric(&numeric, &common);
+      numeric = klu_factor(a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr(), symbolic, &common);
+    }
+    p = (p + 1) % robot.pose_count();
+  }
+  klu_free_numeric(&numeric, &common);
+  klu_free_symbolic(&symbolic, &common);
+}
+#endif
+
 void part_condition_estimate(benchmark::State& state, const Robot& robot, SolverKind kind) {
   const auto scaled = scaled_matrices(robot);
   auto lu = detail::make_linear_solver(kind);
@@ -517,6 +543,10 @@ void register_robot(const Robot& robot) {
   add(r + "/stage:make_blocks", stage_make_blocks, std::cref(robot));
   add(r + "/stage:fill", stage_fill, std::cref(robot));
   add(r + "/part:equilibrate", part_equilibrate, std::cref(robot));
+#if STIFFMSA_HAVE_SUITESPARSE
+  add(r + "/part:klu_factor", part_klu_refactor, std::cref(robot), false);
+  add(r + "/part:klu_refactor", part_klu_refactor, std::cref(robot), true);
+#endif
   add(r + "/dense_lu", dense_lu, std::cref(robot));
 }
 

@@ -129,3 +129,39 @@ TEST(RelativeResidual, IsTheNormwiseBackwardError) {
   // r = (−2δ, −8δ); ‖A‖∞ = 9, ‖x‖∞ = 0.5, ‖b‖∞ = 2.5.
   EXPECT_DOUBLE_EQ(detail::relative_residual(a, x, b), 8 * delta / (9 * 0.5 + 2.5));
 }
+
+namespace {
+SparseMatrix two_by_two(double a00, double a01, double a10, double a11) {
+  SparseMatrix a(2, 2);
+  a.insert(0, 0) = a00;
+  a.insert(1, 0) = a10;
+  a.insert(0, 1) = a01;
+  a.insert(1, 1) = a11;
+  a.makeCompressed();
+  return a;
+}
+}  // namespace
+
+TEST(KluPivotReuse, AMatrixTheReferencePivotsDoNotSuitIsFactorisedAfresh) {
+  if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "klu is not built in";
+  // The reference pivots column 0 on row 0. Reused on the second matrix, that pivot would be
+  // 1e-20 and give x0 = 0 instead of 1 (no refinement here to mend it).
+  detail::FactorizedSystem system(SolverKind::klu);
+  const SparseMatrix reference = two_by_two(1, 1, 1e-3, 1);
+  ASSERT_TRUE(system.factorize(reference, 1e-14));
+  const SparseMatrix other = two_by_two(1e-20, 1, 1, 1);
+  ASSERT_TRUE(system.factorize(other, 1e-14));
+  MatX b(2, 1);
+  b << 1, 2;
+  double residual = 0;
+  const MatX x = system.solve(b, 0, residual);
+  EXPECT_NEAR(x(0), 1.0, 1e-15);
+  EXPECT_NEAR(x(1), 1.0, 1e-15);
+  // A matrix they suit reuses them, and is solved as exactly.
+  const SparseMatrix near = two_by_two(2, 1, 1e-3, 3);
+  ASSERT_TRUE(system.factorize(near, 1e-14));
+  b << 3, 3.001;
+  const MatX y = system.solve(b, 0, residual);
+  EXPECT_NEAR(y(0), 1.0, 1e-15);
+  EXPECT_NEAR(y(1), 1.0, 1e-15);
+}

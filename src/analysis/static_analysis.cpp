@@ -42,8 +42,10 @@ struct Workspace::Impl {
   detail::SparseMatrix matrix;
   std::unique_ptr<detail::FactorizedSystem> system;
   SolverKind solver_kind = SolverKind::automatic;
-  // The blocks the pattern was recorded from, until the first solve of that same model takes
-  // them (a one-shot solve would otherwise make them twice).
+  // The blocks of the model the workspace was built from: its pattern, and the reference
+  // matrix that fixes the scaling start and pivot order of every solver the workspace uses
+  // (FactorizedSystem), so that a pose's results do not depend on the poses solved before it.
+  // A one-shot solve takes them, as its own blocks.
   detail::Blocks recorded_blocks;
 };
 
@@ -94,9 +96,12 @@ struct Problem {
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
       : model(m), ws(w), options(o) {
     if (!topology_known && !(detail::build_topology(model) == ws.topology)) detail::throw_topology_changed();
-    blocks = topology_known && !ws.recorded_blocks.empty() ? std::move(ws.recorded_blocks)
-                                                           : detail::make_blocks(model, ws.topology);
-    ws.recorded_blocks.clear();
+    if (topology_known && !ws.recorded_blocks.empty()) {
+      blocks = std::move(ws.recorded_blocks);
+      ws.recorded_blocks.clear();
+    } else {
+      blocks = detail::make_blocks(model, ws.topology);
+    }
     ws.assembler->fill(blocks, ws.matrix);
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
     for (std::size_t i = 0; i < model.loads.size(); ++i) {
@@ -466,6 +471,11 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   if (!ws.system || ws.solver_kind != options.solver) {
     ws.system = std::make_unique<detail::FactorizedSystem>(options.solver);
     ws.solver_kind = options.solver;
+    if (!topology_known) {
+      // The reference first; whether it is regular does not matter here.
+      ws.assembler->fill(ws.recorded_blocks, ws.matrix);
+      ws.system->factorize(ws.matrix, options.singular_rcond);
+    }
   }
   Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);

@@ -20,9 +20,9 @@ double inverse_sqrt_power_of_two(double m) {
 }
 }  // namespace
 
-Equilibration equilibrate(const SparseMatrix& a, int iterations) {
+Equilibration equilibrate(const SparseMatrix& a, int iterations, const Equilibration* start) {
   const Index n = a.rows();
-  Equilibration s{VecX::Ones(n), VecX::Ones(a.cols())};
+  Equilibration s = start ? *start : Equilibration{VecX::Ones(n), VecX::Ones(a.cols())};
   VecX row_max(n), column_max(a.cols());
   // Ruiz's iteration: alternately divide rows and columns by the square root of their
   // largest scaled entry; it converges to every row and column having a largest entry near 1.

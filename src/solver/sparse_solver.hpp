@@ -3,6 +3,7 @@
 // analyses use. The mixed system holds stiffness entries near 1e9 beside identity entries of
 // 1, so it is scaled before factorisation; residuals are measured on the unscaled system.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "assembly/assembler.hpp"
@@ -31,18 +32,22 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
 double estimate_inverse_norm1(const LinearSolver& lu, Index n);
 
 // Row and column scaling by powers of two (so scaling itself adds no rounding) that brings
-// every row and column of |A| to a largest entry near 1.
+// every row and column of |A| to a largest entry near 1. From `start` where given (the scaling
+// of a matrix of like magnitudes: one checking sweep instead of five or six).
 struct Equilibration {
   VecX row, column;
 };
-Equilibration equilibrate(const SparseMatrix& a, int iterations = 8);
+Equilibration equilibrate(const SparseMatrix& a, int iterations = 8, const Equilibration* start = nullptr);
 
 struct BackwardError {
   double normwise = 0;       // ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞)
   double componentwise = 0;  // max_i |b − A·x|_i / (|A|·|x| + |b|)_i
 };
 
-// A factorised system: scaling, factorisation, condition estimate and refined solves.
+// A factorised system: scaling, factorisation, condition estimate and refined solves. The
+// first matrix factorised after a pattern analysis is the reference: later matrices start
+// their equilibration from its scaling, and KLU reuses its pivot order where that stays
+// stable (see KluLU). So a matrix's factors depend on it and on the reference only.
 class FactorizedSystem {
  public:
   explicit FactorizedSystem(SolverKind kind);
@@ -75,6 +80,7 @@ class FactorizedSystem {
   double a_norm_inf_ = 0;
   SparseMatrix scaled_;  // Â = S_r·A·S_c; its pattern is the one analysed
   Equilibration scaling_;
+  std::optional<Equilibration> reference_scaling_;
   bool analyzed_ = false;
   double rcond_ = 0;
 };
