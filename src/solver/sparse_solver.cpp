@@ -379,37 +379,53 @@ double largest_relative_change(const D& d, const X& x) {
 }  // namespace
 
 namespace {
-// ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) with the residual in double; `scratch` is an n-vector.
-template <class X, class B>
-double normwise_backward_error(const SparseMatrix& a, double a_norm_inf, const X& x, const B& b, VecX& scratch) {
-  scratch.noalias() = a * x;
-  scratch = b - scratch;
-  const double numerator = scratch.template lpNorm<Eigen::Infinity>();
-  if (!std::isfinite(numerator) || !x.allFinite()) return INFINITY;
-  return normwise(numerator, a_norm_inf, x, b);
+// B − A·X, every column in one pass over A: each entry updates k independent sums, where k
+// sparse products, one per column, would each wait on their own read-modify-write chain.
+MatX residuals(const SparseMatrix& a, const MatX& x, const MatX& b) {
+  MatX r = b;
+  const Index n = r.rows(), k = r.cols();
+  double* const out = r.data();
+  for (Index j = 0; j < a.outerSize(); ++j) {
+    const double* const xj = x.data() + j;
+    for (SparseMatrix::InnerIterator e(a, j); e; ++e) {
+      const double v = e.value();
+      double* const row = out + e.row();
+      for (Index c = 0; c < k; ++c) row[c * n] -= v * xj[c * n];
+    }
+  }
+  return r;
+}
+
+// Per column, ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) with the residual in double.
+std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_norm_inf, const MatX& x, const MatX& b) {
+  const MatX r = residuals(a, x, b);
+  std::vector<double> errors(static_cast<std::size_t>(x.cols()));
+  for (Index c = 0; c < x.cols(); ++c) {
+    const double numerator = r.col(c).lpNorm<Eigen::Infinity>();
+    errors[static_cast<std::size_t>(c)] = std::isfinite(numerator) && x.col(c).allFinite()
+                                              ? normwise(numerator, a_norm_inf, x.col(c), b.col(c))
+                                              : INFINITY;
+  }
+  return errors;
 }
 }  // namespace
 
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
-  VecX scratch(a.rows());
-  const double a_norm = norm_inf(a);
-  double worst = 0;
-  for (Index c = 0; c < x.cols(); ++c) worst = std::max(worst, normwise_backward_error(a, a_norm, x.col(c), b.col(c), scratch));
-  return worst;
+  const std::vector<double> errors = normwise_backward_errors(a, norm_inf(a), x, b);
+  return errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
 }
 
 MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residual) const {
   MatX x = b;
   apply_inverse(x);
-  VecX next(b.rows());
-  std::vector<BackwardError> error(static_cast<std::size_t>(b.cols()));
   const double condition = rcond_ > 0 ? 1.0 / rcond_ : INFINITY;
+  const std::vector<double> normwise = normwise_backward_errors(*a_, a_norm_inf_, x, b);
+  std::vector<BackwardError> error(normwise.size());
   // The columns share one factorisation: where one may have lost digits, all are refined.
   bool any = false;
-  for (Index c = 0; c < b.cols(); ++c) {
-    const auto k = static_cast<std::size_t>(c);
-    error[k].normwise = normwise_backward_error(*a_, a_norm_inf_, x.col(c), b.col(c), next);
-    any |= error[k].normwise * condition > kRefineAbove;
+  for (std::size_t k = 0; k < normwise.size(); ++k) {
+    error[k].normwise = normwise[k];
+    any |= normwise[k] * condition > kRefineAbove;
   }
   if (any && refinement_steps > 0) refine(b, refinement_steps, x, error);
   residual = 0;
