@@ -56,7 +56,8 @@ print('$side', 'chain', f\"{d['links']}/{d['solver']}\", d['solve_s'], 's', d['p
     done
     for s in "${solvers[@]}"; do
       /usr/bin/time -f "$side cli chain-100000/$s %e s %M KiB" "${pin[@]}" \
-        "$dir/stiffmsa" solve "$chain_file" --solver "$s" 2>&1 >/dev/null | tail -1 | tee -a "$out"
+        "$dir/stiffmsa" solve "$chain_file" --solver "$s" --json "$dir/chain-100000-result.json" \
+        2>&1 >/dev/null | tail -1 | tee -a "$out"
     done
   done
 done

@@ -5,7 +5,8 @@
 #      to bench/results-<date>.json;
 #   2. stiffmsa_chain, one process per chain size and solver: time, peak memory (VmHWM) and
 #      tip accuracy, saved to bench/results-<date>-chain.jsonl;
-#   3. the `stiffmsa solve` command on generated model files (bench/make_models.py): the
+#   3. the `stiffmsa solve` command, result file written, on generated model files
+#      (bench/make_models.py): the
 #      100 000-link chain and the frame, wall time and peak memory from /usr/bin/time; and the
 #      chain file read by stiffmsa_chain, which times load_model apart from the solve;
 #   4. stiffmsa_sweep on both cores: sweeps of the two parametric examples over fixed grids
@@ -55,7 +56,7 @@ if [[ -z "${SKIP_CHAIN:-}" ]]; then
 fi
 
 if [[ -z "${SKIP_CLI:-}" ]]; then
-  echo "== 3. stiffmsa solve on generated files (best of 3)"
+  echo "== 3. stiffmsa solve on generated files, result file written (best of 3)"
   python3 "$root/bench/make_models.py" chain 100000 >"$build/chain-100000.yaml"
   python3 "$root/bench/make_models.py" frame 5 5 10 >"$build/frame-5x5x10.yaml"
   : >"$out-cli.txt"
@@ -63,7 +64,8 @@ if [[ -z "${SKIP_CLI:-}" ]]; then
     for solver in "${solvers[@]}"; do
       for run in 1 2 3; do
         /usr/bin/time -f "$model $solver %e s %M KiB" "${pin[@]}" \
-          "$build/stiffmsa" solve "$build/$model.yaml" --solver "$solver" 2>&1 >/dev/null | tail -1
+          "$build/stiffmsa" solve "$build/$model.yaml" --solver "$solver" --json "$build/$model-result.json" \
+          2>&1 >/dev/null | tail -1
       done | sort -k3 -g | head -1 | tee -a "$out-cli.txt"
     done
   done
