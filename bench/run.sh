@@ -6,9 +6,9 @@
 #   2. stiffmsa_chain, one process per chain size and solver: time, peak memory (VmHWM) and
 #      tip accuracy, saved to bench/results-<date>-chain.jsonl;
 #   3. the `stiffmsa solve` command, result file written, on generated model files
-#      (bench/make_models.py): the
-#      100 000-link chain and the frame, wall time and peak memory from /usr/bin/time; and the
-#      chain file read by stiffmsa_chain, which times load_model apart from the solve;
+#      (bench/make_models.py): the 100 000-link chain and the frame, wall time and peak memory
+#      from /usr/bin/time; and the chain file read by stiffmsa_chain, which times load_model
+#      apart from the solve;
 #   4. stiffmsa_sweep on both cores: sweeps of the two parametric examples over fixed grids
 #      with 1 and 2 threads (poses/s, speed-up of the second core) and the per-pose split
 #      between building the member and solving it, saved to bench/results-<date>-sweep.jsonl;
