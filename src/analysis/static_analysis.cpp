@@ -245,7 +245,7 @@ void solve_loads_and_compliance(Problem& problem, Result& result, SolveColumns s
   for (std::size_t e = 0; e < effectors; ++e)
     rhs.middleCols<6>(1 + 6 * static_cast<Index>(e)) = problem.unit_wrench_rhs(t.effector_ends[e]);
   double residual = 0;
-  const MatX x = solve_columns(rhs, residual);
+  const MatX x = solve_columns(std::move(rhs), residual);
   result.report.relative_residual = std::max(result.report.relative_residual, residual);
 
   fill_state_results(problem, x.col(0), result);
@@ -271,8 +271,8 @@ void solve_loads_and_compliance(Problem& problem, Result& result, SolveColumns s
 }
 
 void solve_regular(Problem& problem, Result& result) {
-  solve_loads_and_compliance(problem, result, [&](const MatX& rhs, double& residual) {
-    return problem.ws.system->solve(rhs, problem.options.refinement_steps, residual);
+  solve_loads_and_compliance(problem, result, [&](MatX rhs, double& residual) {
+    return problem.ws.system->solve(std::move(rhs), problem.options.refinement_steps, residual);
   });
   check_accuracy(problem.options, result);
 }
@@ -336,7 +336,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     MatX padded = MatX::Zero(n + null_vectors.cols(), rhs.cols());
     padded.topRows(n) = rhs;
     double bordered_residual = 0;
-    const MatX x = system.solve(padded, problem.options.refinement_steps, bordered_residual);
+    const MatX x = system.solve(std::move(padded), problem.options.refinement_steps, bordered_residual);
     const MatX solution = x.topRows(n);
     residual = detail::relative_residual(problem.ws.matrix, solution, rhs);
     return solution;
@@ -423,7 +423,7 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
   rcond = bordered_system.reciprocal_condition();
   MatX padded = MatX::Zero(regular.rows(), 6);
   padded.topRows(n + 6) = rhs;
-  const MatX x = bordered_system.solve(padded, problem.options.refinement_steps, residual);
+  const MatX x = bordered_system.solve(std::move(padded), problem.options.refinement_steps, residual);
   return Mat6(x.middleRows<6>(n));
 }
 

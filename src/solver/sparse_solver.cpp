@@ -313,15 +313,37 @@ void FactorizedSystem::apply_inverse(MatX& y) const {
   y.array().colwise() *= scaling_.column.array();
 }
 
+// The right-hand sides, kept once their dense storage has become the solution: a load or a
+// unit wrench puts nonzeros in a few equations only.
+class SparseColumns {
+ public:
+  explicit SparseColumns(const MatX& b) : columns_(b.sparseView(0.0, 0.0)) {}
+  Index rows() const { return columns_.rows(); }
+  double norm_inf(Index c) const {
+    double largest = 0;
+    for (SparseMatrix::InnerIterator e(columns_, c); e; ++e) largest = std::max(largest, std::abs(e.value()));
+    return largest;
+  }
+  // f(row, value) for every nonzero of column c.
+  template <class F>
+  void for_each(Index c, F f) const {
+    for (SparseMatrix::InnerIterator e(columns_, c); e; ++e) f(e.row(), e.value());
+  }
+
+ private:
+  SparseMatrix columns_;
+};
+
 namespace {
 
 // ‖r‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) from ‖r‖∞ (finite, ≥ 0).
-template <class X, class B>
-double normwise(double residual_norm, double a_norm_inf, const X& x, const B& b) {
+template <class X>
+double normwise(double residual_norm, double a_norm_inf, const X& x, double b_norm_inf) {
   if (residual_norm == 0) return 0.0;
-  const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b.template lpNorm<Eigen::Infinity>();
+  const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b_norm_inf;
   return scale > 0 ? residual_norm / scale : INFINITY;
 }
+
 
 // r = b − A·x accumulated in extended precision: refinement then converges to the solution as
 // exactly as double can hold it, where a residual in double would stall at cond(A)·ε.
@@ -330,12 +352,15 @@ class ExtendedResidual {
   explicit ExtendedResidual(const SparseMatrix& a)
       : a_(a), sum_(static_cast<std::size_t>(a.rows())), magnitude_(static_cast<std::size_t>(a.rows())) {}
 
-  template <class X, class B, class R>
-  BackwardError operator()(const X& x, const B& b, double a_norm_inf, R&& r) {
-    for (Index i = 0; i < b.rows(); ++i) {
-      sum_[static_cast<std::size_t>(i)] = b(i);
-      magnitude_[static_cast<std::size_t>(i)] = std::abs(b(i));
-    }
+  // Of column c of b.
+  template <class X, class R>
+  BackwardError operator()(const X& x, const SparseColumns& b, Index c, double a_norm_inf, R&& r) {
+    std::fill(sum_.begin(), sum_.end(), 0.0L);
+    std::fill(magnitude_.begin(), magnitude_.end(), 0.0);
+    b.for_each(c, [&](Index i, double v) {
+      sum_[static_cast<std::size_t>(i)] = v;
+      magnitude_[static_cast<std::size_t>(i)] = std::abs(v);
+    });
     for (Index j = 0; j < a_.outerSize(); ++j) {
       const long double xj = x(j);
       if (xj == 0) continue;
@@ -358,7 +383,7 @@ class ExtendedResidual {
       if (size > 0) error.componentwise = std::max(error.componentwise, magnitude_[k] > 0 ? size / magnitude_[k] : INFINITY);
     }
     if (!finite) return {INFINITY, INFINITY};
-    error.normwise = normwise(largest, a_norm_inf, x, b);
+    error.normwise = normwise(largest, a_norm_inf, x, b.norm_inf(c));
     return error;
   }
 
@@ -381,9 +406,11 @@ double largest_relative_change(const D& d, const X& x) {
 namespace {
 // B − A·X, every column in one pass over A: each entry updates k independent sums, where k
 // sparse products, one per column, would each wait on their own read-modify-write chain.
-MatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const Eigen::Ref<const MatX>& b) {
-  MatX r = b;
+// Columns first .. first + x.cols() − 1 of B − A·X.
+MatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const SparseColumns& b, Index first) {
+  MatX r = MatX::Zero(x.rows(), x.cols());
   const Index n = r.rows(), k = r.cols(), x_stride = x.outerStride();
+  for (Index c = 0; c < k; ++c) b.for_each(first + c, [&](Index i, double v) { r(i, c) = v; });
   double* const out = r.data();
   for (Index j = 0; j < a.outerSize(); ++j) {
     const double* const xj = x.data() + j;
@@ -399,17 +426,17 @@ MatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const Eig
 // Per column, ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) with the residual in double. The residuals of
 // as many columns at once as fit in kResidualBlockEntries: all of a robot's, one at a time on
 // a long chain (where n×k more doubles would raise the peak memory by 134 MB).
-std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_norm_inf, const MatX& x, const MatX& b) {
+std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_norm_inf, const MatX& x, const SparseColumns& b) {
   constexpr Index kResidualBlockEntries = Index{1} << 20;
   const Index block = std::max<Index>(1, kResidualBlockEntries / std::max<Index>(1, x.rows()));
   std::vector<double> errors(static_cast<std::size_t>(x.cols()));
   for (Index first = 0; first < x.cols(); first += block) {
     const Index count = std::min(block, x.cols() - first);
-    const MatX r = residuals(a, x.middleCols(first, count), b.middleCols(first, count));
+    const MatX r = residuals(a, x.middleCols(first, count), b, first);
     for (Index c = first; c < first + count; ++c) {
       const double numerator = r.col(c - first).lpNorm<Eigen::Infinity>();
       errors[static_cast<std::size_t>(c)] = std::isfinite(numerator) && x.col(c).allFinite()
-                                                ? normwise(numerator, a_norm_inf, x.col(c), b.col(c))
+                                                ? normwise(numerator, a_norm_inf, x.col(c), b.norm_inf(c))
                                                 : INFINITY;
     }
   }
@@ -418,15 +445,16 @@ std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_nor
 }  // namespace
 
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
-  const std::vector<double> errors = normwise_backward_errors(a, norm_inf(a), x, b);
+  const std::vector<double> errors = normwise_backward_errors(a, norm_inf(a), x, SparseColumns(b));
   return errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
 }
 
-MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residual) const {
-  MatX x = b;
+MatX FactorizedSystem::solve(MatX b, int refinement_steps, double& residual) const {
+  const SparseColumns rhs(b);
+  MatX x = std::move(b);
   apply_inverse(x);
   const double condition = rcond_ > 0 ? 1.0 / rcond_ : INFINITY;
-  const std::vector<double> normwise = normwise_backward_errors(*a_, a_norm_inf_, x, b);
+  const std::vector<double> normwise = normwise_backward_errors(*a_, a_norm_inf_, x, rhs);
   std::vector<BackwardError> error(normwise.size());
   // The columns share one factorisation: where one may have lost digits, all are refined.
   bool any = false;
@@ -434,13 +462,13 @@ MatX FactorizedSystem::solve(const MatX& b, int refinement_steps, double& residu
     error[k].normwise = normwise[k];
     any |= normwise[k] * condition > kRefineAbove;
   }
-  if (any && refinement_steps > 0) refine(b, refinement_steps, x, error);
+  if (any && refinement_steps > 0) refine(rhs, refinement_steps, x, error);
   residual = 0;
   for (const BackwardError& e : error) residual = std::max(residual, e.normwise);
   return x;
 }
 
-void FactorizedSystem::refine(const MatX& b, int steps, MatX& x, std::vector<BackwardError>& error) const {
+void FactorizedSystem::refine(const SparseColumns& b, int steps, MatX& x, std::vector<BackwardError>& error) const {
   // Column by column, each with its own n-vectors: the residual, solved in place into the
   // correction; the next residual; the column before the step, so that a step that makes it
   // worse can be taken back. (An n×k residual block would save little solve time and cost
@@ -449,14 +477,14 @@ void FactorizedSystem::refine(const MatX& b, int steps, MatX& x, std::vector<Bac
   ExtendedResidual residual_of(*a_);
   MatX correction(b.rows(), 1);
   VecX next(b.rows()), previous(b.rows());
-  for (Index c = 0; c < b.cols(); ++c) {
+  for (Index c = 0; c < x.cols(); ++c) {
     const auto k = static_cast<std::size_t>(c);
-    error[k] = residual_of(x.col(c), b.col(c), a_norm_inf_, correction.col(0));
+    error[k] = residual_of(x.col(c), b, c, a_norm_inf_, correction.col(0));
     for (int step = 0; step < steps && error[k].normwise > 0; ++step) {
       apply_inverse(correction);
       previous = x.col(c);
       x.col(c) += correction.col(0);
-      const BackwardError candidate = residual_of(x.col(c), b.col(c), a_norm_inf_, next);
+      const BackwardError candidate = residual_of(x.col(c), b, c, a_norm_inf_, next);
       // Near convergence the backward error is rounding and jitters; only a step that makes
       // it clearly worse is taken back.
       if (!(candidate.componentwise <= 2 * error[k].componentwise + epsilon)) {

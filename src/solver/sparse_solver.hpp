@@ -44,6 +44,8 @@ struct BackwardError {
   double componentwise = 0;  // max_i |b − A·x|_i / (|A|·|x| + |b|)_i
 };
 
+class SparseColumns;
+
 // A factorised system: scaling, factorisation, condition estimate and refined solves. The
 // first matrix factorised after a pattern analysis is the reference: later matrices start
 // their equilibration from its scaling, and KLU reuses its pivot order where that stays
@@ -64,7 +66,9 @@ class FactorizedSystem {
   // exceeds kRefineAbove (a heuristic, not a bound: the error is of the unscaled system, the
   // condition of the scaled one), every column is refined, at most `refinement_steps` times;
   // `relative_residual` gets the largest backward error over the columns.
-  MatX solve(const MatX& b, int refinement_steps, double& relative_residual) const;
+  // B is taken by value: its storage becomes the solution (move it in where it is not needed
+  // after), and only its nonzeros are kept for the residuals.
+  MatX solve(MatX b, int refinement_steps, double& relative_residual) const;
 
   static constexpr double kRefineAbove = 1e-14;
 
@@ -73,7 +77,7 @@ class FactorizedSystem {
   void apply_inverse(MatX& y) const;
   // Iterative refinement of x with residuals accumulated in extended precision; `error` gets
   // each column's final backward errors.
-  void refine(const MatX& b, int steps, MatX& x, std::vector<BackwardError>& error) const;
+  void refine(const SparseColumns& b, int steps, MatX& x, std::vector<BackwardError>& error) const;
 
   std::unique_ptr<LinearSolver> solver_;
   const SparseMatrix* a_ = nullptr;
