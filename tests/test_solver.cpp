@@ -165,3 +165,17 @@ TEST(KluPivotReuse, AMatrixTheReferencePivotsDoNotSuitIsFactorisedAfresh) {
   EXPECT_NEAR(y(0), 1.0, 1e-15);
   EXPECT_NEAR(y(1), 1.0, 1e-15);
 }
+
+TEST(AccuracyChecks, AFailedCheckIsReportedAsSuchAndAsAWarning) {
+  const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
+  const Result passed = solve(m);
+  EXPECT_TRUE(passed.report.failed_checks.empty());
+  SolveOptions strict;
+  strict.max_relative_residual = 1e-300;  // no floating-point solve meets this
+  const Result failed = solve(m, strict);
+  ASSERT_EQ(failed.report.failed_checks.size(), 1u);
+  EXPECT_NE(failed.report.failed_checks[0].find("the relative residual"), std::string::npos);
+  EXPECT_EQ(failed.report.warnings.back(), failed.report.failed_checks[0]);
+  // The numbers are the same: the check only judges them.
+  EXPECT_EQ(*failed.end_effectors[0].compliance, *passed.end_effectors[0].compliance);
+}

@@ -59,6 +59,10 @@ struct SolveReport {
   std::string solver;
   std::vector<std::string> notes;  // e.g. free motions accepted, values left null
   std::vector<std::string> warnings;
+  // Those warnings that say an accuracy check failed (the residual above
+  // SolveOptions::max_relative_residual, loads and reactions out of balance beyond 1e-8): the
+  // numbers of such a result are not to be trusted.
+  std::vector<std::string> failed_checks;
 };
 
 struct Result {

@@ -222,14 +222,16 @@ void check_accuracy(const SolveOptions& options, Result& result) {
   if (result.report.relative_residual > options.max_relative_residual) {
     text << "the relative residual " << result.report.relative_residual << " exceeds "
          << options.max_relative_residual << "; results may be inaccurate";
-    result.report.warnings.push_back(text.str());
+    result.report.failed_checks.push_back(text.str());
   }
   if (result.report.equilibrium_error > 1e-8) {
     text.str("");
     text << "loads and support reactions balance only to " << result.report.equilibrium_error
          << " relative; results may be inaccurate";
-    result.report.warnings.push_back(text.str());
+    result.report.failed_checks.push_back(text.str());
   }
+  result.report.warnings.insert(result.report.warnings.end(), result.report.failed_checks.begin(),
+                                result.report.failed_checks.end());
 }
 
 // Solves the loads and every end effector's unit wrenches with `solve_columns`, which maps

@@ -86,15 +86,9 @@ std::string one_line(const SingularModelError& e) {
 // What the sweep keeps of a solve.
 PoseResult measure(const Result& result, const SweepOptions& options) {
   PoseResult pose;
-  const SolveReport& report = result.report;
-  const bool residual_failed = report.relative_residual > options.solve.max_relative_residual;
-  if (residual_failed || report.equilibrium_error > 1e-8) {
+  if (!result.report.failed_checks.empty()) {
     pose.status = PoseStatus::singular;
-    // The warning about the check that failed, not the ill-conditioning note before it.
-    const char* const failed_check = residual_failed ? "residual" : "balance";
-    pose.message = "the solve failed its accuracy checks";
-    for (const auto& warning : report.warnings)
-      if (warning.find(failed_check) != std::string::npos) pose.message = warning;
+    pose.message = result.report.failed_checks.front();
     return pose;
   }
   for (const auto& effector : result.end_effectors) {
@@ -103,7 +97,7 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
     pose.message = "the end effector '" + effector.name + "' can move without load at this pose";
     return pose;
   }
-  if (!report.warnings.empty()) pose.message = report.warnings.front();
+  if (!result.report.warnings.empty()) pose.message = result.report.warnings.front();
   for (const auto& effector : result.end_effectors) {
     EndEffectorMeasures m;
     m.principal = principal_stiffness(*effector.compliance);
