@@ -24,15 +24,6 @@ std::string comma_separated(const std::vector<std::string>& names) {
   return text;
 }
 
-std::optional<double> parse_number(std::string_view text) {
-  double value = 0;
-  const char* first = text.data() + (!text.empty() && text[0] == '+' ? 1 : 0);
-  const auto [stop, error] = std::from_chars(first, text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || stop != text.data() + text.size() || !std::isfinite(value))
-    return std::nullopt;
-  return value;
-}
-
 // "name=start:stop:count"
 GridAxis parse_grid(const std::string& spec) {
   const auto usage = [&](const std::string& what) {
@@ -47,8 +38,8 @@ GridAxis parse_grid(const std::string& spec) {
   const auto colon2 = colon1 == std::string::npos ? std::string::npos : range.find(':', colon1 + 1);
   if (colon2 == std::string::npos || range.find(':', colon2 + 1) != std::string::npos)
     throw usage("expected three values separated by ':'");
-  const auto start = parse_number(range.substr(0, colon1));
-  const auto stop = parse_number(range.substr(colon1 + 1, colon2 - colon1 - 1));
+  const auto start = parse_plain_number(range.substr(0, colon1));
+  const auto stop = parse_plain_number(range.substr(colon1 + 1, colon2 - colon1 - 1));
   if (!start || !stop) throw usage("START and STOP must be finite numbers");
   const std::string count_text = range.substr(colon2 + 1);
   std::size_t count = 0;
@@ -277,7 +268,7 @@ ParameterSettings parse_settings(const std::vector<std::string>& settings) {
     const auto equals = setting.find('=');
     const auto value = equals == std::string::npos || equals == 0
                            ? std::nullopt
-                           : parse_number(std::string_view(setting).substr(equals + 1));
+                           : parse_plain_number(std::string_view(setting).substr(equals + 1));
     if (!value) throw UsageError("--set '" + setting + "': write NAME=VALUE with a finite number, e.g. x=0.1");
     if (!parsed.emplace(setting.substr(0, equals), *value).second)
       throw UsageError("--set '" + setting + "': the parameter is set twice");

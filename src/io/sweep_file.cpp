@@ -13,6 +13,8 @@
 
 namespace stiffmsa {
 
+std::optional<double> parse_plain_number(std::string_view text) { return detail::plain_number(text); }
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

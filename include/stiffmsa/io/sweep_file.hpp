@@ -18,6 +18,10 @@ namespace stiffmsa {
 PoseTable read_pose_table(const std::filesystem::path& file);
 PoseTable parse_pose_table(std::string_view text, const std::string& file_name);
 
+// A number as pose files, grids and `--set` values write it: all of the text is a finite
+// decimal number, with an optional leading '+'.
+std::optional<double> parse_plain_number(std::string_view text);
+
 // The columns of a sweep's result, after the swept parameters, `status` and `message`:
 // per end effector E, E.k_trans_min … E.deflection_rot, and with `full` E.C11 … E.K66.
 enum class SweepQuantity {
