@@ -409,6 +409,13 @@ TEST(PoseFile, DefectsNameTheLineAndColumn) {
   EXPECT_THROW(parse_pose_table("x\ninf\n", "p.csv"), InputError);
 }
 
+TEST(PoseFile, PlainNumbersAreWholeFiniteDecimals) {
+  EXPECT_EQ(parse_plain_number("+1.5"), 1.5);
+  EXPECT_EQ(parse_plain_number("-2e-3"), -2e-3);
+  for (const char* text : {"", "+", "1.5x", " 1", "nan", "inf", "1e999", "0x10", "--1"})
+    EXPECT_FALSE(parse_plain_number(text).has_value()) << text;
+}
+
 TEST(PoseFile, SweepOverListedPosesMatchesTheGrid) {
   const PoseTable listed = parse_pose_table("y,x\n0.3,0.5\n0.2,0.4\n", "p.csv");
   const SweepResult s = sweep(three_rpr(), listed);
