@@ -2,7 +2,9 @@
 // Which link end sits at a named point: the one rule that loads, end effectors, joints,
 // supports and the topology all use.
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -17,15 +19,39 @@ struct LinkEndRef {
   bool operator==(const LinkEndRef&) const = default;
 };
 
+// Names to the position of the first entity that bears them. Open addressing in one array:
+// validation and the topology build these on every solve, and a node-based map would allocate
+// once per name. Views the names, which must outlive it.
+class NameTable {
+ public:
+  explicit NameTable(std::size_t names);
+  // Records `name` at `position` unless an earlier position holds it; returns the position
+  // that holds it now.
+  int insert(std::string_view name, int position);
+  int find(std::string_view name) const;  // −1 when absent
+
+ private:
+  struct Slot {
+    std::string_view name;
+    int position = -1;  // −1: empty
+  };
+  std::size_t home(std::string_view name) const;
+  std::vector<Slot> slots_;  // a power of two in size, at most half full
+};
+
 // Name lookups of a model built once, for work that would otherwise scan the model per item
 // (large models have 100 000 links). Refers to the model, which must outlive it.
 class ModelIndex {
  public:
   explicit ModelIndex(const Model& model);
-  const Point* point(const std::string& name) const;
-  int link(const std::string& name) const;  // −1 when absent
+  const Point* point(std::string_view name) const;
+  int point_position(std::string_view name) const { return points_.find(name); }  // −1 when absent
+  int link(std::string_view name) const;  // −1 when absent
+  // The position of the point at link end `end_id`, −1 where the link names no point.
+  int point_of_end(int end_id) const { return point_of_end_[static_cast<std::size_t>(end_id)]; }
   // Every link end at `point`, in link order.
-  const std::vector<LinkEndRef>& ends_at(const std::string& point) const;
+  std::span<const LinkEndRef> ends_at(std::string_view point) const;
+  std::span<const LinkEndRef> ends_at(int point_position) const;
   // The link end meant by `{at: point, link: name}` (name optional). Sets `problem` to a
   // sentence and returns nullopt when there is no such end or the choice is ambiguous.
   std::optional<LinkEndRef> resolve(const std::string& point, const std::optional<std::string>& link_name,
@@ -33,8 +59,14 @@ class ModelIndex {
 
  private:
   const Model& model_;
-  std::unordered_map<std::string, int> points_, links_;
-  std::unordered_map<std::string, std::vector<LinkEndRef>> ends_;
+  NameTable points_, links_;
+  std::vector<int> point_of_end_;
+  // The link ends grouped by point (the first of a repeated name), each group in link order;
+  // group p is ends_[first_end_[p] .. first_end_[p + 1]).
+  std::vector<int> first_end_;
+  std::vector<LinkEndRef> ends_;
+  // Ends at names that are no point: only an invalid model has them.
+  std::unordered_map<std::string_view, std::vector<LinkEndRef>> ends_at_unknown_points_;
 };
 
 }  // namespace stiffmsa::detail
