@@ -11,37 +11,36 @@ LinkEndRef end_of_id(int id) { return {id / 2, id % 2 == 0 ? LinkEnd::from : Lin
 
 NameTable::NameTable(std::size_t names) : slots_(std::bit_ceil(2 * names + 1)) {}
 
-std::size_t NameTable::home(std::string_view name) const {
-  return std::hash<std::string_view>{}(name) & (slots_.size() - 1);
-}
-
 int NameTable::insert(std::string_view name, int position) {
-  for (std::size_t s = home(name);; s = (s + 1) & (slots_.size() - 1)) {
+  const std::size_t hash = std::hash<std::string_view>{}(name);
+  for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
     Slot& slot = slots_[s];
     if (slot.position < 0) {
-      slot = {name, position};
+      slot = {name, hash, position};
       return position;
     }
-    if (slot.name == name) return slot.position;
+    if (slot.hash == hash && slot.name == name) return slot.position;
   }
 }
 
 int NameTable::find(std::string_view name) const {
-  for (std::size_t s = home(name);; s = (s + 1) & (slots_.size() - 1)) {
+  const std::size_t hash = std::hash<std::string_view>{}(name);
+  for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
     const Slot& slot = slots_[s];
     if (slot.position < 0) return -1;
-    if (slot.name == name) return slot.position;
+    if (slot.hash == hash && slot.name == name) return slot.position;
   }
 }
 
 ModelIndex::ModelIndex(const Model& model)
     : model_(model), points_(model.points.size()), links_(model.links.size()) {
-  for (std::size_t i = 0; i < model.points.size(); ++i) points_.insert(model.points[i].name, static_cast<int>(i));
+  for (std::size_t i = 0; i < model.points.size(); ++i)
+    if (points_.insert(model.points[i].name, static_cast<int>(i)) != static_cast<int>(i)) names_repeat_ = true;
   point_of_end_.reserve(2 * model.links.size());
   first_end_.assign(model.points.size() + 1, 0);
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     const Link& l = model.links[i];
-    links_.insert(l.name, static_cast<int>(i));
+    if (links_.insert(l.name, static_cast<int>(i)) != static_cast<int>(i)) names_repeat_ = true;
     for (const std::string* name : {&l.from, &l.to}) {
       const int p = points_.find(*name);
       point_of_end_.push_back(p);

@@ -33,9 +33,9 @@ class NameTable {
  private:
   struct Slot {
     std::string_view name;
-    int position = -1;  // −1: empty
+    std::size_t hash = 0;  // compared first, so that a probe past other names skips their text
+    int position = -1;     // −1: empty
   };
-  std::size_t home(std::string_view name) const;
   std::vector<Slot> slots_;  // a power of two in size, at most half full
 };
 
@@ -46,6 +46,8 @@ class ModelIndex {
   explicit ModelIndex(const Model& model);
   const Point* point(std::string_view name) const;
   int point_position(std::string_view name) const { return points_.find(name); }  // −1 when absent
+  // Whether two points or two links share a name (then a name finds the first of them).
+  bool names_repeat() const { return names_repeat_; }
   int link(std::string_view name) const;  // −1 when absent
   // The position of the point at link end `end_id`, −1 where the link names no point.
   int point_of_end(int end_id) const { return point_of_end_[static_cast<std::size_t>(end_id)]; }
@@ -60,6 +62,7 @@ class ModelIndex {
  private:
   const Model& model_;
   NameTable points_, links_;
+  bool names_repeat_ = false;
   std::vector<int> point_of_end_;
   // The link ends grouped by point (the first of a repeated name), each group in link order;
   // group p is ends_[first_end_[p] .. first_end_[p + 1]).

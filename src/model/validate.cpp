@@ -193,11 +193,13 @@ class Checker {
   }
 
   std::vector<Diagnostic> run() {
-    check_names(model_.points, kPoints,
-                [&](std::size_t i) { return index_.point_position(model_.points[i].name) != static_cast<int>(i); });
+    check_names(model_.points, kPoints, [&](std::size_t i) {
+      return index_.names_repeat() && index_.point_position(model_.points[i].name) != static_cast<int>(i);
+    });
     for (std::size_t i = 0; i < model_.points.size(); ++i) check_point(i);
-    check_names(model_.links, kLinks,
-                [&](std::size_t i) { return index_.link(model_.links[i].name) != static_cast<int>(i); });
+    check_names(model_.links, kLinks, [&](std::size_t i) {
+      return index_.names_repeat() && index_.link(model_.links[i].name) != static_cast<int>(i);
+    });
     if (model_.links.empty())
       report(Subject{nullptr, nullptr, 0, &model_origin_}, "links",
              "the model has no links; add at least one link");
@@ -261,7 +263,15 @@ class Checker {
   }
 
   bool point_exists(const Subject& s, const Key& key, const std::string& point) {
-    if (index_.point(point)) return true;
+    return index_.point(point) || report_no_point(s, key, point);
+  }
+
+  // For a link's ends, whose points the index has looked up already.
+  bool point_exists(const Subject& s, const Key& key, int end_id, const std::string& point) {
+    return index_.point_of_end(end_id) >= 0 || report_no_point(s, key, point);
+  }
+
+  bool report_no_point(const Subject& s, const Key& key, const std::string& point) {
     if (!point_names_) point_names_ = names_of(model_.points);
     report(s, key.str(), no_such(kPoints, point, *point_names_));
     return false;
@@ -347,12 +357,15 @@ class Checker {
   void check_link(std::size_t index) {
     const Link& link = model_.links[index];
     const Subject s = subject_of(kLinks, link, index);
-    const bool from_known = point_exists(s, "from", link.from);
-    const bool to_known = point_exists(s, "to", link.to);
+    const int from_end = 2 * static_cast<int>(index), to_end = from_end + 1;
+    const bool from_known = point_exists(s, "from", from_end, link.from);
+    const bool to_known = point_exists(s, "to", to_end, link.to);
     std::optional<Vec3> d;  // from → to, where both points are known and usable
     if (from_known && to_known) {
-      const Vec3 span =
-          index_.point(link.to)->position - index_.point(link.from)->position;
+      const auto position = [&](int end) {
+        return model_.points[static_cast<std::size_t>(index_.point_of_end(end))].position;
+      };
+      const Vec3 span = position(to_end) - position(from_end);
       if (span.allFinite()) d = span;
     }
     if (const auto* beam = std::get_if<BeamLink>(&link.kind)) {
@@ -596,7 +609,8 @@ class Checker {
   void check_points_partly_named() {
     for (std::size_t i = 0; i < model_.points.size(); ++i) {
       const Point& point = model_.points[i];
-      const auto ends = index_.ends_at(point.name);
+      // With every name once, point i is the one its name finds.
+      const auto ends = index_.names_repeat() ? index_.ends_at(point.name) : index_.ends_at(static_cast<int>(i));
       const auto named = [&](const detail::LinkEndRef& end) {
         return end_owner_[static_cast<std::size_t>(end.id())].noun != nullptr;
       };
