@@ -9,17 +9,25 @@ namespace {
 LinkEndRef end_of_id(int id) { return {id / 2, id % 2 == 0 ? LinkEnd::from : LinkEnd::to}; }
 }  // namespace
 
-NameTable::NameTable(std::size_t names) : slots_(std::bit_ceil(2 * names + 1)) {}
+NameTable::NameTable(std::size_t names) : slots_(std::bit_ceil(2 * names + 1)) { names_.reserve(names); }
 
-int NameTable::insert(std::string_view name, int position) {
+namespace {
+// The slot index comes from the hash's low bits, the check value from its high ones.
+std::uint32_t check_value(std::size_t hash) { return static_cast<std::uint32_t>(static_cast<std::uint64_t>(hash) >> 32); }
+}  // namespace
+
+int NameTable::add(std::string_view name) {
+  const auto position = static_cast<int>(names_.size());
+  names_.push_back(name);
   const std::size_t hash = std::hash<std::string_view>{}(name);
   for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
     Slot& slot = slots_[s];
     if (slot.position < 0) {
-      slot = {name, hash, position};
+      slot = {check_value(hash), position};
       return position;
     }
-    if (slot.hash == hash && slot.name == name) return slot.position;
+    if (slot.hash == check_value(hash) && names_[static_cast<std::size_t>(slot.position)] == name)
+      return slot.position;
   }
 }
 
@@ -28,19 +36,20 @@ int NameTable::find(std::string_view name) const {
   for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
     const Slot& slot = slots_[s];
     if (slot.position < 0) return -1;
-    if (slot.hash == hash && slot.name == name) return slot.position;
+    if (slot.hash == check_value(hash) && names_[static_cast<std::size_t>(slot.position)] == name)
+      return slot.position;
   }
 }
 
 ModelIndex::ModelIndex(const Model& model)
     : model_(model), points_(model.points.size()), links_(model.links.size()) {
   for (std::size_t i = 0; i < model.points.size(); ++i)
-    if (points_.insert(model.points[i].name, static_cast<int>(i)) != static_cast<int>(i)) names_repeat_ = true;
+    if (points_.add(model.points[i].name) != static_cast<int>(i)) names_repeat_ = true;
   point_of_end_.reserve(2 * model.links.size());
   first_end_.assign(model.points.size() + 1, 0);
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     const Link& l = model.links[i];
-    if (links_.insert(l.name, static_cast<int>(i)) != static_cast<int>(i)) names_repeat_ = true;
+    if (links_.add(l.name) != static_cast<int>(i)) names_repeat_ = true;
     for (const std::string* name : {&l.from, &l.to}) {
       const int p = points_.find(*name);
       point_of_end_.push_back(p);

@@ -1,6 +1,7 @@
 #pragma once
 // Which link end sits at a named point: the one rule that loads, end effectors, joints,
 // supports and the topology all use.
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -19,24 +20,25 @@ struct LinkEndRef {
   bool operator==(const LinkEndRef&) const = default;
 };
 
-// Names to the position of the first entity that bears them. Open addressing in one array:
-// validation and the topology build these on every solve, and a node-based map would allocate
-// once per name. Views the names, which must outlive it.
+// Names to the position of the first entity that bears them, the position being the order in
+// which the names were added. Open addressing: validation and the topology build these on
+// every solve, and a node-based map would allocate once per name. The slots hold no text, so
+// that a table of 100 000 names stays small enough for the cache. Views the names, which must
+// outlive it.
 class NameTable {
  public:
-  explicit NameTable(std::size_t names);
-  // Records `name` at `position` unless an earlier position holds it; returns the position
-  // that holds it now.
-  int insert(std::string_view name, int position);
+  explicit NameTable(std::size_t names);  // room for `names` names, no more
+  // Adds `name` as the next position; returns the position of its first bearer.
+  int add(std::string_view name);
   int find(std::string_view name) const;  // −1 when absent
 
  private:
   struct Slot {
-    std::string_view name;
-    std::size_t hash = 0;  // compared first, so that a probe past other names skips their text
-    int position = -1;     // −1: empty
+    std::uint32_t hash = 0;  // a part of the name's hash, compared before the text
+    int position = -1;       // −1: empty
   };
   std::vector<Slot> slots_;  // a power of two in size, at most half full
+  std::vector<std::string_view> names_;  // per position
 };
 
 // Name lookups of a model built once, for work that would otherwise scan the model per item

@@ -165,7 +165,7 @@ class RepeatFinder {
   RepeatFinder(std::size_t count, NameOf name_of) : name_of_(std::move(name_of)) {
     if (count <= kScanLimit) return;
     table_.emplace(count);
-    for (std::size_t i = 0; i < count; ++i) table_->insert(name_of_(i), static_cast<int>(i));
+    for (std::size_t i = 0; i < count; ++i) table_->add(name_of_(i));
   }
 
   bool operator()(std::size_t i) const {
