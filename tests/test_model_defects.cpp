@@ -649,6 +649,27 @@ TEST(ModelDefects, ApiNamesMustBeUniqueAndNonEmptyAndWrenchesFinite) {
   EXPECT_TRUE(has_defect(defects, "end_effectors.tip", {"another end effector is named 'tip'"}));
 }
 
+// Long lists are checked for repeats through a table, short ones by a scan: both say the same.
+TEST(ModelDefects, RepeatsAreFoundInLongListsToo) {
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  std::vector<std::string> links;
+  for (int i = 0; i < 20; ++i) {
+    const std::string name = "L" + std::to_string(i);
+    m.add_point("P" + std::to_string(i), Vec3(1, i, 0));
+    m.add_rigid_link(name, "O", "P" + std::to_string(i));
+    links.push_back(name);
+  }
+  links.push_back("L7");
+  m.add_support("base", "O", links, Connection{Kinematics::rigid()});
+  for (int i = 0; i < 20; ++i)
+    m.add_end_effector(i == 17 ? "E3" : "E" + std::to_string(i), "P" + std::to_string(i));
+  const auto defects = find_defects(m);
+  EXPECT_TRUE(has_defect(defects, "supports.base.links[20]", {"link 'L7' is listed twice"})) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "end_effectors.E3", {"another end effector is named 'E3'"})) << listing(defects);
+  EXPECT_EQ(defects.size(), 2u) << listing(defects);
+}
+
 // ---- matrix and compliance links ---------------------------------------------------------
 
 // A 12×12 free-free axial spring along local x between the link's ends.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <span>
 
 namespace stiffmsa::detail {
 
@@ -16,13 +17,51 @@ void throw_topology_changed() {
 
 namespace {
 
-class PositionRecorder final : public EquationWriter {
+// The first pass over the blocks' writes: how many land in each column, and whether any
+// lands outside the system. Knowing the counts, the second pass can put every write straight
+// into its column (a counting sort without a record of all columns), in memory of exact size.
+class ColumnCounter final : public EquationWriter {
  public:
-  std::vector<int> rows, columns;
+  explicit ColumnCounter(Index unknowns)
+      : column_start(static_cast<std::size_t>(unknowns) + 1, 0), unknowns_(unknowns) {}
   void add(Index row, Index column, double) override {
-    rows.push_back(static_cast<int>(row));
-    columns.push_back(static_cast<int>(column));
+    if (row < 0 || row >= unknowns_ || column < 0 || column >= unknowns_) {
+      outside = true;
+      return;
+    }
+    ++column_start[static_cast<std::size_t>(column) + 1];
+    ++writes;
   }
+
+  std::vector<int> column_start;  // per column: its writes' count, at the next column's index
+  std::size_t writes = 0;
+  bool outside = false;
+
+ private:
+  Index unknowns_;
+};
+
+// A write's row and its number in the writing order.
+struct Position {
+  int row;
+  int write;
+};
+
+// The second pass: every write into its column's range of `by_column`. The blocks write the
+// same positions in the same order on every pass (element_block.hpp), so the ranges fit.
+class ColumnSorter final : public EquationWriter {
+ public:
+  ColumnSorter(std::vector<int>& next_in_column, std::vector<Position>& by_column)
+      : next_(next_in_column), by_column_(by_column) {}
+  void add(Index row, Index column, double) override {
+    by_column_[static_cast<std::size_t>(next_[static_cast<std::size_t>(column)]++)] = {static_cast<int>(row),
+                                                                                       written_++};
+  }
+
+ private:
+  std::vector<int>& next_;
+  std::vector<Position>& by_column_;
+  int written_ = 0;
 };
 
 // Checks every write against the recorded sequence: write k must land in slot slots[k], the
@@ -54,43 +93,51 @@ class ValueWriter final : public EquationWriter {
 }  // namespace
 
 Assembler::Assembler(const Blocks& blocks, Index unknowns) : unknowns_(unknowns) {
-  PositionRecorder recorder;
+  ColumnCounter counter(unknowns);
+  first_rows_.reserve(blocks.size());
   Index row = 0;
   for (const auto& block : blocks) {
     first_rows_.push_back(row);
-    block->write_equations(row, recorder);
+    block->write_equations(row, counter);
     row += block->equation_count();
   }
   if (row != unknowns)
     throw Error("internal error: the element blocks give " + std::to_string(row) +
                 " equations for " + std::to_string(unknowns) + " unknowns");
-  const std::vector<int>& rows = recorder.rows;
-  const std::vector<int>& columns = recorder.columns;
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    if (rows[k] < 0 || rows[k] >= unknowns || columns[k] < 0 || columns[k] >= unknowns)
-      throw Error("internal error: an element block writes outside the system");
+  if (counter.outside) throw Error("internal error: an element block writes outside the system");
 
-  // The positions by column (a counting sort: linear in their number), each column's by row;
-  // repeated positions share one slot.
-  const auto n = static_cast<std::size_t>(unknowns);
-  std::vector<int> column_start(n + 1, 0);
-  for (int c : columns) ++column_start[static_cast<std::size_t>(c) + 1];
+  // The writes by column, each column's by row; repeated positions share one slot.
+  std::vector<int>& column_start = counter.column_start;
   std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
-  std::vector<int> order(rows.size());
+  std::vector<Position> by_column(counter.writes);
   {
-    std::vector<int> next(column_start.begin(), column_start.end() - 1);
-    for (std::size_t k = 0; k < columns.size(); ++k)
-      order[static_cast<std::size_t>(next[static_cast<std::size_t>(columns[k])]++)] = static_cast<int>(k);
+    // Filling advances each column's start to its end, which is the next column's start: one
+    // shift afterwards restores the starts without a second array of them.
+    ColumnSorter sorter(column_start, by_column);
+    for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b]->write_equations(first_rows_[b], sorter);
+    std::copy_backward(column_start.begin(), column_start.end() - 1, column_start.end());
+    column_start.front() = 0;
   }
-  slots_.assign(rows.size(), -1);
-  outer_.assign(n + 1, 0);
+  const auto n = static_cast<std::size_t>(unknowns);
+  const auto column = [&](std::size_t j) {
+    return std::span<Position>(by_column).subspan(static_cast<std::size_t>(column_start[j]),
+                                                  static_cast<std::size_t>(column_start[j + 1] - column_start[j]));
+  };
+  std::size_t stored = 0;
   for (std::size_t j = 0; j < n; ++j) {
-    const auto begin = order.begin() + column_start[j], end = order.begin() + column_start[j + 1];
-    std::sort(begin, end, [&](int a, int b) { return rows[static_cast<std::size_t>(a)] < rows[static_cast<std::size_t>(b)]; });
-    for (auto k = begin; k != end; ++k) {
-      const int r = rows[static_cast<std::size_t>(*k)];
-      if (k == begin || r != rows[static_cast<std::size_t>(*(k - 1))]) inner_.push_back(r);
-      slots_[static_cast<std::size_t>(*k)] = static_cast<int>(inner_.size()) - 1;
+    const auto writes = column(j);
+    std::sort(writes.begin(), writes.end(), [](const Position& a, const Position& b) { return a.row < b.row; });
+    for (std::size_t k = 0; k < writes.size(); ++k)
+      if (k == 0 || writes[k].row != writes[k - 1].row) ++stored;
+  }
+  slots_.assign(counter.writes, -1);
+  outer_.assign(n + 1, 0);
+  inner_.reserve(stored);
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto writes = column(j);
+    for (std::size_t k = 0; k < writes.size(); ++k) {
+      if (k == 0 || writes[k].row != writes[k - 1].row) inner_.push_back(writes[k].row);
+      slots_[static_cast<std::size_t>(writes[k].write)] = static_cast<int>(inner_.size()) - 1;
     }
     outer_[j + 1] = static_cast<int>(inner_.size());
   }

@@ -1,7 +1,5 @@
 #include "assembly/topology.hpp"
 
-#include <string_view>
-#include <unordered_map>
 #include <type_traits>
 
 #include "elements/beam_element.hpp"
@@ -18,29 +16,40 @@ namespace {
   throw InputError(origin.location, std::move(key_path), std::move(message));
 }
 
+// The key path of a joint, support or end effector ("joints.A1"), spelt out only on failure.
+struct EntityPath {
+  const char* collection;
+  const std::string& name;
+  std::string str() const { return std::string(collection) + "." + name; }
+};
+
 std::vector<int> named_ends(const ModelIndex& index, const std::string& point,
                             const std::vector<std::string>& link_names, const Origin& origin,
-                            const std::string& key_path) {
+                            const EntityPath& path) {
   std::vector<int> ends;
   if (link_names.empty()) {
-    for (const auto& e : index.ends_at(point)) ends.push_back(e.id());
-    if (ends.empty()) fail(origin, key_path, "no link end is at point '" + point + "'");
+    const auto at_point = index.ends_at(point);
+    if (at_point.empty()) fail(origin, path.str(), "no link end is at point '" + point + "'");
+    ends.reserve(at_point.size());
+    for (const auto& e : at_point) ends.push_back(e.id());
     return ends;
   }
+  ends.reserve(link_names.size());
   for (const auto& name : link_names) {
     std::string problem;
     const auto end = index.resolve(point, name, problem);
-    if (!end) fail(origin, key_path + ".links", problem);
+    if (!end) fail(origin, path.str() + ".links", problem);
     ends.push_back(end->id());
   }
   return ends;
 }
 
+template <class KeyPath>
 int end_of(const ModelIndex& index, const std::string& point, const std::optional<std::string>& link,
-           const Origin& origin, const std::string& key_path) {
+           const Origin& origin, const KeyPath& key_path) {
   std::string problem;
   const auto end = index.resolve(point, link, problem);
-  if (!end) fail(origin, key_path, problem);
+  if (!end) fail(origin, key_path(), problem);
   return end->id();
 }
 
@@ -51,20 +60,25 @@ Topology build_topology(const Model& model) {
   Topology t;
   t.link_count = static_cast<int>(model.links.size());
   t.group_of_end.assign(static_cast<std::size_t>(t.end_count()), -1);
-  t.end_points.reserve(static_cast<std::size_t>(t.end_count()));
-  for (const Link& link : model.links)
-    for (const std::string* point : {&link.from, &link.to}) {
-      const Point* p = index.point(*point);
-      if (!p) fail(link.origin, "links." + link.name, "no point named '" + *point + "'");
-      t.end_points.push_back(static_cast<int>(p - model.points.data()));
+  t.end_points.resize(static_cast<std::size_t>(t.end_count()));
+  for (int end = 0; end < t.end_count(); ++end) {
+    const int point = index.point_of_end(end);
+    if (point < 0) {
+      const Link& link = model.links[static_cast<std::size_t>(end / 2)];
+      fail(link.origin, "links." + link.name,
+           "no point named '" + (end % 2 == 0 ? link.from : link.to) + "'");
     }
+    t.end_points[static_cast<std::size_t>(end)] = point;
+  }
 
-  auto claim = [&](ConnectionGroup group, const Origin& origin, const std::string& key_path) {
+  // Every link end is in one group; the joints and supports, then one per point at most.
+  t.groups.reserve(model.joints.size() + model.supports.size() + model.points.size());
+  auto claim = [&](ConnectionGroup group, const Origin& origin, const auto& key_path) {
     const int index = static_cast<int>(t.groups.size());
     for (int end : group.ends) {
       int& owner = t.group_of_end[static_cast<std::size_t>(end)];
       if (owner >= 0)
-        fail(origin, key_path, "the end of link '" + model.links[static_cast<std::size_t>(end / 2)].name +
+        fail(origin, key_path(), "the end of link '" + model.links[static_cast<std::size_t>(end / 2)].name +
                                    "' at '" + group.point + "' is already held by another joint or support");
       owner = index;
     }
@@ -73,54 +87,58 @@ Topology build_topology(const Model& model) {
 
   for (std::size_t j = 0; j < model.joints.size(); ++j) {
     const Joint& joint = model.joints[j];
-    const std::string path = "joints." + joint.name;
+    const EntityPath path{"joints", joint.name};
     claim({ConnectionGroup::Kind::joint, static_cast<int>(j), joint.at,
            named_ends(index, joint.at, joint.links, joint.origin, path)},
-          joint.origin, path);
+          joint.origin, [&] { return path.str(); });
   }
   for (std::size_t s = 0; s < model.supports.size(); ++s) {
     const Support& support = model.supports[s];
-    const std::string path = "supports." + support.name;
+    const EntityPath path{"supports", support.name};
     claim({ConnectionGroup::Kind::support, static_cast<int>(s), support.at,
            named_ends(index, support.at, support.links, support.origin, path)},
-          support.origin, path);
+          support.origin, [&] { return path.str(); });
   }
 
-  // Link ends named nowhere: rigidly connected at their point, or free when alone there.
-  std::unordered_map<std::string_view, std::vector<int>> unnamed_by_point;
-  std::vector<std::string_view> point_order;
-  for (int end = 0; end < t.end_count(); ++end) {
-    if (t.group_of_end[static_cast<std::size_t>(end)] >= 0) continue;
-    const Link& link = model.links[static_cast<std::size_t>(end / 2)];
-    const std::string& point = (end % 2 == 0) ? link.from : link.to;
-    auto [it, inserted] = unnamed_by_point.try_emplace(point);
-    if (inserted) point_order.push_back(point);
-    it->second.push_back(end);
-  }
-  for (const std::string_view point_name : point_order) {
-    const std::string point(point_name);
-    std::vector<int> ends = std::move(unnamed_by_point[point_name]);
-    for (const auto& e : index.ends_at(point))
-      if (t.group_of_end[static_cast<std::size_t>(e.id())] >= 0) {
-        const Point* p = index.point(point);
-        fail(p ? p->origin : Origin{}, "points." + point,
-             "some link ends at this point are held by a joint or support and others (link '" +
-                 model.links[static_cast<std::size_t>(ends.front() / 2)].name +
-                 "') by nothing; name every end at the point in a joint or support");
-      }
+  // Link ends named nowhere: rigidly connected at their point, or free when alone there. The
+  // points in the order of their first such end.
+  std::vector<bool> point_done(model.points.size(), false);
+  for (int first = 0; first < t.end_count(); ++first) {
+    if (t.group_of_end[static_cast<std::size_t>(first)] >= 0) continue;
+    const int point = t.end_points[static_cast<std::size_t>(first)];
+    if (point_done[static_cast<std::size_t>(point)]) continue;
+    point_done[static_cast<std::size_t>(point)] = true;
+    const Point& p = model.points[static_cast<std::size_t>(point)];
+    const auto at_point = index.ends_at(point);
+    std::vector<int> ends;
+    ends.reserve(at_point.size());
+    bool some_held = false;
+    for (const auto& e : at_point) {
+      if (t.group_of_end[static_cast<std::size_t>(e.id())] >= 0)
+        some_held = true;
+      else
+        ends.push_back(e.id());
+    }
+    if (some_held)
+      fail(p.origin, "points." + p.name,
+           "some link ends at this point are held by a joint or support and others (link '" +
+               model.links[static_cast<std::size_t>(first / 2)].name +
+               "') by nothing; name every end at the point in a joint or support");
     const auto kind = ends.size() == 1 ? ConnectionGroup::Kind::free_end
                                        : ConnectionGroup::Kind::rigid_connection;
-    claim({kind, -1, point, std::move(ends)}, {}, "points." + point);
+    claim({kind, -1, p.name, std::move(ends)}, {}, [&] { return "points." + p.name; });
   }
 
+  t.load_ends.reserve(model.loads.size());
   for (std::size_t i = 0; i < model.loads.size(); ++i) {
     const Load& load = model.loads[i];
     t.load_ends.push_back(end_of(index, load.at, load.link, load.origin,
-                                 "loads[" + std::to_string(i) + "]"));
+                                 [&] { return "loads[" + std::to_string(i) + "]"; }));
   }
+  t.effector_ends.reserve(model.end_effectors.size());
   for (const auto& effector : model.end_effectors)
     t.effector_ends.push_back(end_of(index, effector.at, effector.link, effector.origin,
-                                     "end_effectors." + effector.name));
+                                     [&] { return "end_effectors." + effector.name; }));
   return t;
 }
 

@@ -37,7 +37,7 @@ class ConstraintJointBlock final : public ElementBlock {
 //   Λ_p·W_1 − G·K·Λ_p·(Δt_2 − Δt_1) = Λ_p·W_ext,1 + G·w_0, G = Λ_pΛ_pᵀ    p
 class ElasticJointBlock final : public ElementBlock {
  public:
-  ElasticJointBlock(int end_1, int end_2, FreeDirections directions, MatX stiffness,
+  ElasticJointBlock(int end_1, int end_2, FreeDirections directions, const MatX& stiffness,
                     std::optional<VecX> preload);
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
@@ -47,7 +47,7 @@ class ElasticJointBlock final : public ElementBlock {
  private:
   int end_1_, end_2_;
   FreeDirections directions_;
-  MatX stiffness_;
+  MatX spring_;  // G·K·Λ_p: the same on every refill, so formed once
   std::optional<VecX> preload_;
 };
 
@@ -57,7 +57,7 @@ class ElasticJointBlock final : public ElementBlock {
 //   Λ_p·Σ W_k + G·K·Λ_p·Δt_1 = Λ_p·Σ W_ext,k + G·w_0            p  (K = 0 when not elastic)
 class SupportBlock final : public ElementBlock {
  public:
-  SupportBlock(std::vector<int> ends, FreeDirections directions, std::optional<MatX> stiffness,
+  SupportBlock(std::vector<int> ends, FreeDirections directions, const std::optional<MatX>& stiffness,
                std::optional<VecX> preload);
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   void write_equations(Index first_row, EquationWriter& out) const override;
@@ -67,7 +67,7 @@ class SupportBlock final : public ElementBlock {
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  std::optional<MatX> stiffness_;
+  std::optional<MatX> spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
   std::optional<VecX> preload_;
 };
 

@@ -5,11 +5,12 @@
 namespace stiffmsa::detail {
 
 ElasticJointBlock::ElasticJointBlock(int end_1, int end_2, FreeDirections directions,
-                                     MatX stiffness, std::optional<VecX> preload)
+                                     const MatX& stiffness, std::optional<VecX> preload)
     : end_1_(end_1),
       end_2_(end_2),
       directions_(std::move(directions)),
-      stiffness_(std::move(stiffness)),
+      // The spring resists q = Λ_p·(Δt_2 − Δt_1): it pulls end 1 along +q.
+      spring_(directions_.gram() * stiffness * directions_.free),
       preload_(std::move(preload)) {}
 
 void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
@@ -21,11 +22,9 @@ void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
   out.add_block(row, deflection_column(end_1_), lr);
   out.add_block(row, deflection_column(end_2_), -lr);
   row += lr.rows();
-  // The spring resists q = Λ_p·(Δt_2 − Δt_1): it pulls end 1 along +q.
-  const MatX spring = directions_.gram() * stiffness_ * lp;
   out.add_block(row, wrench_column(end_1_), lp);
-  out.add_block(row, deflection_column(end_1_), spring);
-  out.add_block(row, deflection_column(end_2_), -spring);
+  out.add_block(row, deflection_column(end_1_), spring_);
+  out.add_block(row, deflection_column(end_2_), -spring_);
 }
 
 void ElasticJointBlock::add_external_wrench(Index row, int end_id, const Vec6& wrench,

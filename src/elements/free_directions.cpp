@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <cmath>
+#include <initializer_list>
 
 namespace stiffmsa::detail {
 
@@ -43,34 +44,40 @@ void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
 }
 
 FreeDirections free_directions(const Kinematics& k) {
-  std::vector<Vec6> rows;
+  FreeDirections d;
+  // Written straight into Λ_p: this runs for every joint of every pose.
+  const auto set_rows = [&](std::initializer_list<Vec6> rows) {
+    d.free.resize(static_cast<Index>(rows.size()), 6);
+    Index i = 0;
+    for (const Vec6& row : rows) d.free.row(i++) = row.transpose();
+  };
   switch (k.type) {
-    case JointType::rigid: break;
-    case JointType::revolute: rows = {rotation_row(unit(k.axis, "axis"))}; break;
-    case JointType::prismatic: rows = {translation_row(unit(k.axis, "axis"))}; break;
+    case JointType::rigid: set_rows({}); break;
+    case JointType::revolute: set_rows({rotation_row(unit(k.axis, "axis"))}); break;
+    case JointType::prismatic: set_rows({translation_row(unit(k.axis, "axis"))}); break;
     case JointType::cylindrical: {
       const Vec3 a = unit(k.axis, "axis");
-      rows = {translation_row(a), rotation_row(a)};
+      set_rows({translation_row(a), rotation_row(a)});
       break;
     }
     case JointType::universal:
-      rows = {rotation_row(unit(k.axis, "axes[0]")), rotation_row(unit(k.axis_b, "axes[1]"))};
+      set_rows({rotation_row(unit(k.axis, "axes[0]")), rotation_row(unit(k.axis_b, "axes[1]"))});
       break;
     case JointType::spherical:
-      rows = {rotation_row(Vec3::UnitX()), rotation_row(Vec3::UnitY()), rotation_row(Vec3::UnitZ())};
+      set_rows({rotation_row(Vec3::UnitX()), rotation_row(Vec3::UnitY()), rotation_row(Vec3::UnitZ())});
       break;
     case JointType::planar: {
       Vec3 t1, t2;
       planar_axes(k.normal, t1, t2);
-      rows = {translation_row(t1), translation_row(t2), rotation_row(unit(k.normal, "normal"))};
+      set_rows({translation_row(t1), translation_row(t2), rotation_row(unit(k.normal, "normal"))});
       break;
     }
-    case JointType::custom: rows = k.free_rows; break;
+    case JointType::custom:
+      d.free.resize(static_cast<Index>(k.free_rows.size()), 6);
+      for (std::size_t i = 0; i < k.free_rows.size(); ++i) d.free.row(static_cast<Index>(i)) = k.free_rows[i].transpose();
+      break;
   }
-  const Index p = static_cast<Index>(rows.size());
-  FreeDirections d;
-  d.free.resize(p, 6);
-  for (Index i = 0; i < p; ++i) d.free.row(i) = rows[static_cast<std::size_t>(i)].transpose();
+  const Index p = d.free.rows();
   if (p == 0) {
     d.constrained = MatX::Identity(6, 6);
     return d;

@@ -5,11 +5,12 @@
 namespace stiffmsa::detail {
 
 SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
-                           std::optional<MatX> stiffness, std::optional<VecX> preload)
+                           const std::optional<MatX>& stiffness, std::optional<VecX> preload)
     : ends_(std::move(ends)),
       directions_(std::move(directions)),
-      stiffness_(std::move(stiffness)),
-      preload_(std::move(preload)) {}
+      preload_(std::move(preload)) {
+  if (stiffness) spring_ = directions_.gram() * *stiffness * directions_.free;
+}
 
 void SupportBlock::write_equations(Index row, EquationWriter& out) const {
   const MatX& lr = directions_.constrained;
@@ -28,7 +29,7 @@ void SupportBlock::write_equations(Index row, EquationWriter& out) const {
   row += r;
   if (p == 0) return;
   for (int end : ends_) out.add_block(row, wrench_column(end), lp);
-  if (stiffness_) out.add_block(row, deflection_column(first), directions_.gram() * *stiffness_ * lp);
+  if (spring_) out.add_block(row, deflection_column(first), *spring_);
 }
 
 void SupportBlock::add_external_wrench(Index row, int, const Vec6& wrench, VecX& rhs) const {

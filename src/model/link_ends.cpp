@@ -1,44 +1,91 @@
 #include "model/link_ends.hpp"
 
+#include <bit>
+#include <functional>
+
 namespace stiffmsa::detail {
 
 namespace {
-// The ends of link number `link` at `point`: none, one, or both (a link from a point to itself).
-std::vector<LinkEndRef> ends_of_link_at(const Model& model, int link, const std::string& point) {
-  std::vector<LinkEndRef> ends;
-  const Link& l = model.links[static_cast<std::size_t>(link)];
-  if (l.from == point) ends.push_back({link, LinkEnd::from});
-  if (l.to == point) ends.push_back({link, LinkEnd::to});
-  return ends;
-}
+LinkEndRef end_of_id(int id) { return {id / 2, id % 2 == 0 ? LinkEnd::from : LinkEnd::to}; }
 }  // namespace
 
-ModelIndex::ModelIndex(const Model& model) : model_(model) {
-  points_.reserve(model.points.size());
-  for (std::size_t i = 0; i < model.points.size(); ++i) points_.try_emplace(model.points[i].name, static_cast<int>(i));
-  links_.reserve(model.links.size());
-  for (std::size_t i = 0; i < model.links.size(); ++i) {
-    const Link& l = model.links[i];
-    links_.try_emplace(l.name, static_cast<int>(i));
-    ends_[l.from].push_back({static_cast<int>(i), LinkEnd::from});
-    ends_[l.to].push_back({static_cast<int>(i), LinkEnd::to});
+NameTable::NameTable(std::size_t names) : slots_(std::bit_ceil(2 * names + 1)) { names_.reserve(names); }
+
+namespace {
+// The slot index comes from the hash's low bits, the check value from its high ones.
+std::uint32_t check_value(std::size_t hash) { return static_cast<std::uint32_t>(static_cast<std::uint64_t>(hash) >> 32); }
+}  // namespace
+
+int NameTable::add(std::string_view name) {
+  const auto position = static_cast<int>(names_.size());
+  names_.push_back(name);
+  const std::size_t hash = std::hash<std::string_view>{}(name);
+  for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
+    Slot& slot = slots_[s];
+    if (slot.position < 0) {
+      slot = {check_value(hash), position};
+      return position;
+    }
+    if (slot.hash == check_value(hash) && names_[static_cast<std::size_t>(slot.position)] == name)
+      return slot.position;
   }
 }
 
-const Point* ModelIndex::point(const std::string& name) const {
-  const auto it = points_.find(name);
-  return it == points_.end() ? nullptr : &model_.points[static_cast<std::size_t>(it->second)];
+int NameTable::find(std::string_view name) const {
+  const std::size_t hash = std::hash<std::string_view>{}(name);
+  for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
+    const Slot& slot = slots_[s];
+    if (slot.position < 0) return -1;
+    if (slot.hash == check_value(hash) && names_[static_cast<std::size_t>(slot.position)] == name)
+      return slot.position;
+  }
 }
 
-int ModelIndex::link(const std::string& name) const {
-  const auto it = links_.find(name);
-  return it == links_.end() ? -1 : it->second;
+ModelIndex::ModelIndex(const Model& model)
+    : model_(model), points_(model.points.size()), links_(model.links.size()) {
+  for (std::size_t i = 0; i < model.points.size(); ++i)
+    if (points_.add(model.points[i].name) != static_cast<int>(i)) names_repeat_ = true;
+  point_of_end_.reserve(2 * model.links.size());
+  first_end_.assign(model.points.size() + 1, 0);
+  for (std::size_t i = 0; i < model.links.size(); ++i) {
+    const Link& l = model.links[i];
+    if (links_.add(l.name) != static_cast<int>(i)) names_repeat_ = true;
+    for (const std::string* name : {&l.from, &l.to}) {
+      const int p = points_.find(*name);
+      point_of_end_.push_back(p);
+      if (p >= 0)
+        ++first_end_[static_cast<std::size_t>(p)];
+      else
+        ends_at_unknown_points_[*name].push_back(end_of_id(static_cast<int>(point_of_end_.size()) - 1));
+    }
+  }
+  // The counts summed up mark where each group ends; placing the ends last to first moves
+  // each mark down to where its group starts, and keeps every group in link order.
+  for (std::size_t p = 1; p < first_end_.size(); ++p) first_end_[p] += first_end_[p - 1];
+  ends_.resize(static_cast<std::size_t>(first_end_.back()));
+  for (auto id = static_cast<int>(point_of_end_.size()); id-- > 0;)
+    if (const int p = point_of_end_[static_cast<std::size_t>(id)]; p >= 0)
+      ends_[static_cast<std::size_t>(--first_end_[static_cast<std::size_t>(p)])] = end_of_id(id);
 }
 
-const std::vector<LinkEndRef>& ModelIndex::ends_at(const std::string& point) const {
-  static const std::vector<LinkEndRef> none;
-  const auto it = ends_.find(point);
-  return it == ends_.end() ? none : it->second;
+const Point* ModelIndex::point(std::string_view name) const {
+  const int p = points_.find(name);
+  return p < 0 ? nullptr : &model_.points[static_cast<std::size_t>(p)];
+}
+
+int ModelIndex::link(std::string_view name) const { return links_.find(name); }
+
+std::span<const LinkEndRef> ModelIndex::ends_at(int point_position) const {
+  const auto p = static_cast<std::size_t>(point_position);
+  return std::span<const LinkEndRef>(ends_).subspan(static_cast<std::size_t>(first_end_[p]),
+                                                    static_cast<std::size_t>(first_end_[p + 1] - first_end_[p]));
+}
+
+std::span<const LinkEndRef> ModelIndex::ends_at(std::string_view point) const {
+  if (const int p = points_.find(point); p >= 0) return ends_at(p);
+  const auto it = ends_at_unknown_points_.find(point);
+  if (it == ends_at_unknown_points_.end()) return {};
+  return it->second;
 }
 
 std::optional<LinkEndRef> ModelIndex::resolve(const std::string& point, const std::optional<std::string>& link_name,
@@ -49,18 +96,19 @@ std::optional<LinkEndRef> ModelIndex::resolve(const std::string& point, const st
       problem = "no link named '" + *link_name + "'";
       return std::nullopt;
     }
-    const auto ends = ends_of_link_at(model_, index, point);
-    if (ends.empty()) {
+    const Link& l = model_.links[static_cast<std::size_t>(index)];
+    const bool from_here = l.from == point, to_here = l.to == point;
+    if (!from_here && !to_here) {
       problem = "link '" + *link_name + "' has no end at point '" + point + "'";
       return std::nullopt;
     }
-    if (ends.size() > 1) {
+    if (from_here && to_here) {
       problem = "link '" + *link_name + "' has both ends at point '" + point + "'; the end cannot be chosen";
       return std::nullopt;
     }
-    return ends.front();
+    return LinkEndRef{index, from_here ? LinkEnd::from : LinkEnd::to};
   }
-  const auto& ends = ends_at(point);
+  const auto ends = ends_at(point);
   if (ends.empty()) {
     problem = "no link end is at point '" + point + "'";
     return std::nullopt;

@@ -1,8 +1,11 @@
 #pragma once
 // Which link end sits at a named point: the one rule that loads, end effectors, joints,
 // supports and the topology all use.
+#include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -17,15 +20,42 @@ struct LinkEndRef {
   bool operator==(const LinkEndRef&) const = default;
 };
 
+// Names to the position of the first entity that bears them, the position being the order in
+// which the names were added. Open addressing: validation and the topology build these on
+// every solve, and a node-based map would allocate once per name. The slots hold no text, so
+// that a table of 100 000 names stays small enough for the cache. Views the names, which must
+// outlive it.
+class NameTable {
+ public:
+  explicit NameTable(std::size_t names);  // room for `names` names, no more
+  // Adds `name` as the next position; returns the position of its first bearer.
+  int add(std::string_view name);
+  int find(std::string_view name) const;  // −1 when absent
+
+ private:
+  struct Slot {
+    std::uint32_t hash = 0;  // a part of the name's hash, compared before the text
+    int position = -1;       // −1: empty
+  };
+  std::vector<Slot> slots_;  // a power of two in size, at most half full
+  std::vector<std::string_view> names_;  // per position
+};
+
 // Name lookups of a model built once, for work that would otherwise scan the model per item
 // (large models have 100 000 links). Refers to the model, which must outlive it.
 class ModelIndex {
  public:
   explicit ModelIndex(const Model& model);
-  const Point* point(const std::string& name) const;
-  int link(const std::string& name) const;  // −1 when absent
+  const Point* point(std::string_view name) const;
+  int point_position(std::string_view name) const { return points_.find(name); }  // −1 when absent
+  // Whether two points or two links share a name (then a name finds the first of them).
+  bool names_repeat() const { return names_repeat_; }
+  int link(std::string_view name) const;  // −1 when absent
+  // The position of the point at link end `end_id`, −1 where the link names no point.
+  int point_of_end(int end_id) const { return point_of_end_[static_cast<std::size_t>(end_id)]; }
   // Every link end at `point`, in link order.
-  const std::vector<LinkEndRef>& ends_at(const std::string& point) const;
+  std::span<const LinkEndRef> ends_at(std::string_view point) const;
+  std::span<const LinkEndRef> ends_at(int point_position) const;
   // The link end meant by `{at: point, link: name}` (name optional). Sets `problem` to a
   // sentence and returns nullopt when there is no such end or the choice is ambiguous.
   std::optional<LinkEndRef> resolve(const std::string& point, const std::optional<std::string>& link_name,
@@ -33,8 +63,15 @@ class ModelIndex {
 
  private:
   const Model& model_;
-  std::unordered_map<std::string, int> points_, links_;
-  std::unordered_map<std::string, std::vector<LinkEndRef>> ends_;
+  NameTable points_, links_;
+  bool names_repeat_ = false;
+  std::vector<int> point_of_end_;
+  // The link ends grouped by point (the first of a repeated name), each group in link order;
+  // group p is ends_[first_end_[p] .. first_end_[p + 1]).
+  std::vector<int> first_end_;
+  std::vector<LinkEndRef> ends_;
+  // Ends at names that are no point: only an invalid model has them.
+  std::unordered_map<std::string_view, std::vector<LinkEndRef>> ends_at_unknown_points_;
 };
 
 }  // namespace stiffmsa::detail

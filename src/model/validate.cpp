@@ -8,8 +8,6 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <set>
 #include <sstream>
 #include <utility>
 
@@ -50,16 +48,34 @@ SourceLocation locate(const Origin& origin, std::string key) {
   return origin.location;
 }
 
-double max_abs(const MatX& m) { return m.size() == 0 ? 0.0 : m.cwiseAbs().maxCoeff(); }
+template <class Derived>
+double max_abs(const Eigen::MatrixBase<Derived>& m) {
+  return m.size() == 0 ? 0.0 : m.cwiseAbs().maxCoeff();
+}
 
 double spectral_norm(const MatX& m) {
   return m.size() == 0 ? 0.0 : Eigen::JacobiSVD<MatX>(m).singularValues()(0);
 }
 
-// Eigenvalues of the symmetric part, ascending.
-VecX symmetric_eigenvalues(const MatX& m) {
+// The extreme eigenvalues of the symmetric part.
+struct Spectrum {
+  double smallest = 0;
+  double largest = 0;
+  double largest_magnitude = 0;
+};
+
+template <class Derived>
+Spectrum symmetric_spectrum(const Eigen::MatrixBase<Derived>& m) {
+  // The stiffness of a revolute or prismatic joint is 1×1: the eigensolver would return the
+  // one entry of the symmetric part as it is, so take it without the solver's heap work.
+  if (m.rows() == 1 && m.cols() == 1) {
+    const double only = 0.5 * (m(0, 0) + m(0, 0));
+    return {only, only, std::abs(only)};
+  }
   const MatX symmetric = 0.5 * (m + m.transpose());
-  return Eigen::SelfAdjointEigenSolver<MatX>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
+  const VecX eigenvalues =
+      Eigen::SelfAdjointEigenSolver<MatX>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
+  return {eigenvalues(0), eigenvalues(eigenvalues.size() - 1), eigenvalues.cwiseAbs().maxCoeff()};
 }
 
 // The six rigid-body motions of a link as a 12×6 matrix: [u; D·u] over [Δt_from; Δt_to], the
@@ -82,22 +98,48 @@ constexpr Kind kJoints{"joints", "joint"};
 constexpr Kind kSupports{"supports", "support"};
 constexpr Kind kEndEffectors{"end_effectors", "end effector"};
 
-// The entity a diagnostic is about: its key path and where it was written.
+// The entity a diagnostic is about: where it was written and its key path ("links.arm", or
+// "links[3]" where it has no name), spelt out only when there is a defect to report.
 struct Subject {
-  std::string path;
+  const char* collection;   // "links"; nullptr for the model as a whole (path "")
+  const std::string* name;  // nullptr: the entity goes by its position
+  std::size_t position;
   const Origin* origin;
+
+  std::string path() const {
+    if (!collection) return "";
+    if (name) return std::string(collection) + "." + *name;
+    return std::string(collection) + "[" + std::to_string(position) + "]";
+  }
 };
 
 template <class Entity>
 Subject subject_of(const Kind& kind, const Entity& entity, std::size_t index) {
-  return {entity.name.empty() ? std::string(kind.path) + "[" + std::to_string(index) + "]"
-                              : std::string(kind.path) + "." + entity.name,
-          &entity.origin};
+  return {kind.path, entity.name.empty() ? nullptr : &entity.name, index, &entity.origin};
 }
+
+// A key within an entity ("axis", "free[2]"), spelt out only for a report.
+struct Key {
+  Key(const char* name) : name(name) {}  // NOLINT(google-explicit-constructor): keys are literals
+  Key(const char* name, std::size_t position) : name(name), position(position) {}
+  std::string str() const {
+    return position ? std::string(name) + "[" + std::to_string(*position) + "]" : std::string(name);
+  }
+  const char* name;
+  std::optional<std::size_t> position;
+};
+
+// Who holds a link end, for the message when a second taker claims it.
+struct Owner {
+  const char* noun = nullptr;  // "joint", "support"; nullptr while nobody holds the end
+  const std::string* name = nullptr;
+  std::string str() const { return std::string(noun) + " '" + *name + "'"; }
+};
 
 template <class Entity>
 std::vector<std::string> names_of(const std::vector<Entity>& entities) {
   std::vector<std::string> names;
+  names.reserve(entities.size());
   for (const auto& e : entities) names.push_back(e.name);
   return names;
 }
@@ -115,19 +157,52 @@ double extent(const Model& model) {
   return box ? box->diagonal().norm() : 0.0;
 }
 
+// Whether the i-th of `count` names repeats an earlier one. Joints list a few links and
+// models have a few joints, where a scan is cheaper than building a table; long lists get one.
+template <class NameOf>
+class RepeatFinder {
+ public:
+  RepeatFinder(std::size_t count, NameOf name_of) : name_of_(std::move(name_of)) {
+    if (count <= kScanLimit) return;
+    table_.emplace(count);
+    for (std::size_t i = 0; i < count; ++i) table_->add(name_of_(i));
+  }
+
+  bool operator()(std::size_t i) const {
+    const std::string_view name = name_of_(i);
+    if (table_) return table_->find(name) != static_cast<int>(i);
+    for (std::size_t earlier = 0; earlier < i; ++earlier)
+      if (name_of_(earlier) == name) return true;
+    return false;
+  }
+
+ private:
+  static constexpr std::size_t kScanLimit = 16;
+  NameOf name_of_;
+  std::optional<detail::NameTable> table_;
+};
+
 class Checker {
  public:
   explicit Checker(const Model& model)
-      : model_(model), index_(model), zero_length_(kLengthTolerance * std::max(1.0, extent(model))) {
+      : model_(model),
+        index_(model),
+        zero_length_(kLengthTolerance * std::max(1.0, extent(model))),
+        end_owner_(2 * model.links.size()) {
     model_origin_.location.file = model.source_file;
   }
 
   std::vector<Diagnostic> run() {
-    check_names(model_.points, kPoints);
+    check_names(model_.points, kPoints, [&](std::size_t i) {
+      return index_.names_repeat() && index_.point_position(model_.points[i].name) != static_cast<int>(i);
+    });
     for (std::size_t i = 0; i < model_.points.size(); ++i) check_point(i);
-    check_names(model_.links, kLinks);
+    check_names(model_.links, kLinks, [&](std::size_t i) {
+      return index_.names_repeat() && index_.link(model_.links[i].name) != static_cast<int>(i);
+    });
     if (model_.links.empty())
-      report(Subject{"", &model_origin_}, "links", "the model has no links; add at least one link");
+      report(Subject{nullptr, nullptr, 0, &model_origin_}, "links",
+             "the model has no links; add at least one link");
     for (std::size_t i = 0; i < model_.links.size(); ++i) check_link(i);
     check_names(model_.joints, kJoints);
     for (std::size_t i = 0; i < model_.joints.size(); ++i) check_joint(i);
@@ -142,25 +217,35 @@ class Checker {
 
  private:
   void report(const Subject& s, const std::string& key, std::string message) {
-    const std::string path = key.empty() ? s.path : s.path.empty() ? key : s.path + "." + key;
+    const std::string subject_path = s.path();
+    const std::string path = key.empty()            ? subject_path
+                             : subject_path.empty() ? key
+                                                    : subject_path + "." + key;
     found_.push_back({locate(*s.origin, key), path, std::move(message)});
   }
 
   // ---- names and references ------------------------------------------------------------
 
-  template <class Entity>
-  void check_names(const std::vector<Entity>& entities, const Kind& kind) {
-    std::set<std::string> seen;
+  // `repeats(i)`: whether an entity before entities[i] has its name.
+  template <class Entity, class Repeats>
+  void check_names(const std::vector<Entity>& entities, const Kind& kind, const Repeats& repeats) {
     for (std::size_t i = 0; i < entities.size(); ++i) {
       const auto& name = entities[i].name;
       if (name.empty())
         report(subject_of(kind, entities[i], i), "",
                std::string("a ") + kind.noun + " needs a non-empty name");
-      else if (!seen.insert(name).second)
+      else if (repeats(i))
         report(subject_of(kind, entities[i], i), "",
                std::string("another ") + kind.noun + " is named '" + name +
                    "' too; names must be unique");
     }
+  }
+
+  template <class Entity>
+  void check_names(const std::vector<Entity>& entities, const Kind& kind) {
+    check_names(entities, kind, RepeatFinder(entities.size(), [&](std::size_t i) -> std::string_view {
+                  return entities[i].name;
+                }));
   }
 
   // Suggestions compare a name with every name of its kind; past the first few hundred unknown
@@ -177,15 +262,25 @@ class Checker {
            detail::suggestion(name, names, std::string(kind.path) + " are");
   }
 
-  bool point_exists(const Subject& s, const std::string& key, const std::string& point) {
-    if (index_.point(point)) return true;
-    report(s, key, no_such(kPoints, point, point_names_));
+  bool point_exists(const Subject& s, const Key& key, const std::string& point) {
+    return index_.point(point) || report_no_point(s, key, point);
+  }
+
+  // For a link's ends, whose points the index has looked up already.
+  bool point_exists(const Subject& s, const Key& key, int end_id, const std::string& point) {
+    return index_.point_of_end(end_id) >= 0 || report_no_point(s, key, point);
+  }
+
+  bool report_no_point(const Subject& s, const Key& key, const std::string& point) {
+    if (!point_names_) point_names_ = names_of(model_.points);
+    report(s, key.str(), no_such(kPoints, point, *point_names_));
     return false;
   }
 
-  bool link_exists(const Subject& s, const std::string& key, const std::string& link) {
+  bool link_exists(const Subject& s, const Key& key, const std::string& link) {
     if (index_.link(link) >= 0) return true;
-    report(s, key, no_such(kLinks, link, link_names_));
+    if (!link_names_) link_names_ = names_of(model_.links);
+    report(s, key.str(), no_such(kLinks, link, *link_names_));
     return false;
   }
 
@@ -201,43 +296,54 @@ class Checker {
 
   // ---- values ----------------------------------------------------------------------------
 
-  bool require_finite(const Subject& s, const std::string& key, const MatX& values) {
+  template <class Derived>
+  bool require_finite(const Subject& s, const Key& key, const Eigen::MatrixBase<Derived>& values) {
     if (values.allFinite()) return true;
-    report(s, key, key + " must hold finite numbers only");
+    report(s, key.str(), key.str() + " must hold finite numbers only");
     return false;
   }
 
-  bool require_nonzero_vector(const Subject& s, const std::string& key, const Vec3& v) {
+  bool require_nonzero_vector(const Subject& s, const Key& key, const Vec3& v) {
     if (!require_finite(s, key, v)) return false;
     if (v.norm() > 0) return true;
-    report(s, key, key + " is a zero vector; give a direction");
+    report(s, key.str(), key.str() + " is a zero vector; give a direction");
     return false;
   }
 
-  bool require_symmetric(const Subject& s, const std::string& key, const MatX& m) {
+  template <class Derived>
+  bool require_symmetric(const Subject& s, const Key& key, const Eigen::MatrixBase<Derived>& m) {
+    // The first largest |m(i, j) − m(j, i)| in column-major order, as maxCoeff of the
+    // difference would find it, without the difference's temporary.
     Eigen::Index row = 0, col = 0;
-    const double asymmetry = (m - m.transpose()).cwiseAbs().maxCoeff(&row, &col);
+    double asymmetry = -1;
+    for (Eigen::Index j = 0; j < m.cols(); ++j)
+      for (Eigen::Index i = 0; i < m.rows(); ++i)
+        if (const double difference = std::abs(m(i, j) - m(j, i)); difference > asymmetry) {
+          asymmetry = difference;
+          row = i;
+          col = j;
+        }
     if (asymmetry <= kMatrixTolerance * max_abs(m)) return true;
+    const std::string name = key.str();
     const auto entry = [&](Eigen::Index i, Eigen::Index j) {
-      return key + "[" + std::to_string(i) + "][" + std::to_string(j) +
+      return name + "[" + std::to_string(i) + "][" + std::to_string(j) +
              "] = " + format_number(m(i, j));
     };
-    report(s, key,
-           key + " must be symmetric, but " + entry(row, col) + " and " + entry(col, row) +
-               " (allowed difference: 1e-9·max|" + key + "|)");
+    report(s, name,
+           name + " must be symmetric, but " + entry(row, col) + " and " + entry(col, row) +
+               " (allowed difference: 1e-9·max|" + name + "|)");
     return false;
   }
 
-  void require_positive_definite(const Subject& s, const std::string& key, const MatX& m) {
+  template <class Derived>
+  void require_positive_definite(const Subject& s, const Key& key, const Eigen::MatrixBase<Derived>& m) {
     if (!require_finite(s, key, m) || !require_symmetric(s, key, m)) return;
-    const VecX eigenvalues = symmetric_eigenvalues(m);
-    const double smallest = eigenvalues(0);
-    const double largest = eigenvalues.cwiseAbs().maxCoeff();
-    if (smallest > kDefiniteTolerance * largest) return;
-    report(s, key,
-           key + " must be positive definite; its smallest eigenvalue is " +
-               format_number(smallest) + " (largest " +
-               format_number(eigenvalues(eigenvalues.size() - 1)) + ")");
+    const Spectrum spectrum = symmetric_spectrum(m);
+    if (spectrum.smallest > kDefiniteTolerance * spectrum.largest_magnitude) return;
+    report(s, key.str(),
+           key.str() + " must be positive definite; its smallest eigenvalue is " +
+               format_number(spectrum.smallest) + " (largest " + format_number(spectrum.largest) +
+               ")");
   }
 
   // ---- points and links ------------------------------------------------------------------
@@ -251,12 +357,15 @@ class Checker {
   void check_link(std::size_t index) {
     const Link& link = model_.links[index];
     const Subject s = subject_of(kLinks, link, index);
-    const bool from_known = point_exists(s, "from", link.from);
-    const bool to_known = point_exists(s, "to", link.to);
+    const int from_end = 2 * static_cast<int>(index), to_end = from_end + 1;
+    const bool from_known = point_exists(s, "from", from_end, link.from);
+    const bool to_known = point_exists(s, "to", to_end, link.to);
     std::optional<Vec3> d;  // from → to, where both points are known and usable
     if (from_known && to_known) {
-      const Vec3 span =
-          index_.point(link.to)->position - index_.point(link.from)->position;
+      const auto position = [&](int end) {
+        return model_.points[static_cast<std::size_t>(index_.point_of_end(end))].position;
+      };
+      const Vec3 span = position(to_end) - position(from_end);
       if (span.allFinite()) d = span;
     }
     if (const auto* beam = std::get_if<BeamLink>(&link.kind)) {
@@ -278,10 +387,10 @@ class Checker {
     }
   }
 
-  void require_length(const Subject& s, const std::optional<Vec3>& d, const std::string& what) {
+  void require_length(const Subject& s, const std::optional<Vec3>& d, const char* what) {
     if (!d || d->norm() > zero_length_) return;
     report(s, "",
-           "the link has zero length (its points coincide); " + what +
+           std::string("the link has zero length (its points coincide); ") + what +
                " needs a length (only rigid links and compliance links with "
                "frame: global may have zero length)");
   }
@@ -320,7 +429,7 @@ class Checker {
     const MatX K = link.K;
     if (!require_finite(s, "K", K) || !require_symmetric(s, "K", K)) return;
     const double scale = max_abs(K);
-    const double smallest = symmetric_eigenvalues(K)(0);
+    const double smallest = symmetric_spectrum(K).smallest;
     if (smallest < -kMatrixTolerance * scale)
       report(s, "K",
              "K must be positive semi-definite; its smallest eigenvalue is " +
@@ -380,11 +489,11 @@ class Checker {
     }
     bool rows_usable = true;
     for (std::size_t i = 0; i < rows.size(); ++i) {
-      const std::string key = "free[" + std::to_string(i) + "]";
+      const Key key("free", i);
       if (!require_finite(s, key, rows[i])) {
         rows_usable = false;
       } else if (rows[i].norm() == 0) {
-        report(s, key, "row " + std::to_string(i) + " of free is zero; give a direction");
+        report(s, key.str(), "row " + std::to_string(i) + " of free is zero; give a direction");
         rows_usable = false;
       }
     }
@@ -403,18 +512,20 @@ class Checker {
   void check_connection(const Subject& s, const Connection& c, const char* noun) {
     check_kinematics(s, c.kinematics);
     const int p = free_direction_count(c.kinematics);
-    const std::string type = to_string(c.kinematics.type);
+    const char* type = to_string(c.kinematics.type);
     if (p == 0 && (c.stiffness || c.preload)) {
       report(s, c.stiffness ? "stiffness" : "preload",
              std::string("a ") + type + " " + noun + " has no free directions, so it takes no " +
                  (c.stiffness ? "stiffness" : "preload"));
       return;
     }
-    const std::string sized = " (p = " + std::to_string(p) + " for a " + type + " " + noun + ")";
+    const auto sized = [&] {
+      return " (p = " + std::to_string(p) + " for a " + type + " " + noun + ")";
+    };
     if (c.stiffness) {
       if (c.stiffness->rows() != p || c.stiffness->cols() != p)
         report(s, "stiffness",
-               "stiffness must be p×p" + sized + "; got " + std::to_string(c.stiffness->rows()) +
+               "stiffness must be p×p" + sized() + "; got " + std::to_string(c.stiffness->rows()) +
                    "×" + std::to_string(c.stiffness->cols()));
       else
         require_positive_definite(s, "stiffness", *c.stiffness);
@@ -422,7 +533,7 @@ class Checker {
     if (c.preload) {
       if (c.preload->size() != p)
         report(s, "preload",
-               "preload must hold p values" + sized + "; got " + std::to_string(c.preload->size()));
+               "preload must hold p values" + sized() + "; got " + std::to_string(c.preload->size()));
       else
         require_finite(s, "preload", *c.preload);
       if (c.actuated && !c.stiffness)
@@ -433,22 +544,24 @@ class Checker {
   }
 
   // Records that `owner` takes the link end; a second taker is a defect.
-  void claim(const Subject& s, const std::string& key, const detail::LinkEndRef& end,
-             const std::string& owner) {
-    const auto [it, is_new] = end_owner_.emplace(end.id(), owner);
-    if (!is_new)
-      report(s, key,
-             "link end " + end_name(model_, end) + " is already in " + it->second +
-                 "; a link end takes part in at most one joint or support");
+  void claim(const Subject& s, const Key& key, const detail::LinkEndRef& end, const Owner& owner) {
+    Owner& holder = end_owner_[static_cast<std::size_t>(end.id())];
+    if (!holder.noun) {
+      holder = owner;
+      return;
+    }
+    report(s, key.str(),
+           "link end " + end_name(model_, end) + " is already in " + holder.str() +
+               "; a link end takes part in at most one joint or support");
   }
 
   void claim_listed_ends(const Subject& s, const std::string& at,
-                         const std::vector<std::string>& links, const std::string& owner) {
-    std::set<std::string> listed;
+                         const std::vector<std::string>& links, const Owner& owner) {
+    const RepeatFinder repeats(links.size(), [&](std::size_t i) -> std::string_view { return links[i]; });
     for (std::size_t i = 0; i < links.size(); ++i) {
-      const std::string key = "links[" + std::to_string(i) + "]";
-      if (!listed.insert(links[i]).second) {
-        report(s, key, "link '" + links[i] + "' is listed twice");
+      const Key key("links", i);
+      if (repeats(i)) {
+        report(s, key.str(), "link '" + links[i] + "' is listed twice");
         continue;
       }
       if (!link_exists(s, key, links[i])) continue;
@@ -456,7 +569,7 @@ class Checker {
       if (const auto end = index_.resolve(at, links[i], problem))
         claim(s, key, *end, owner);
       else
-        report(s, key, problem);
+        report(s, key.str(), problem);
     }
   }
 
@@ -465,14 +578,14 @@ class Checker {
     const Subject s = subject_of(kJoints, joint, index);
     check_connection(s, joint.connection, "joint");
     const Connection& c = joint.connection;
-    const auto count = std::to_string(joint.links.size());
+    const auto count = [&] { return std::to_string(joint.links.size()); };
     if (joint.links.size() < 2)
-      report(s, "links", "a joint connects at least two link ends (got " + count + ")");
+      report(s, "links", "a joint connects at least two link ends (got " + count() + ")");
     else if ((c.stiffness || c.preload) && joint.links.size() != 2)
       report(s, "links",
-             "an elastic or preloaded joint connects exactly two link ends (got " + count + ")");
+             "an elastic or preloaded joint connects exactly two link ends (got " + count() + ")");
     if (point_exists(s, "at", joint.at))
-      claim_listed_ends(s, joint.at, joint.links, "joint '" + joint.name + "'");
+      claim_listed_ends(s, joint.at, joint.links, Owner{"joint", &joint.name});
   }
 
   void check_support(std::size_t index) {
@@ -480,7 +593,7 @@ class Checker {
     const Subject s = subject_of(kSupports, support, index);
     check_connection(s, support.connection, "support");
     if (!point_exists(s, "at", support.at)) return;
-    const std::string owner = "support '" + support.name + "'";
+    const Owner owner{"support", &support.name};
     if (!support.links.empty()) {
       claim_listed_ends(s, support.at, support.links, owner);
       return;
@@ -496,16 +609,17 @@ class Checker {
   void check_points_partly_named() {
     for (std::size_t i = 0; i < model_.points.size(); ++i) {
       const Point& point = model_.points[i];
+      // With every name once, point i is the one its name finds.
+      const auto ends = index_.names_repeat() ? index_.ends_at(point.name) : index_.ends_at(static_cast<int>(i));
+      const auto named = [&](const detail::LinkEndRef& end) {
+        return end_owner_[static_cast<std::size_t>(end.id())].noun != nullptr;
+      };
+      const bool some_named = std::any_of(ends.begin(), ends.end(), named);
+      if (!some_named || std::all_of(ends.begin(), ends.end(), named)) continue;
       std::vector<std::string> unnamed;
-      bool some_named = false;
-      for (const auto& end : index_.ends_at(point.name)) {
-        if (end_owner_.count(end.id()))
-          some_named = true;
-        else
-          unnamed.push_back(end_name(model_, end));
-      }
-      if (some_named && !unnamed.empty())
-        report(subject_of(kPoints, point, i), "",
+      for (const auto& end : ends)
+        if (!named(end)) unnamed.push_back(end_name(model_, end));
+      report(subject_of(kPoints, point, i), "",
                "at point '" + point.name + "' the link ends " + detail::comma_list(unnamed) +
                    " are in no joint or support, while other link ends there are; add them to "
                    "a joint or support");
@@ -516,7 +630,7 @@ class Checker {
 
   void check_load(std::size_t index) {
     const Load& load = model_.loads[index];
-    const Subject s{"loads[" + std::to_string(index) + "]", &load.origin};
+    const Subject s{"loads", nullptr, index, &load.origin};
     check_link_end_reference(s, load.at, load.link);
     require_finite(s, "wrench", load.wrench);
   }
@@ -529,12 +643,12 @@ class Checker {
   const Model& model_;
   const detail::ModelIndex index_;
   int suggestions_left_ = 200;
-  const std::vector<std::string> point_names_ = names_of(model_.points);
-  const std::vector<std::string> link_names_ = names_of(model_.links);
+  // For suggestions; gathered at the first unknown name.
+  std::optional<std::vector<std::string>> point_names_, link_names_;
   double zero_length_;
   Origin model_origin_;  // for defects of the model as a whole
   std::vector<Diagnostic> found_;
-  std::map<int, std::string> end_owner_;  // link end id → "joint 'J1'"
+  std::vector<Owner> end_owner_;  // per link end id
 };
 
 }  // namespace

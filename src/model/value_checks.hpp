@@ -2,6 +2,7 @@
 // The rules for a material's and a section's values (sections.md), shared by validation, which
 // checks them on each beam, and the model file loader, which checks each named material and
 // section once, where it is defined.
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,18 +17,24 @@ struct SectionDimension {
   double Section::*value;
 };
 
-inline std::vector<SectionDimension> section_dimensions(SectionShape shape) {
+inline std::span<const SectionDimension> section_dimensions(SectionShape shape) {
+  static constexpr SectionDimension circle[] = {{"D", &Section::D}};
+  static constexpr SectionDimension tube[] = {{"D", &Section::D}, {"t", &Section::t}};
+  static constexpr SectionDimension rect[] = {{"b", &Section::b}, {"h", &Section::h}};
+  static constexpr SectionDimension rect_tube[] = {{"b", &Section::b}, {"h", &Section::h}, {"t", &Section::t}};
+  static constexpr SectionDimension generic[] = {
+      {"A", &Section::A}, {"Iy", &Section::Iy}, {"Iz", &Section::Iz}, {"J", &Section::J}};
   switch (shape) {
     case SectionShape::circle:
-      return {{"D", &Section::D}};
+      return circle;
     case SectionShape::tube:
-      return {{"D", &Section::D}, {"t", &Section::t}};
+      return tube;
     case SectionShape::rect:
-      return {{"b", &Section::b}, {"h", &Section::h}};
+      return rect;
     case SectionShape::rect_tube:
-      return {{"b", &Section::b}, {"h", &Section::h}, {"t", &Section::t}};
+      return rect_tube;
     case SectionShape::generic:
-      return {{"A", &Section::A}, {"Iy", &Section::Iy}, {"Iz", &Section::Iz}, {"J", &Section::J}};
+      return generic;
   }
   return {};
 }
