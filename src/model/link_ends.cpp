@@ -1,45 +1,11 @@
 #include "model/link_ends.hpp"
 
-#include <bit>
-#include <functional>
 
 namespace stiffmsa::detail {
 
 namespace {
 LinkEndRef end_of_id(int id) { return {id / 2, id % 2 == 0 ? LinkEnd::from : LinkEnd::to}; }
 }  // namespace
-
-NameTable::NameTable(std::size_t names) : slots_(std::bit_ceil(2 * names + 1)) { names_.reserve(names); }
-
-namespace {
-// The slot index comes from the hash's low bits, the check value from its high ones.
-std::uint32_t check_value(std::size_t hash) { return static_cast<std::uint32_t>(static_cast<std::uint64_t>(hash) >> 32); }
-}  // namespace
-
-int NameTable::add(std::string_view name) {
-  const auto position = static_cast<int>(names_.size());
-  names_.push_back(name);
-  const std::size_t hash = std::hash<std::string_view>{}(name);
-  for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
-    Slot& slot = slots_[s];
-    if (slot.position < 0) {
-      slot = {check_value(hash), position};
-      return position;
-    }
-    if (slot.hash == check_value(hash) && names_[static_cast<std::size_t>(slot.position)] == name)
-      return slot.position;
-  }
-}
-
-int NameTable::find(std::string_view name) const {
-  const std::size_t hash = std::hash<std::string_view>{}(name);
-  for (std::size_t s = hash & (slots_.size() - 1);; s = (s + 1) & (slots_.size() - 1)) {
-    const Slot& slot = slots_[s];
-    if (slot.position < 0) return -1;
-    if (slot.hash == check_value(hash) && names_[static_cast<std::size_t>(slot.position)] == name)
-      return slot.position;
-  }
-}
 
 ModelIndex::ModelIndex(const Model& model)
     : model_(model), points_(model.points.size()), links_(model.links.size()) {

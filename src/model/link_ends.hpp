@@ -1,7 +1,6 @@
 #pragma once
 // Which link end sits at a named point: the one rule that loads, end effectors, joints,
 // supports and the topology all use.
-#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -21,24 +20,22 @@ struct LinkEndRef {
 };
 
 // Names to the position of the first entity that bears them, the position being the order in
-// which the names were added. Open addressing: validation and the topology build these on
-// every solve, and a node-based map would allocate once per name. The slots hold no text, so
-// that a table of 100 000 names stays small enough for the cache. Views the names, which must
-// outlive it.
+// which the names were added. Views the names, which must outlive it.
 class NameTable {
  public:
-  explicit NameTable(std::size_t names);  // room for `names` names, no more
+  explicit NameTable(std::size_t names) { positions_.reserve(names); }
   // Adds `name` as the next position; returns the position of its first bearer.
-  int add(std::string_view name);
-  int find(std::string_view name) const;  // −1 when absent
+  int add(std::string_view name) {
+    return positions_.try_emplace(name, static_cast<int>(added_++)).first->second;
+  }
+  int find(std::string_view name) const {  // −1 when absent
+    const auto it = positions_.find(name);
+    return it == positions_.end() ? -1 : it->second;
+  }
 
  private:
-  struct Slot {
-    std::uint32_t hash = 0;  // a part of the name's hash, compared before the text
-    int position = -1;       // −1: empty
-  };
-  std::vector<Slot> slots_;  // a power of two in size, at most half full
-  std::vector<std::string_view> names_;  // per position
+  std::unordered_map<std::string_view, int> positions_;
+  std::size_t added_ = 0;
 };
 
 // Name lookups of a model built once, for work that would otherwise scan the model per item
