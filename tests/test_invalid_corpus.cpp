@@ -566,7 +566,7 @@ TEST_F(Limits, ChainOf100000LinksLoadsQuickly) {
   EXPECT_LT(fs::file_size(chain), LoadLimits{}.max_file_bytes / 2);
 
   // Processor time, not wall time: other processes on the machine do not count. Loading
-  // took about 10 s with yaml-cpp; a scan per key or name would take minutes.
+  // takes a few seconds; a scan per key or name would take minutes.
   const std::clock_t start = std::clock();
   const Model model = load_model(chain);
   const double seconds = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
