@@ -1487,8 +1487,7 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
 }
 
 // Builders of a file whose numbers could not be bound read the file for each member: each
-// parses the text once into a tree of its own (a cloned tree would lose the file positions
-// that messages give), so builders on different threads share nothing that changes.
+// parses the text once into a tree of its own, so builders on different threads share nothing.
 ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, const std::string& file_name,
                                        const LoadLimits& limits, std::vector<std::string> names,
                                        std::vector<std::string> derived_names) {
