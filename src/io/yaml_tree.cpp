@@ -58,6 +58,9 @@ class YamlTreeBuilder {
     diag_cfg.fp = nullptr;
     diag_cfg.output_fn = discard_output;
     diag_cfg.colorize = false;
+    // The lines of source that libfyaml would format around an error are not used; formatting
+    // them is where its fuzzers have found out-of-bounds reads (libfyaml issues #189, #223).
+    diag_cfg.show_source = false;
     const std::unique_ptr<fy_diag, DiagDeleter> diag(fy_diag_create(&diag_cfg));
     if (!diag) throw std::bad_alloc();
     fy_diag_set_collect_errors(diag.get(), true);
