@@ -24,7 +24,7 @@ import sys
 STAGES = [
     ("stiffmsa::solve, whole", r"^stiffmsa::solve$"),
     ("load_model (YAML reading + validation)", r"^stiffmsa::load_model$"),
-    ("  yaml-cpp parsing (YAML::Load)", r"^YAML::Load$"),
+    ("  YAML parsing (libfyaml into the loader's tree)", r"^stiffmsa::detail::parse_yaml$"),
     ("  find_defects (validation)", r"^stiffmsa::find_defects$"),
     ("validate (model checks: load_model, Workspace, every solve)", r"^stiffmsa::validate$"),
     ("Workspace (validation, topology, pattern)", r"^stiffmsa::Workspace::Workspace"),

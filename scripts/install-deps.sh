@@ -5,7 +5,7 @@
 # sanitizer build with g++ (scripts/sanitize.sh) needs nothing more: g++ brings libasan and
 # libubsan.
 set -euo pipefail
-packages=(cmake ninja-build g++ libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev libcli11-dev
           libsuitesparse-dev libmuparser-dev libtbb-dev libcairo2-dev pkg-config
           libgtest-dev libgmock-dev)
 for group in "$@"; do

@@ -34,7 +34,7 @@ cmake --build "$build" -j2
 
 status=0
 # Tests that bound their own processor time hold optimised-build limits (scripts/test.sh holds
-# them); under AddressSanitizer, whose allocator alone makes yaml-cpp several times slower, they
+# them); under AddressSanitizer, whose allocator alone makes loading several times slower, they
 # cannot. They run here too, for the sanitizers: a report from them fails this script like any
 # other, only their time bound is not held against them.
 timed='^Limits\.ChainOf100000LinksLoadsQuickly$'

@@ -414,7 +414,7 @@ TEST_F(Limits, EndlessInputIsReadOnlyUpToTheLimit) {
 }
 
 TEST_F(Limits, DeepFlowNestingIsRefusedWithoutOverflowingTheStack) {
-  // yaml-cpp recurses once per level: 100 000 levels would overflow the stack.
+  // A reader that recursed once per level would overflow the stack on 100 000 levels.
   const std::string text = "format: stiffmsa/1\nx-note: " + std::string(100'000, '[') + "\n";
   const fs::path deep = write("deep.yaml", text);
   const fs::path result = folder_ / "result.json";
@@ -566,7 +566,7 @@ TEST_F(Limits, ChainOf100000LinksLoadsQuickly) {
   EXPECT_LT(fs::file_size(chain), LoadLimits{}.max_file_bytes / 2);
 
   // Processor time, not wall time: other processes on the machine do not count. Loading
-  // takes about 10 s, most of it in yaml-cpp; a scan per key or name would take minutes.
+  // takes a few seconds; a scan per key or name would take minutes.
   const std::clock_t start = std::clock();
   const Model model = load_model(chain);
   const double seconds = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;

@@ -1,8 +1,7 @@
-// Model files (model-format.md) read with yaml-cpp; JSON is read by the same parser, since YAML
-// is a superset of it. The loader checks what only the file shows (syntax, keys, types, sizes)
-// and leaves every check that an API-built model needs too to find_defects().
-#include <yaml-cpp/yaml.h>
-
+// Model files (model-format.md) read into a YAML tree (io/yaml_tree.hpp, parsed by libfyaml);
+// JSON is read by the same parser, since YAML is a superset of it. The loader checks what only
+// the file shows (syntax, keys, types, sizes) and leaves every check that an API-built model
+// needs too to find_defects().
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -24,6 +23,7 @@
 
 #include "io/expressions.hpp"
 #include "io/plain_number.hpp"
+#include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
@@ -35,6 +35,7 @@ namespace stiffmsa {
 namespace {
 
 using KeyList = std::vector<std::string>;
+using detail::YamlNode;
 
 constexpr const char* kFormat = "stiffmsa/1";
 
@@ -107,28 +108,27 @@ KeyList section_shape_names() {
   return names;
 }
 
-// yaml-cpp marks are 0-based, and -1 where a node has no place in the text.
-SourceLocation location_in(const std::string& file, const YAML::Mark& mark) {
-  if (mark.line < 0) return {file, 0, 0};
-  return {file, mark.line + 1, mark.column + 1};
+SourceLocation location_in(const std::string& file, const YamlNode& node) {
+  return {file, node.line(), node.column()};
 }
 
-std::string describe(const YAML::Node& node) {
-  switch (node.Type()) {
-    case YAML::NodeType::Sequence:
+std::string describe(const YamlNode& node) {
+  switch (node.kind()) {
+    case YamlNode::Kind::sequence:
       return "a list";
-    case YAML::NodeType::Map:
+    case YamlNode::Kind::mapping:
       return "a mapping";
-    case YAML::NodeType::Scalar:
-      return (node.Tag() == "!" ? "the quoted text '" : "'") + node.Scalar() + "'";
-    default:
+    case YamlNode::Kind::scalar:
+      return (node.quoted() ? "the quoted text '" : "'") + node.text() + "'";
+    case YamlNode::Kind::null:
       return "nothing";
   }
+  return "nothing";
 }
 
 // A value in the file with what a message about it needs: its key path and where it is.
 struct Value {
-  YAML::Node node;
+  const YamlNode* node;
   std::string path;
   SourceLocation at;
 };
@@ -178,7 +178,7 @@ class Loader {
                   std::span<const double> values = {})
       : file_(std::move(file)), expressions_(expressions), values_(values) {}
 
-  Model read(const YAML::Node& root);
+  Model read(const YamlNode& root);
   const std::vector<Parameter>& parameters() const { return parameters_; }
   const std::vector<std::string>& derived_names() const { return derived_names_; }
   const std::vector<ExpressionSite>& derived_sites() const { return derived_sites_; }
@@ -213,11 +213,11 @@ class Loader {
   // so validation's findings about those defaults are not reported.
   void spoil(const std::string& path) { spoiled_.insert(path); }
 
-  SourceLocation where(const YAML::Node& node) const { return location_in(file_, node.Mark()); }
+  SourceLocation where(const YamlNode& node) const { return location_in(file_, node); }
 
   Value item(const Value& list, std::size_t i) const {
-    const YAML::Node node = list.node[i];
-    return {node, list.path + "[" + std::to_string(i) + "]", where(node)};
+    const YamlNode* node = list.node->items()[i];
+    return {node, list.path + "[" + std::to_string(i) + "]", where(*node)};
   }
 
   // ---- mappings and keys -----------------------------------------------------------------
@@ -334,22 +334,21 @@ class Loader {
 // ---- mappings and keys -------------------------------------------------------------------
 
 std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_allowed) {
-  if (!v.node.IsMap()) {
-    fail(v, "expected a mapping of key: value, got " + describe(v.node));
+  if (!v.node->is_mapping()) {
+    fail(v, "expected a mapping of key: value, got " + describe(*v.node));
     return std::nullopt;
   }
   std::vector<Entry> entries;
   // The line of each key's first appearance. The points or links of a large model are one
   // mapping of 100 000 keys: a scan of the keys before each one would take minutes.
   std::unordered_map<std::string, int> first_lines;
-  for (auto it = v.node.begin(); it != v.node.end(); ++it) {
-    const YAML::Node key = it->first;
-    const SourceLocation key_at = where(key);
-    if (!key.IsScalar() || key.Scalar().empty()) {
-      fail(key_at, v.path, "a key must be a non-empty name, got " + describe(key));
+  for (const auto& [key, value] : v.node->entries()) {
+    const SourceLocation key_at = where(*key);
+    if (!key->is_scalar() || key->text().empty()) {
+      fail(key_at, v.path, "a key must be a non-empty name, got " + describe(*key));
       continue;
     }
-    const std::string name = key.Scalar();
+    const std::string& name = key->text();
     if (notes_allowed && name.rfind("x-", 0) == 0) continue;
     const std::string path = v.path.empty() ? name : v.path + "." + name;
     if (const auto [first, is_new] = first_lines.try_emplace(name, key_at.line); !is_new) {
@@ -358,10 +357,9 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
                "); give each key once");
       continue;
     }
-    const YAML::Node value = it->second;
     // A key with nothing after it has a value placed on the following line; the key is where
     // the user looks.
-    entries.push_back({name, key_at, {value, path, value.IsNull() ? key_at : where(value)}});
+    entries.push_back({name, key_at, {value, path, value->is_null() ? key_at : where(*value)}});
   }
   return entries;
 }
@@ -373,7 +371,7 @@ std::vector<Entry> Loader::fixed_mapping(const Value& v) {
 
 // A top-level mapping of user-chosen names (points, links, ...); left out or empty is none.
 std::vector<Entry> Loader::named_mapping(const Entry& top) {
-  if (top.value.node.IsNull()) return {};
+  if (top.value.node->is_null()) return {};
   return mapping(top.value, false).value_or(std::vector<Entry>{});
 }
 
@@ -406,24 +404,24 @@ void Loader::record(Origin& origin, const std::vector<Entry>& entries, const std
 }
 
 void Loader::record_items(Origin& origin, const std::string& key, const Value& list) const {
-  if (!list.node.IsSequence()) return;
-  for (std::size_t i = 0; i < list.node.size(); ++i)
+  if (!list.node->is_sequence()) return;
+  for (std::size_t i = 0; i < list.node->size(); ++i)
     origin.key_locations[key + "[" + std::to_string(i) + "]"] = item(list, i).at;
 }
 
 // ---- scalars, vectors and matrices -------------------------------------------------------
 
 std::optional<double> Loader::number(const Value& v) {
-  if (parametric_ && v.node.IsScalar()) return expression(v);
+  if (parametric_ && v.node->is_scalar()) return expression(v);
   // A quoted "2e11" is text: accepting it would hide a value meant as something else.
-  if (!v.node.IsScalar() || v.node.Tag() == "!") {
+  if (!v.node->is_scalar() || v.node->quoted()) {
     std::string hint;
-    if (v.node.IsScalar())
+    if (v.node->is_scalar())
       hint = "; a number written as an expression needs the file's `parameters:`";
-    fail(v, "expected a number, got " + describe(v.node) + hint);
+    fail(v, "expected a number, got " + describe(*v.node) + hint);
     return std::nullopt;
   }
-  const std::string& text = v.node.Scalar();
+  const std::string& text = v.node->text();
   const char* begin = text.data() + (text.rfind('+', 0) == 0 ? 1 : 0);
   const char* end = text.data() + text.size();
   double value = 0;
@@ -442,7 +440,7 @@ std::optional<double> Loader::number(const Value& v) {
     return std::nullopt;
   }
   if (error != std::errc() || stop != end) {
-    fail(v, "expected a number, got " + describe(v.node) +
+    fail(v, "expected a number, got " + describe(*v.node) +
                 "; a number written as an expression needs the file's `parameters:`");
     return std::nullopt;
   }
@@ -453,7 +451,7 @@ std::optional<double> Loader::number(const Value& v) {
 // of the parameters (a plain number is an expression too, but reading it directly keeps
 // `2e11` exactly what it says).
 std::optional<double> Loader::expression(const Value& v) {
-  const std::string& text = v.node.Scalar();
+  const std::string& text = v.node->text();
   if (const auto value = detail::plain_number(text)) return value;
   if (probing_) {
     sites_.push_back({text, v.path, v.at});
@@ -478,18 +476,18 @@ double Loader::given_number(const Value& v) {
 }
 
 std::optional<bool> Loader::boolean(const Value& v) {
-  if (v.node.IsScalar() && v.node.Tag() != "!") {
-    const std::string& s = v.node.Scalar();
+  if (v.node->is_scalar() && !v.node->quoted()) {
+    const std::string& s = v.node->text();
     if (s == "true" || s == "True" || s == "TRUE") return true;
     if (s == "false" || s == "False" || s == "FALSE") return false;
   }
-  fail(v, "expected true or false, got " + describe(v.node));
+  fail(v, "expected true or false, got " + describe(*v.node));
   return std::nullopt;
 }
 
 std::optional<std::string> Loader::text(const Value& v) {
-  if (v.node.IsScalar() && !v.node.Scalar().empty()) return v.node.Scalar();
-  fail(v, "expected a name, got " + describe(v.node));
+  if (v.node->is_scalar() && !v.node->text().empty()) return v.node->text();
+  fail(v, "expected a name, got " + describe(*v.node));
   return std::nullopt;
 }
 
@@ -505,13 +503,13 @@ std::optional<std::string> Loader::choice(const Value& v, const KeyList& choices
 
 // A list of numbers of any length; every bad entry is reported.
 std::optional<VecX> Loader::list(const Value& v) {
-  if (!v.node.IsSequence()) {
-    fail(v, "expected a list of numbers, got " + describe(v.node));
+  if (!v.node->is_sequence()) {
+    fail(v, "expected a list of numbers, got " + describe(*v.node));
     return std::nullopt;
   }
-  VecX values(static_cast<Eigen::Index>(v.node.size()));
+  VecX values(static_cast<Eigen::Index>(v.node->size()));
   bool all_read = true;
-  for (std::size_t i = 0; i < v.node.size(); ++i) {
+  for (std::size_t i = 0; i < v.node->size(); ++i) {
     const auto x = number(item(v, i));
     if (x) values(static_cast<Eigen::Index>(i)) = *x;
     all_read = all_read && x.has_value();
@@ -525,12 +523,12 @@ std::optional<VecX> Loader::list(const Value& v) {
 
 // A list of rows of numbers, all of one length.
 std::optional<MatX> Loader::matrix(const Value& v) {
-  if (!v.node.IsSequence() || v.node.size() == 0 || !v.node[0].IsSequence()) {
-    fail(v, "expected a matrix (a list of rows, each a list of numbers), got " + describe(v.node));
+  if (!v.node->is_sequence() || v.node->size() == 0 || !v.node->items()[0]->is_sequence()) {
+    fail(v, "expected a matrix (a list of rows, each a list of numbers), got " + describe(*v.node));
     return std::nullopt;
   }
-  const auto rows = static_cast<Eigen::Index>(v.node.size());
-  const auto cols = static_cast<Eigen::Index>(v.node[0].size());
+  const auto rows = static_cast<Eigen::Index>(v.node->size());
+  const auto cols = static_cast<Eigen::Index>(v.node->items()[0]->size());
   MatX m(rows, cols);
   bool all_read = true;
   for (Eigen::Index i = 0; i < rows; ++i) {
@@ -554,14 +552,14 @@ std::optional<MatX> Loader::matrix(const Value& v) {
 
 // `shape` says in a message what the n values are, e.g. "[x, y, z]".
 std::optional<VecX> Loader::vector(const Value& v, int n, const std::string& shape) {
-  if (!v.node.IsSequence()) {
+  if (!v.node->is_sequence()) {
     fail(v, "expected a list of " + std::to_string(n) + " numbers " + shape + ", got " +
-                describe(v.node));
+                describe(*v.node));
     return std::nullopt;
   }
-  if (v.node.size() != static_cast<std::size_t>(n)) {
+  if (v.node->size() != static_cast<std::size_t>(n)) {
     fail(v, "expected " + std::to_string(n) + " numbers " + shape + ", got " +
-                std::to_string(v.node.size()));
+                std::to_string(v.node->size()));
     list(v);  // its entries may be wrong too
     return std::nullopt;
   }
@@ -581,15 +579,15 @@ template <int N>
 std::optional<std::vector<Eigen::Matrix<double, N, 1>>> Loader::vector_list(
     const Entry& entry, Origin& origin, const std::string& shape) {
   const Value& v = entry.value;
-  if (!v.node.IsSequence()) {
-    fail(v, "expected a list of vectors " + shape + ", got " + describe(v.node));
+  if (!v.node->is_sequence()) {
+    fail(v, "expected a list of vectors " + shape + ", got " + describe(*v.node));
     return std::nullopt;
   }
   record_items(origin, entry.key, v);
   std::vector<Eigen::Matrix<double, N, 1>> vectors;
-  for (std::size_t i = 0; i < v.node.size(); ++i)
+  for (std::size_t i = 0; i < v.node->size(); ++i)
     if (auto x = fixed_vector<N>(item(v, i), shape)) vectors.push_back(*x);
-  if (vectors.size() != v.node.size()) return std::nullopt;
+  if (vectors.size() != v.node->size()) return std::nullopt;
   return vectors;
 }
 
@@ -607,13 +605,13 @@ std::optional<Eigen::Matrix<double, N, N>> Loader::square_matrix(const Value& v)
 
 // ---- the model ---------------------------------------------------------------------------
 
-Model Loader::read(const YAML::Node& root) {
+Model Loader::read(const YamlNode& root) {
   model_.source_file = file_;
-  const Value whole{root, "", where(root)};
-  if (!root.IsMap()) {
+  const Value whole{&root, "", where(root)};
+  if (!root.is_mapping()) {
     const std::string start =
         std::string("a model file is a mapping that starts with `format: ") + kFormat + "`";
-    if (root.IsNull())
+    if (root.is_null())
       fail({file_, 1, 1}, "", "the file is empty; " + start);
     else
       fail(whole, start + "; got " + describe(root));
@@ -665,9 +663,9 @@ void Loader::read_name(const std::vector<Entry>& top) {
 
 // A parameter's default: a plain number (the file's other numbers may be expressions).
 double Loader::parameter_default(const Value& v) {
-  if (v.node.IsScalar())
-    if (const auto value = detail::plain_number(v.node.Scalar())) return *value;
-  fail(v, "a parameter's default is a plain finite number, got " + describe(v.node) +
+  if (v.node->is_scalar())
+    if (const auto value = detail::plain_number(v.node->text())) return *value;
+  fail(v, "a parameter's default is a plain finite number, got " + describe(*v.node) +
               "; a value computed from parameters belongs in `derived:`");
   return 0;
 }
@@ -684,17 +682,17 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       fail(named.key_at, named.value.path, *problem);
       continue;
     }
-    if (named.value.node.IsMap()) {
+    if (named.value.node->is_mapping()) {
       const auto e = fixed_mapping(named.value);
       check_keys(e, named.value.path, kParameterKeys, {}, "a parameter");
       if (const Entry* d = required(e, named.value, "default"))
         parameter.default_value = parameter_default(d->value);
       if (const Entry* unit = find(e, "unit")) parameter.unit = text(unit->value).value_or("");
-    } else if (named.value.node.IsScalar()) {
+    } else if (named.value.node->is_scalar()) {
       parameter.default_value = parameter_default(named.value);
     } else {
       fail(named.value, "expected a number or {default: number, unit: text}, got " +
-                            describe(named.value.node));
+                            describe(*named.value.node));
     }
     names.push_back(parameter.name);
     defaults.push_back(parameter.default_value);
@@ -720,11 +718,11 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
     } else if (std::find(names.begin(), names.end(), named.key) != names.end()) {
       fail(named.key_at, named.value.path,
            "'" + named.key + "' is a parameter already; give the derived value another name");
-    } else if (!named.value.node.IsScalar()) {
-      fail(named.value, "expected an expression of the parameters, got " + describe(named.value.node));
+    } else if (!named.value.node->is_scalar()) {
+      fail(named.value, "expected an expression of the parameters, got " + describe(*named.value.node));
     } else {
       derived_names_.push_back(named.key);
-      derived_sites_.push_back({named.value.node.Scalar(), named.value.path, named.value.at});
+      derived_sites_.push_back({named.value.node->text(), named.value.path, named.value.at});
       derived_entries.push_back(std::move(named));
     }
   }
@@ -734,7 +732,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   }
   expressions_->set_values(values_.empty() ? std::span<const double>(defaults) : values_);
   for (std::size_t i = 0; i < derived_entries.size(); ++i) {
-    const auto outcome = expressions_->evaluate_derived(i, derived_entries[i].value.node.Scalar());
+    const auto outcome = expressions_->evaluate_derived(i, derived_entries[i].value.node->text());
     if (outcome.follows_earlier_error)
       spoil(derived_entries[i].value.path);
     else if (!outcome.error.empty())
@@ -743,7 +741,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
 }
 
 void Loader::read_options(const Entry& section) {
-  if (section.value.node.IsNull()) return;  // `options:` alone sets nothing
+  if (section.value.node->is_null()) return;  // `options:` alone sets nothing
   const auto e = fixed_mapping(section.value);
   check_keys(e, section.value.path, kOptionKeys, {}, "options");
   if (const Entry* idle = find(e, "accept_idle_motions"))
@@ -830,7 +828,7 @@ Link Loader::read_link(const Entry& named) {
   const Value& v = named.value;
   const auto e = fixed_mapping(v);
   record(link.origin, e, "");
-  if (!v.node.IsMap()) return link;
+  if (!v.node->is_mapping()) return link;
   std::optional<std::string> type;
   if (const Entry* t = required(e, v, "type")) type = choice(t->value, kLinkTypes, "link type");
   check_keys(e, v.path, type ? link_keys(*type) : kLinkKeys, kLinkKeys,
@@ -890,7 +888,7 @@ BeamLink Loader::read_beam(const std::vector<Entry>& e, const Value& v, Link& li
 template <class T>
 T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Definition<T>>& named,
                           const std::string& plural, Link& link, ReadInline<T> read_inline) {
-  if (entry.value.node.IsMap())
+  if (entry.value.node->is_mapping())
     return (this->*read_inline)(entry.value, link.origin, entry.key + ".");
   const auto name = text(entry.value);
   if (!name) return T{};
@@ -917,7 +915,7 @@ Loader::Site Loader::read_site(const Entry& named, bool is_support) {
   const Value& v = named.value;
   const auto e = fixed_mapping(v);
   record(site.origin, e, "");
-  if (!v.node.IsMap()) return site;
+  if (!v.node->is_mapping()) return site;
   const std::string noun = is_support ? "support" : "joint";
   const auto type = read_site_type(e, v, noun, is_support);
   if (const Entry* at = required(e, v, "at")) site.at = text(at->value).value_or("");
@@ -970,13 +968,13 @@ std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, co
 
 std::vector<std::string> Loader::read_link_names(const Entry& entry, Origin& origin) {
   const Value& v = entry.value;
-  if (!v.node.IsSequence()) {
-    fail(v, "expected a list of link names, got " + describe(v.node));
+  if (!v.node->is_sequence()) {
+    fail(v, "expected a list of link names, got " + describe(*v.node));
     return {};
   }
   record_items(origin, entry.key, v);
   std::vector<std::string> names;
-  for (std::size_t i = 0; i < v.node.size(); ++i) names.push_back(text(item(v, i)).value_or(""));
+  for (std::size_t i = 0; i < v.node->size(); ++i) names.push_back(text(item(v, i)).value_or(""));
   return names;
 }
 
@@ -1032,12 +1030,12 @@ void Loader::read_springs(const std::vector<Entry>& e, int p, const std::string&
 // Model-format.md: a scalar k means k·I, a list of p values the diagonal, else a p×p matrix.
 std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::string& what) {
   const std::string sized = "p = " + std::to_string(p) + " for " + what;
-  if (v.node.IsScalar()) {
+  if (v.node->is_scalar()) {
     const auto k = number(v);
     if (!k) return std::nullopt;
     return MatX(*k * MatX::Identity(p, p));
   }
-  const bool rows_given = v.node.IsSequence() && v.node.size() > 0 && v.node[0].IsSequence();
+  const bool rows_given = v.node->is_sequence() && v.node->size() > 0 && v.node->items()[0]->is_sequence();
   if (!rows_given) {
     const auto diagonal = vector(v, p, "(the diagonal; " + sized + ")");
     if (!diagonal) return std::nullopt;
@@ -1055,7 +1053,7 @@ std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::str
 // Model-format.md: a list of p values; a scalar only where p = 1.
 std::optional<VecX> Loader::read_preload(const Value& v, int p, const std::string& what) {
   const std::string sized = "p = " + std::to_string(p) + " for " + what;
-  if (v.node.IsScalar() && p == 1) {
+  if (v.node->is_scalar() && p == 1) {
     const auto f = number(v);
     if (!f) return std::nullopt;
     return VecX::Constant(1, *f);
@@ -1083,20 +1081,20 @@ void Loader::read_supports(const Entry& section) {
 
 void Loader::read_loads(const Entry& section) {
   const Value& v = section.value;
-  if (v.node.IsNull()) return;
-  if (!v.node.IsSequence()) {
+  if (v.node->is_null()) return;
+  if (!v.node->is_sequence()) {
     fail(v, "loads is a list, e.g. `- {at: E, wrench: [0, -100, 0, 0, 0, 0]}`; got " +
-                describe(v.node));
+                describe(*v.node));
     return;
   }
-  for (std::size_t i = 0; i < v.node.size(); ++i) {
+  for (std::size_t i = 0; i < v.node->size(); ++i) {
     const Value entry = item(v, i);
     Load load;
     load.origin.location = entry.at;
     const auto e = fixed_mapping(entry);
     check_keys(e, entry.path, kLoadKeys, {}, "a load");
     record(load.origin, e, "");
-    if (entry.node.IsMap()) {
+    if (entry.node->is_mapping()) {
       read_link_end(e, entry, load.at, load.link);
       if (const Entry* w = required(e, entry, "wrench"))
         load.wrench = fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]").value_or(Vec6::Zero());
@@ -1113,7 +1111,7 @@ void Loader::read_end_effectors(const Entry& section) {
     const auto e = fixed_mapping(named.value);
     check_keys(e, named.value.path, kEndEffectorKeys, {}, "an end effector");
     record(ee.origin, e, "");
-    if (named.value.node.IsMap()) read_link_end(e, named.value, ee.at, ee.link);
+    if (named.value.node->is_mapping()) read_link_end(e, named.value, ee.at, ee.link);
     model_.end_effectors.push_back(std::move(ee));
   }
 }
@@ -1216,8 +1214,10 @@ struct Nesting {
   SourceLocation first_too_deep;  // line 0 where the text stays within the limit
 };
 
-// Measures nesting on the characters of a YAML or JSON text, before yaml-cpp, which recurses
-// once per level, parses it. A flow collection is an open `[` or `{`; a block collection is a
+// Measures nesting on the characters of a YAML or JSON text before it is parsed, so that a
+// refusal can say how deep the whole file goes, even where the parser would stop at an error
+// further on; the tree builder holds the same limit again, for whatever this scan misreads.
+// A flow collection is an open `[` or `{`; a block collection is a
 // line indented deeper than the collection it is in, or a `- ` or `? ` item whose content on
 // the same line is a mapping or list (`- - x`, `- key: value`). Quoted text, comments and the
 // lines of block scalars (`|`, `>`) hold no collections. Where it cannot tell, as on the
@@ -1341,29 +1341,22 @@ void require_nesting_within(std::string_view text, const std::string& file,
   SourceLocation at = nesting.first_too_deep;
   at.file = file;
   throw InputError(at, "",
-                   "mappings and lists nest deeper here than the limit of " +
-                       std::to_string(limits.max_nesting_depth) + " levels (the file reaches " +
-                       std::to_string(nesting.deepest) +
-                       "); if the model is meant to nest this deep, raise the limit with "
-                       "--max-depth N (LoadLimits::max_nesting_depth)");
+                   detail::nesting_too_deep_message(limits.max_nesting_depth, nesting.deepest));
 }
 
 // Counted on the parsed file, before each entity becomes part of a Model that validation and
 // the solver work through.
-void require_entity_counts_within(const YAML::Node& root, const std::string& file,
+void require_entity_counts_within(const YamlNode& root, const std::string& file,
                                   const LoadLimits& limits) {
-  if (!root.IsMap()) return;
   std::vector<Diagnostic> too_many;
-  for (auto it = root.begin(); it != root.end(); ++it) {
-    const YAML::Node key = it->first;
-    const YAML::Node section = it->second;
-    if (!key.IsScalar() || !contains(kEntityKinds, key.Scalar())) continue;
-    if (!section.IsMap() && !section.IsSequence()) continue;
-    const std::size_t count = section.size();
+  for (const auto& [key, section] : root.entries()) {
+    if (!key->is_scalar() || !contains(kEntityKinds, key->text())) continue;
+    if (!section->is_mapping() && !section->is_sequence()) continue;
+    const std::size_t count = section->size();
     if (count <= limits.max_entities) continue;
-    std::string kind = key.Scalar();
+    std::string kind = key->text();
     std::replace(kind.begin(), kind.end(), '_', ' ');
-    too_many.push_back({location_in(file, key.Mark()), key.Scalar(),
+    too_many.push_back({location_in(file, *key), key->text(),
                         "the model has " + std::to_string(count) + " " + kind +
                             ", above the limit of " + std::to_string(limits.max_entities) +
                             " of each kind; if the model is meant to be this large, raise the "
@@ -1376,21 +1369,16 @@ void require_entity_counts_within(const YAML::Node& root, const std::string& fil
 
 namespace {
 
-YAML::Node parse_tree(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+detail::YamlTree parse_tree(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
   require_size_within(text.size(), file_name, limits);
   require_nesting_within(text, file_name, limits);
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(text));
-  } catch (const YAML::Exception& e) {
-    throw InputError({{location_in(file_name, e.mark), "", "YAML syntax error: " + e.msg}});
-  }
-  require_entity_counts_within(root, file_name, limits);
-  return root;
+  detail::YamlTree tree = detail::parse_yaml(text, file_name, limits.max_nesting_depth);
+  require_entity_counts_within(tree.root(), file_name, limits);
+  return tree;
 }
 
 // A model read from a parsed file and validated, with the file's positions in every message.
-Model read_checked(const YAML::Node& root, const std::string& file_name, detail::ExpressionEvaluator* expressions,
+Model read_checked(const YamlNode& root, const std::string& file_name, detail::ExpressionEvaluator* expressions,
                    std::span<const double> values) {
   Loader loader(file_name, expressions, values);
   Model model = loader.read(root);
@@ -1436,7 +1424,7 @@ struct NumberBindings {
 // Reads the file once more with every expression probed, and finds where each probe landed.
 // Nullopt when that cannot be told for sure (a probe value lost or changed on its way into
 // the model, a real number in the probes' range): builders then read the file for each member.
-std::optional<NumberBindings> bind_numbers(const YAML::Node& root, const std::string& file_name, Model reference,
+std::optional<NumberBindings> bind_numbers(const YamlNode& root, const std::string& file_name, Model reference,
                                            std::vector<ExpressionSite> derived) {
   Loader prober(file_name);
   prober.probe_expressions();
@@ -1499,21 +1487,21 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
 }
 
 // Builders of a file whose numbers could not be bound read the file for each member: each
-// parses the text once into a tree of its own (a cloned tree would lose the file positions
-// that messages give), so builders on different threads share nothing that changes.
+// parses the text once into a tree of its own, so builders on different threads share nothing.
 ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, const std::string& file_name,
                                        const LoadLimits& limits, std::vector<std::string> names,
                                        std::vector<std::string> derived_names) {
-  auto own_tree = std::make_shared<const YAML::Node>(parse_tree(*text, file_name, limits));
+  auto own_tree = std::make_shared<const detail::YamlTree>(parse_tree(*text, file_name, limits));
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
   return [own_tree, expressions, file_name](std::span<const double> values) {
-    return read_checked(*own_tree, file_name, expressions.get(), values);
+    return read_checked(own_tree->root(), file_name, expressions.get(), values);
   };
 }
 
 ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits,
                       const ParameterSettings& settings) {
-  const YAML::Node root = parse_tree(text, file_name, limits);
+  const detail::YamlTree tree = parse_tree(text, file_name, limits);
+  const YamlNode& root = tree.root();
   Loader loader(file_name);
   loader.set_defaults(&settings);
   Model at_defaults = loader.read(root);
@@ -1551,7 +1539,7 @@ Model parse_model(std::string_view text, const std::string& file_name) {
 }
 
 Model parse_model(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
-  return read_checked(parse_tree(text, file_name, limits), file_name, nullptr, {});
+  return read_checked(parse_tree(text, file_name, limits).root(), file_name, nullptr, {});
 }
 
 Model load_model(const std::filesystem::path& path) { return load_model(path, LoadLimits{}); }
