@@ -215,6 +215,7 @@ points:
   B: [2, "1.0", 0]
   C: [3, one, 0]
   D: [1, 2]
+  E: [4, +-1, 0]
 links: {L: {type: rigid, from: O, to: A}}
 loads:
   - {at: A, wrench: [0, 0, nan, 0, 0, 0, 0]}
@@ -225,10 +226,11 @@ loads:
       has_defect(defects, "points.B[1]", {"expected a number", "quoted text '1.0'"}, 5, 10));
   EXPECT_TRUE(has_defect(defects, "points.C[1]", {"expected a number", "'one'"}, 6, 10));
   EXPECT_TRUE(has_defect(defects, "points.D", {"expected 3 numbers [x, y, z], got 2"}, 7, 6));
-  EXPECT_TRUE(has_defect(defects, "loads[0].wrench", {"expected 6 numbers", "got 7"}, 10, 21));
+  EXPECT_TRUE(has_defect(defects, "points.E[1]", {"expected a number", "'+-1'"}, 8, 10));
+  EXPECT_TRUE(has_defect(defects, "loads[0].wrench", {"expected 6 numbers", "got 7"}, 11, 21));
   EXPECT_TRUE(has_defect(defects, "loads[0].wrench[2]", {"expected a finite number", "'nan'"}));
   // The unreadable positions are not also reported as non-finite by validation.
-  EXPECT_EQ(defects.size(), 7u) << listing(defects);
+  EXPECT_EQ(defects.size(), 8u) << listing(defects);
 }
 
 TEST(ModelDefects, MatricesMustHaveTheirSize) {

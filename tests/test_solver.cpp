@@ -151,6 +151,7 @@ TEST(KluPivotReuse, AMatrixTheReferencePivotsDoNotSuitIsFactorisedAfresh) {
   ASSERT_TRUE(system.factorize(reference, 1e-14));
   const SparseMatrix other = two_by_two(1e-20, 1, 1, 1);
   ASSERT_TRUE(system.factorize(other, 1e-14));
+  EXPECT_FALSE(system.reused_pivot_order());
   MatX b(2, 1);
   b << 1, 2;
   double residual = 0;
@@ -160,6 +161,7 @@ TEST(KluPivotReuse, AMatrixTheReferencePivotsDoNotSuitIsFactorisedAfresh) {
   // A matrix they suit reuses them, and is solved as exactly.
   const SparseMatrix near = two_by_two(2, 1, 1e-3, 3);
   ASSERT_TRUE(system.factorize(near, 1e-14));
+  EXPECT_TRUE(system.reused_pivot_order());
   b << 3, 3.001;
   const MatX y = system.solve(b, 0, residual);
   EXPECT_NEAR(y(0), 1.0, 1e-15);
@@ -178,4 +180,20 @@ TEST(AccuracyChecks, AFailedCheckIsReportedAsSuchAndAsAWarning) {
   EXPECT_EQ(failed.report.warnings.back(), failed.report.failed_checks[0]);
   // The numbers are the same: the check only judges them.
   EXPECT_EQ(*failed.end_effectors[0].compliance, *passed.end_effectors[0].compliance);
+}
+
+TEST(KluPivotReuse, ReusedPivotsMustPassThresholdPivotingAtOneTenth) {
+  if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "klu is not built in";
+  // The backend alone, without the equilibration that would rescale these rows.
+  const auto lu = detail::make_linear_solver(SolverKind::klu);
+  const SparseMatrix reference = two_by_two(1, 0, 0.5, 1);  // pivots column 0 on row 0
+  lu->analyze(reference);
+  ASSERT_TRUE(lu->factorize(reference));
+  // Row 0 again would be a pivot of 0.01 under an entry of 1: a multiplier of 100, though U
+  // does not grow at all (its reciprocal growth stays 1). Refused.
+  ASSERT_TRUE(lu->factorize(two_by_two(0.01, 0, 1, 1)));
+  EXPECT_FALSE(lu->reused_pivot_order());
+  // A multiplier of 5 passes.
+  ASSERT_TRUE(lu->factorize(two_by_two(1, 0, 5, 1)));
+  EXPECT_TRUE(lu->reused_pivot_order());
 }

@@ -412,7 +412,7 @@ TEST(PoseFile, DefectsNameTheLineAndColumn) {
 TEST(PoseFile, PlainNumbersAreWholeFiniteDecimals) {
   EXPECT_EQ(parse_plain_number("+1.5"), 1.5);
   EXPECT_EQ(parse_plain_number("-2e-3"), -2e-3);
-  for (const char* text : {"", "+", "1.5x", " 1", "nan", "inf", "1e999", "0x10", "--1"})
+  for (const char* text : {"", "+", "1.5x", " 1", "nan", "inf", "1e999", "0x10", "--1", "+-1"})
     EXPECT_FALSE(parse_plain_number(text).has_value()) << text;
 }
 

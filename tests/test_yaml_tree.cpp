@@ -46,8 +46,7 @@ TEST(YamlTree, QuotedBlockAndBangTaggedScalarsAreText) {
   EXPECT_TRUE(value_of(root, "literal").quoted());
   EXPECT_TRUE(value_of(root, "folded").quoted());
   EXPECT_TRUE(value_of(root, "bang").quoted());
-  // An explicit tag other than `!` says what the value is; quoting does not decide (yaml-cpp's
-  // reading, which the loader keeps).
+  // An explicit tag other than `!` says what the value is; quoting does not decide.
   EXPECT_FALSE(value_of(root, "str").quoted());
   EXPECT_EQ(value_of(root, "double").text(), "2e11");
   EXPECT_EQ(value_of(root, "literal").text(), "2e11\n");

@@ -471,13 +471,15 @@ namespace {
 Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
   auto& ws = workspace.impl();
   if (!ws.system || ws.solver_kind != options.solver) {
-    ws.system = std::make_unique<detail::FactorizedSystem>(options.solver);
-    ws.solver_kind = options.solver;
+    auto system = std::make_unique<detail::FactorizedSystem>(options.solver);
     if (!topology_known) {
-      // The reference first; whether it is regular does not matter here.
+      // The reference first; whether it is regular does not matter here. Installed only once
+      // factorised, so that a throw leaves the next solve to try the reference again.
       ws.assembler->fill(ws.recorded_blocks, ws.matrix);
-      ws.system->factorize(ws.matrix, options.singular_rcond);
+      system->factorize(ws.matrix, options.singular_rcond);
     }
+    ws.system = std::move(system);
+    ws.solver_kind = options.solver;
   }
   Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);

@@ -439,7 +439,8 @@ std::optional<double> Loader::number(const Value& v) {
     fail(v, "the number '" + text + "' is out of range");
     return std::nullopt;
   }
-  if (error != std::errc() || stop != end) {
+  const bool sign_after_plus = begin != text.data() && begin != end && *begin == '-';
+  if (error != std::errc() || stop != end || sign_after_plus) {
     fail(v, "expected a number, got " + describe(*v.node) +
                 "; a number written as an expression needs the file's `parameters:`");
     return std::nullopt;

@@ -49,8 +49,9 @@ Json relative_deflection_json(const std::vector<VecX>& per_end) {
 }
 
 // An object of the named entities of one kind, in model order. Built from the list at once:
-// ordered_json's operator[] compares the key with every earlier one (the model already made
-// the names unique), which made a 100 000-link result take half a minute.
+// ordered_json's operator[] compares the key with every earlier one, which made a 100 000-link
+// result take half a minute. The names are unique in a result of a valid model; a Result
+// assembled by hand with a repeated name gets the key twice.
 template <class Entities, class ToJson>
 Json named_objects(const Entities& entities, ToJson to_json) {
   std::vector<std::pair<std::string, Json>> members;

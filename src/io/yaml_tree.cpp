@@ -40,7 +40,7 @@ std::string_view text_of(fy_token* token) {
   return text == nullptr ? std::string_view{} : std::string_view(text, length);
 }
 
-// yaml-cpp's null spellings, which YAML 1.2's core schema shares.
+// The null spellings of YAML 1.2's core schema, which model files have relied on.
 bool spells_null(std::string_view text) {
   return text.empty() || text == "~" || text == "null" || text == "Null" || text == "NULL";
 }
@@ -67,7 +67,7 @@ class YamlTreeBuilder {
 
     // JSON is read as the YAML it is. Flow collections may continue on lines indented no
     // deeper than their key (`K: [[1, 0],` over `[0, 1]]`), as model files have been written
-    // since yaml-cpp read them. The depth limit of libfyaml is its guard for recursive
+    // by earlier versions of stiffmsa. The depth limit of libfyaml is its guard for recursive
     // algorithms; events are produced without recursion, and depth is limited here.
     fy_parse_cfg parse_cfg{};
     parse_cfg.flags = static_cast<fy_parse_cfg_flags>(
@@ -103,8 +103,8 @@ class YamlTreeBuilder {
     bool starts_at_first_key = false;
   };
 
-  // Returns whether the first document has ended: later documents are not read, as yaml-cpp
-  // did not read them.
+  // Returns whether the first document has ended: a model file is one document, and what
+  // follows it has never been read.
   bool take(fy_event* event) {
     place_empty_nodes(event);
     switch (event->type) {
@@ -226,7 +226,7 @@ class YamlTreeBuilder {
   }
 
   // An empty value (`key:` or `-` with nothing after it) or key (`: value`) has no text of its
-  // own. As yaml-cpp did, it is placed at what follows it: the `-`, `?` or `:` just before the
+  // own. As messages have always placed it, it goes at what follows it: the `-`, `?` or `:` just before the
   // next node, or else that node.
   void place_empty_nodes(fy_event* event) {
     if (unplaced_.empty()) return;
@@ -256,7 +256,8 @@ class YamlTreeBuilder {
     fy_token* tag = event->scalar.tag;
     const bool plain = fy_token_scalar_style(value) == FYSS_PLAIN;
     const std::string_view text = text_of(value);
-    // As yaml-cpp tagged them: an explicit tag decides, else quoting or block style is "!".
+    // An explicit tag decides, else quoting or block style makes text ("!"): the rule the
+    // loader's "a quoted number is text" rests on.
     const char* tag_text = tag != nullptr ? fy_token_get_text0(tag) : nullptr;
     const bool quoted = tag_text != nullptr ? std::string_view(tag_text) == "!" : !plain;
     const bool null = plain && tag == nullptr && spells_null(text);

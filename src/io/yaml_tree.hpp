@@ -62,6 +62,13 @@ class YamlNode {
 // place (as anchors and aliases mean), so the tree is not copied out of proportion to the text.
 class YamlTree {
  public:
+  YamlTree() = default;
+  // Nodes point at each other: a copy would point into the original.
+  YamlTree(const YamlTree&) = delete;
+  YamlTree& operator=(const YamlTree&) = delete;
+  YamlTree(YamlTree&&) = default;
+  YamlTree& operator=(YamlTree&&) = default;
+
   const YamlNode& root() const { return nodes_.front(); }
 
  private:

@@ -1,6 +1,5 @@
 #include "model/link_ends.hpp"
 
-
 namespace stiffmsa::detail {
 
 namespace {

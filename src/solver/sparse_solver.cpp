@@ -88,12 +88,15 @@ class UmfpackLU final : public LinearSolver {
 //
 // The first factorisation after an analysis fixes the pivot order (a workspace's reference
 // model); later ones reuse it (klu_refactor: no pivot search and no depth-first searches,
-// 2.5× faster on the example robots) unless the reused pivots let the entries of U grow ten
-// times more than the reference's own partial pivoting did, or meet a zero; that matrix is
-// then factorised afresh. Which factorisation a matrix gets depends on it and the reference
-// only, never on the matrices in between.
+// 2.5× faster on the example robots) while the reused pivots still pass threshold partial
+// pivoting with tolerance 0.1 (UMFPACK's default; every multiplier |l_ij| ≤ 10, where the
+// reference's own partial pivoting had ≤ 1) and KLU's reciprocal pivot growth of U stays
+// within 10× of the reference's. A matrix that fails either, or meets a zero pivot, is
+// factorised afresh. Which factorisation a matrix gets depends on it and the reference only,
+// never on the matrices in between.
 class KluLU final : public LinearSolver {
  public:
+  static constexpr double kMaxMultiplier = 10;
   static constexpr double kMaxGrowthLoss = 10;
 
   KluLU() {
@@ -114,15 +117,17 @@ class KluLU final : public LinearSolver {
     int* const ai = const_cast<int*>(a.innerIndexPtr());
     double* const ax = const_cast<double*>(a.valuePtr());
     if (reference_state_ == Reference::fixed) {
-      const bool refactored = klu_refactor(ap, ai, ax, symbolic_, reference_, &common_) && common_.status == KLU_OK &&
-                              klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_) &&
-                              common_.rgrowth * kMaxGrowthLoss >= reference_growth_;
-      if (refactored) {
+      reused_ = klu_refactor(ap, ai, ax, symbolic_, reference_, &common_) && common_.status == KLU_OK &&
+                multipliers_within_threshold() && klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_) &&
+                common_.rgrowth * kMaxGrowthLoss >= reference_growth_;
+      if (reused_) {
         active_ = reference_;
+        if (fresh_) klu_free_numeric(&fresh_, &common_);
         return true;
       }
       return factorize_afresh(ap, ai, ax, fresh_);
     }
+    reused_ = false;
     const bool ok = factorize_afresh(ap, ai, ax, reference_);
     if (reference_state_ == Reference::none_yet) {
       reference_state_ = ok && klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_) ? Reference::fixed
@@ -138,6 +143,7 @@ class KluLU final : public LinearSolver {
     klu_tsolve(symbolic_, active_, n_, static_cast<int>(b.cols()), b.data(), &common_);
   }
   const char* name() const override { return "klu"; }
+  bool reused_pivot_order() const override { return reused_; }
   // The entries of L + U that KLU's ordering predicts, before pivoting.
   double predicted_factor_entries() const { return symbolic_->lnz + symbolic_->unz; }
 
@@ -146,6 +152,20 @@ class KluLU final : public LinearSolver {
   // every matrix is factorised afresh.
   enum class Reference { none_yet, fixed, unusable };
 
+  bool multipliers_within_threshold() {
+    // klu_extract writes L only with its column starts and row indices too.
+    const auto entries = static_cast<std::size_t>(reference_->lnz);
+    multipliers_.resize(entries);
+    multiplier_rows_.resize(entries);
+    multiplier_starts_.resize(static_cast<std::size_t>(n_) + 1);
+    if (!klu_extract(reference_, symbolic_, multiplier_starts_.data(), multiplier_rows_.data(), multipliers_.data(),
+                     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+                     &common_))
+      return false;
+    for (double l : multipliers_)
+      if (!(std::abs(l) <= kMaxMultiplier)) return false;
+    return true;
+  }
   bool factorize_afresh(int* ap, int* ai, double* ax, klu_numeric*& numeric) {
     if (numeric) klu_free_numeric(&numeric, &common_);
     numeric = klu_factor(ap, ai, ax, symbolic_, &common_);
@@ -165,6 +185,9 @@ class KluLU final : public LinearSolver {
   klu_numeric* active_ = nullptr;     // the factorisation of the last matrix
   Reference reference_state_ = Reference::none_yet;
   double reference_growth_ = 0;
+  bool reused_ = false;
+  std::vector<double> multipliers_;  // L of a refactorisation, to check
+  std::vector<int> multiplier_rows_, multiplier_starts_;
   int n_ = 0;
 };
 #endif
@@ -193,6 +216,7 @@ class AutomaticLU final : public LinearSolver {
   void solve(MatX& b) const override { chosen_->solve(b); }
   void solve_transposed(MatX& b) const override { chosen_->solve_transposed(b); }
   const char* name() const override { return chosen_ ? chosen_->name() : "auto"; }
+  bool reused_pivot_order() const override { return chosen_ && chosen_->reused_pivot_order(); }
 
  private:
   std::unique_ptr<LinearSolver> chosen_;
@@ -343,7 +367,6 @@ double normwise(double residual_norm, double a_norm_inf, const X& x, double b_no
   const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b_norm_inf;
   return scale > 0 ? residual_norm / scale : INFINITY;
 }
-
 
 // r = b − A·x accumulated in extended precision: refinement then converges to the solution as
 // exactly as double can hold it, where a residual in double would stall at cond(A)·ε.

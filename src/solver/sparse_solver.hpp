@@ -22,6 +22,8 @@ class LinearSolver {
   virtual void solve(MatX& b) const = 0;
   virtual void solve_transposed(MatX& b) const = 0;
   virtual const char* name() const = 0;
+  // Whether the last factorisation kept an earlier matrix's pivot order (KLU, see KluLU).
+  virtual bool reused_pivot_order() const { return false; }
 };
 
 std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
@@ -61,6 +63,7 @@ class FactorizedSystem {
 
   double reciprocal_condition() const { return rcond_; }
   const char* solver_name() const { return solver_->name(); }
+  bool reused_pivot_order() const { return solver_->reused_pivot_order(); }
 
   // Solves A·X = B. Where some column's normwise backward error over the reciprocal condition
   // exceeds kRefineAbove (a heuristic, not a bound: the error is of the unscaled system, the
