@@ -138,6 +138,25 @@ TEST(YamlTree, AnAliasOfNoAnchorIsASyntaxError) {
   EXPECT_NE(d.message.find("'*steel'"), std::string::npos) << d.message;
 }
 
+TEST(YamlTree, AliasesThatMultiplyBeyondTheBudgetAreRefusedAtTheAlias) {
+  // Nine levels of ten aliases each: 10^9 values spelt out, from 400 bytes of text.
+  std::string text = "l0: &l0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int level = 1; level <= 9; ++level) {
+    const std::string previous = "*l" + std::to_string(level - 1);
+    text += "l" + std::to_string(level) + ": &l" + std::to_string(level) + " [" + previous;
+    for (int k = 1; k < 10; ++k) text += ", " + previous;
+    text += "]\n";
+  }
+  const Diagnostic d = refusal_of(text);
+  EXPECT_NE(d.message.find("aliases repeat so much"), std::string::npos) << d.message;
+  // The budget, 1 000 000 + 4 per byte of text, is passed by the ninth alias on line 6 (each
+  // *l4 spells out 111 111 values).
+  EXPECT_EQ(d.location.line, 6);
+  // Repeating a part a few times is still read.
+  const YamlTree tree = parse_yaml("a: &a [1, 2, 3]\nb: [*a, *a, *a]\n", "t.yaml", kDepth);
+  EXPECT_EQ(value_of(tree.root(), "b").size(), 3u);
+}
+
 TEST(YamlTree, ASyntaxErrorInAFlowCollectionSaysWhereItOpens) {
   const Diagnostic d = refusal_of("a: [1, 2\nb: 3\n");
   EXPECT_EQ(d.location.line, 3);

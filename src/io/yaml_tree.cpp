@@ -2,6 +2,8 @@
 // of libfyaml's own kept alongside it.
 #include "io/yaml_tree.hpp"
 
+#include <algorithm>
+
 #include <libfyaml.h>
 
 #include <memory>
@@ -113,9 +115,20 @@ class YamlTreeBuilder {
       case FYET_SCALAR:
         add(scalar(event), event->scalar.anchor);
         return false;
-      case FYET_ALIAS:
-        add_existing(alias(event));
+      case FYET_ALIAS: {
+        const YamlNode* repeated = alias(event);
+        // Aliases that repeat aliases grow the values a reader walks exponentially in the
+        // length of the text ("billion laughs"): spelt out, the document must stay within a
+        // budget proportional to its text.
+        expanded_ = std::min(kUnbounded, expanded_ + repeated->expanded_);
+        if (expanded_ > expansion_budget())
+          throw InputError(node_start(event->alias.anchor, nullptr, nullptr), "",
+                           "aliases repeat so much that the document, spelt out, would hold more than " +
+                               std::to_string(expansion_budget()) +
+                               " values; write the repeated parts out, or repeat less");
+        add_existing(repeated);
         return false;
+      }
       case FYET_SEQUENCE_START:
       case FYET_MAPPING_START:
         open(event);
@@ -217,6 +230,7 @@ class YamlTreeBuilder {
   }
 
   YamlNode& new_node(YamlNode::Kind kind, const SourceLocation& at) {
+    ++expanded_;
     YamlNode& node = tree_.nodes_.emplace_back();
     node.kind_ = kind;
     node.line_ = at.line;
@@ -311,6 +325,7 @@ class YamlTreeBuilder {
   void add_existing(const YamlNode* node) {
     if (open_.empty()) return;  // the root, which is nodes_.front()
     Open& parent = open_.back();
+    parent.node->expanded_ = std::min(kUnbounded, parent.node->expanded_ + node->expanded_);
     if (parent.starts_at_first_key) {
       // An empty key (`[: v]`) has no place yet: the pair stays at its `:`.
       if (node->line_ > 0) {
@@ -360,6 +375,10 @@ class YamlTreeBuilder {
   std::vector<Open> open_;  // the collections being read, the innermost last
   std::vector<YamlNode*> unplaced_;  // empty values that wait for what follows them
   std::unordered_map<std::string, const YamlNode*> anchors_;
+  // Values of the document spelt out so far: nodes made, plus what every alias repeats.
+  static constexpr std::uint64_t kUnbounded = std::uint64_t{1} << 62;
+  std::uint64_t expanded_ = 0;
+  std::uint64_t expansion_budget() const { return 4 * static_cast<std::uint64_t>(text_.size()) + 1'000'000; }
 };
 
 YamlTree parse_yaml(std::string_view text, const std::string& file, int max_depth) {

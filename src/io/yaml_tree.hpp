@@ -51,6 +51,8 @@ class YamlNode {
   friend class YamlTreeBuilder;
   Kind kind_ = Kind::null;
   bool quoted_ = false;
+  // Values in the node with every alias in it spelt out (itself included), up to the budget.
+  std::uint64_t expanded_ = 1;
   int line_ = 0;
   int column_ = 0;
   std::string text_;
