@@ -157,6 +157,21 @@ TEST(YamlTree, AliasesThatMultiplyBeyondTheBudgetAreRefusedAtTheAlias) {
   EXPECT_EQ(value_of(tree.root(), "b").size(), 3u);
 }
 
+TEST(YamlTree, BytesThatAreNoUtf8AreRefusedWhereTheyStand) {
+  // Found by the fuzz target: libfyaml loops without end on this directive line.
+  const Diagnostic directive = refusal_of(std::string("# I1\n%lid\xff\0oints: {}\n", 21));
+  EXPECT_EQ(directive.location.line, 2);
+  EXPECT_EQ(directive.location.column, 5);
+  EXPECT_NE(directive.message.find("not UTF-8"), std::string::npos) << directive.message;
+  EXPECT_NE(directive.message.find("0xff"), std::string::npos) << directive.message;
+  // Overlong forms, surrogates, truncated sequences.
+  for (const char* bad : {"a: \xc0\xaf\n", "a: \xed\xa0\x80\n", "a: \xe2\x82\n", "a: \xf5\x80\x80\x80\n"})
+    EXPECT_EQ(refusal_of(bad).location.column, 4) << bad;
+  // Text in other scripts is read.
+  const YamlTree tree = parse_yaml("name: \"Schulter-Gelenk \xc3\xa4 \xe2\x88\x86 \xf0\x9f\xa4\x96\"\n", "t.yaml", kDepth);
+  EXPECT_EQ(value_of(tree.root(), "name").text(), "Schulter-Gelenk \xc3\xa4 \xe2\x88\x86 \xf0\x9f\xa4\x96");
+}
+
 TEST(YamlTree, ASyntaxErrorInAFlowCollectionSaysWhereItOpens) {
   const Diagnostic d = refusal_of("a: [1, 2\nb: 3\n");
   EXPECT_EQ(d.location.line, 3);

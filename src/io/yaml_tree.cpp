@@ -6,6 +6,7 @@
 
 #include <libfyaml.h>
 
+#include <cstdio>
 #include <memory>
 #include <new>
 #include <optional>
@@ -381,7 +382,63 @@ class YamlTreeBuilder {
   std::uint64_t expansion_budget() const { return 4 * static_cast<std::uint64_t>(text_.size()) + 1'000'000; }
 };
 
+namespace {
+
+// The length of the UTF-8 sequence that starts `text` (1 to 4), or 0 where it is malformed:
+// a stray continuation byte, an overlong form, a surrogate or a code point above U+10FFFF.
+std::size_t utf8_sequence_length(std::string_view text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  const unsigned char lead = byte(0);
+  if (lead < 0x80) return 1;
+  std::size_t length = 0;
+  unsigned char low = 0x80, high = 0xBF;  // the range of the second byte
+  if (lead >= 0xC2 && lead <= 0xDF) {
+    length = 2;
+  } else if (lead >= 0xE0 && lead <= 0xEF) {
+    length = 3;
+    if (lead == 0xE0) low = 0xA0;
+    if (lead == 0xED) high = 0x9F;
+  } else if (lead >= 0xF0 && lead <= 0xF4) {
+    length = 4;
+    if (lead == 0xF0) low = 0x90;
+    if (lead == 0xF4) high = 0x8F;
+  } else {
+    return 0;
+  }
+  if (text.size() < length || byte(1) < low || byte(1) > high) return 0;
+  for (std::size_t i = 2; i < length; ++i)
+    if (byte(i) < 0x80 || byte(i) > 0xBF) return 0;
+  return length;
+}
+
+// Model files are UTF-8. Checked before parsing: libfyaml (0.7.12) loops without end on some
+// malformed bytes (one in a directive line, found by the fuzz target), and reads others at the
+// start of a plain value as an empty value.
+void require_utf8(std::string_view text, const std::string& file) {
+  int line = 1, column = 1;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t length = utf8_sequence_length(text.substr(at));
+    if (length == 0) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned char>(text[at]));
+      throw InputError(SourceLocation{file, line, column}, "",
+                       std::string("the file is not UTF-8 text: the byte ") + hex +
+                           " here begins no UTF-8 character; save the model as UTF-8");
+    }
+    if (text[at] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+    at += length;
+  }
+}
+
+}  // namespace
+
 YamlTree parse_yaml(std::string_view text, const std::string& file, int max_depth) {
+  require_utf8(text, file);
   return YamlTreeBuilder(text, file, max_depth).build();
 }
 
