@@ -33,6 +33,8 @@ mkdir -p "$build/corpus" "$build/artifacts"
 log="$build/fuzz.log"
 
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:print_stacktrace=1"
+# Leaks inside third-party libraries that no caller can free: the list sanitize.sh uses.
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan-suppressions.txt:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 
 echo "fuzz.sh: fuzzing the model loader for ${seconds} s (corpus: ${corpus_dirs[*]})"
