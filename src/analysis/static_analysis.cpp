@@ -348,26 +348,29 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
                              structure.descriptions);
 
   const double length = detail::characteristic_length(problem.model);
-  auto size = [&](const MatX& rows6) { return largest_six(rows6, length, false); };
-  double largest = 0;
-  for (int end = 0; end < problem.ws.topology.end_count(); ++end)
-    largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
-  auto undetermined = [&](const MatX& rows6) { return size(rows6) > 1e-8 * largest; };
-  for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
-    const int from = 2 * static_cast<int>(l);
-    if (undetermined(redundancies.middleRows<6>(wrench_column(from)))) result.links[l].from.wrench.reset();
-    if (undetermined(redundancies.middleRows<6>(wrench_column(from + 1)))) result.links[l].to.wrench.reset();
-  }
-  for (const auto& group : problem.ws.topology.groups) {
-    if (group.kind == detail::ConnectionGroup::Kind::joint &&
-        undetermined(redundancies.middleRows<6>(wrench_column(group.ends.front())))) {
-      auto& joint = result.joints[static_cast<std::size_t>(group.source)];
-      joint.wrench.reset();
-      joint.effort.reset();
-    } else if (group.kind == detail::ConnectionGroup::Kind::support) {
-      MatX sum = MatX::Zero(6, redundancies.cols());
-      for (int end : group.ends) sum += redundancies.middleRows<6>(wrench_column(end));
-      if (undetermined(sum)) result.supports[static_cast<std::size_t>(group.source)].reaction.reset();
+  // Rows of a matrix without columns would be taken from a null pointer.
+  if (redundancies.cols() > 0) {
+    auto size = [&](const MatX& rows6) { return largest_six(rows6, length, false); };
+    double largest = 0;
+    for (int end = 0; end < problem.ws.topology.end_count(); ++end)
+      largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
+    auto undetermined = [&](const MatX& rows6) { return size(rows6) > 1e-8 * largest; };
+    for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
+      const int from = 2 * static_cast<int>(l);
+      if (undetermined(redundancies.middleRows<6>(wrench_column(from)))) result.links[l].from.wrench.reset();
+      if (undetermined(redundancies.middleRows<6>(wrench_column(from + 1)))) result.links[l].to.wrench.reset();
+    }
+    for (const auto& group : problem.ws.topology.groups) {
+      if (group.kind == detail::ConnectionGroup::Kind::joint &&
+          undetermined(redundancies.middleRows<6>(wrench_column(group.ends.front())))) {
+        auto& joint = result.joints[static_cast<std::size_t>(group.source)];
+        joint.wrench.reset();
+        joint.effort.reset();
+      } else if (group.kind == detail::ConnectionGroup::Kind::support) {
+        MatX sum = MatX::Zero(6, redundancies.cols());
+        for (int end : group.ends) sum += redundancies.middleRows<6>(wrench_column(end));
+        if (undetermined(sum)) result.supports[static_cast<std::size_t>(group.source)].reaction.reset();
+      }
     }
   }
   if (idle.cols() > 0) {
