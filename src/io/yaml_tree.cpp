@@ -152,6 +152,22 @@ class YamlTreeBuilder {
     return {file_, mark->line + 1, mark->column + 1};
   }
 
+  // The character that opens a token before where libfyaml marks it: a quote, `&` or `*`.
+  static char indicator_of(fy_token* token) {
+    switch (fy_token_get_type(token)) {
+      case FYTT_SCALAR:
+        return fy_token_scalar_style(token) == FYSS_SINGLE_QUOTED   ? '\''
+               : fy_token_scalar_style(token) == FYSS_DOUBLE_QUOTED ? '"'
+                                                                    : '\0';
+      case FYTT_ANCHOR:
+        return '&';
+      case FYTT_ALIAS:
+        return '*';
+      default:
+        return '\0';
+    }
+  }
+
   // libfyaml marks a quoted scalar after its opening quote; messages point at the quote, where
   // the value begins for the reader.
   std::optional<fy_mark> start_of(fy_token* token) const {
@@ -159,33 +175,11 @@ class YamlTreeBuilder {
     if (mark == nullptr) return std::nullopt;
     fy_mark start = *mark;
     if (start.input_pos == 0 || start.input_pos > text_.size()) return start;
-    const char before = text_[start.input_pos - 1];
-    bool indicator_before = false;
-    switch (fy_token_get_type(token)) {
-      case FYTT_SCALAR:
-        switch (fy_token_scalar_style(token)) {
-          case FYSS_SINGLE_QUOTED:
-            indicator_before = before == '\'';
-            break;
-          case FYSS_DOUBLE_QUOTED:
-            indicator_before = before == '"';
-            break;
-          case FYSS_LITERAL:
-          case FYSS_FOLDED:
-            return block_scalar_header(start).value_or(start);
-          default:
-            break;
-        }
-        break;
-      case FYTT_ANCHOR:
-        indicator_before = before == '&';
-        break;
-      case FYTT_ALIAS:
-        indicator_before = before == '*';
-        break;
-      default:
-        break;
-    }
+    if (fy_token_get_type(token) == FYTT_SCALAR &&
+        (fy_token_scalar_style(token) == FYSS_LITERAL || fy_token_scalar_style(token) == FYSS_FOLDED))
+      return block_scalar_header(start).value_or(start);
+    const char indicator = indicator_of(token);
+    const bool indicator_before = indicator != '\0' && text_[start.input_pos - 1] == indicator;
     if (indicator_before && start.column > 0) {
       --start.input_pos;
       --start.column;
