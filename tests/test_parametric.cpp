@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -51,6 +52,19 @@ std::string first_error(const std::string& text) {
   }
   ADD_FAILURE() << "accepted:\n" << text;
   return {};
+}
+
+// The exception of type E that `action` throws, or nothing if it returns; the caller asserts
+// that there is one (`ASSERT_TRUE(e) << ...`), which ends the test as a FAIL() in place would.
+// Exceptions of other types pass through.
+template <class E, class F>
+std::optional<E> thrown(F&& action) {
+  try {
+    action();
+  } catch (const E& e) {
+    return e;
+  }
+  return std::nullopt;
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -117,18 +131,15 @@ TEST(ParametricFile, SettingsReplaceTheDefaultsTheFamilyIsCheckedAt) {
   const ModelFamily family = parse_model_family(invalid_defaults, "p.yaml", {}, {{"D", 0.03}, {"F", 7}});
   EXPECT_EQ(family.default_values(), (std::vector<double>{0.5, 0.03, 7}));
   EXPECT_EQ(family.build(family.default_values()).loads[0].wrench(1), -7.0);
-  try {
+  const auto negative_root = thrown<InputError>([&] {
     parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml", {}, {{"L", 0.05}});
-    FAIL() << "accepted a negative square root";
-  } catch (const InputError& e) {
-    EXPECT_TRUE(contains(e.what(), "for L = 0.05")) << e.what();  // the values checked, not the file's
-  }
-  try {
-    parse_model_family(kCantilever, "p.yaml", {}, {{"LL", 1}});
-    FAIL() << "accepted a setting of no parameter";
-  } catch (const UsageError& e) {
-    EXPECT_TRUE(contains(e.what(), "no parameter 'LL'; did you mean 'L'")) << e.what();
-  }
+  });
+  ASSERT_TRUE(negative_root) << "accepted a negative square root";
+  // the values checked, not the file's
+  EXPECT_TRUE(contains(negative_root->what(), "for L = 0.05")) << negative_root->what();
+  const auto misspelt = thrown<UsageError>([&] { parse_model_family(kCantilever, "p.yaml", {}, {{"LL", 1}}); });
+  ASSERT_TRUE(misspelt) << "accepted a setting of no parameter";
+  EXPECT_TRUE(contains(misspelt->what(), "no parameter 'LL'; did you mean 'L'")) << misspelt->what();
   EXPECT_THROW(load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml", {}, {{"x", 1}}),
                UsageError);
 }
@@ -246,27 +257,22 @@ TEST(ParametricFile, FileWithoutParametersIsAFamilyOfOne) {
 
 TEST(ParametricFile, InvalidMemberThrowsWithTheKey) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
-  try {
-    family.build(std::vector<double>{0.0, 0.02, 100});  // zero-length links
-    FAIL() << "accepted a zero-length cantilever";
-  } catch (const InputError& e) {
-    EXPECT_TRUE(contains(e.diagnostics().front().key_path, "links.")) << e.what();
-  }
+  // zero-length links
+  const auto e = thrown<InputError>([&] { family.build(std::vector<double>{0.0, 0.02, 100}); });
+  ASSERT_TRUE(e) << "accepted a zero-length cantilever";
+  EXPECT_TRUE(contains(e->diagnostics().front().key_path, "links.")) << e->what();
 }
 
 TEST(ParametricFile, MessagesOfAMemberGiveTheLineOfTheKey) {
   const ModelFamily family = parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml");
-  try {
-    family.build(std::vector<double>{0.05, 0.02, 100});
-    FAIL() << "accepted the square root of a negative number";
-  } catch (const InputError& e) {
-    const Diagnostic& d = e.diagnostics().front();
-    EXPECT_EQ(d.key_path, "derived.half");
-    EXPECT_EQ(d.location.file, "p.yaml");
-    EXPECT_EQ(d.location.line, 8);  // where `half:` is, not the top of the file
-    EXPECT_EQ(d.location.column, 9);
-    EXPECT_TRUE(contains(d.message, "for L = 0.05")) << d.message;
-  }
+  const auto e = thrown<InputError>([&] { family.build(std::vector<double>{0.05, 0.02, 100}); });
+  ASSERT_TRUE(e) << "accepted the square root of a negative number";
+  const Diagnostic& d = e->diagnostics().front();
+  EXPECT_EQ(d.key_path, "derived.half");
+  EXPECT_EQ(d.location.file, "p.yaml");
+  EXPECT_EQ(d.location.line, 8);  // where `half:` is, not the top of the file
+  EXPECT_EQ(d.location.column, 9);
+  EXPECT_TRUE(contains(d.message, "for L = 0.05")) << d.message;
 }
 
 TEST(ParametricFile, AssignmentIsNotAnExpression) {
@@ -360,22 +366,16 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
 
 TEST(ParametricFile, ExpressionFailureOfAMemberNamesItsKey) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
-  try {
-    family.build(std::vector<double>{0.5, -0.02, 100});
-    FAIL() << "accepted a negative diameter";
-  } catch (const InputError& e) {
-    EXPECT_TRUE(contains(e.diagnostics().front().key_path, "section.D")) << e.what();
-  }
+  const auto negative = thrown<InputError>([&] { family.build(std::vector<double>{0.5, -0.02, 100}); });
+  ASSERT_TRUE(negative) << "accepted a negative diameter";
+  EXPECT_TRUE(contains(negative->diagnostics().front().key_path, "section.D")) << negative->what();
   const ModelFamily divided = parse_model_family(with("tip: [L, \"0\", 0]", "tip: [L, \"1 / (F - 50)\", 0]"), "p.yaml");
-  try {
-    divided.build(std::vector<double>{0.5, 0.02, 50});
-    FAIL() << "accepted a division by zero";
-  } catch (const InputError& e) {
-    const Diagnostic& d = e.diagnostics().front();
-    EXPECT_EQ(d.key_path, "points.tip[1]");
-    EXPECT_EQ(d.location.line, 14);
-    EXPECT_TRUE(contains(d.message, "gives inf for F = 50")) << d.message;
-  }
+  const auto by_zero = thrown<InputError>([&] { divided.build(std::vector<double>{0.5, 0.02, 50}); });
+  ASSERT_TRUE(by_zero) << "accepted a division by zero";
+  const Diagnostic& d = by_zero->diagnostics().front();
+  EXPECT_EQ(d.key_path, "points.tip[1]");
+  EXPECT_EQ(d.location.line, 14);
+  EXPECT_TRUE(contains(d.message, "gives inf for F = 50")) << d.message;
 }
 
 TEST(ParametricExamples, DefaultsReproduceTheFixedExamples) {
