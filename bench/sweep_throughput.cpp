@@ -83,8 +83,6 @@ std::string json_list(const std::vector<double>& values) {
   return out.str();
 }
 
-double lowest(const std::vector<double>& values) { return *std::min_element(values.begin(), values.end()); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -107,7 +105,6 @@ int main(int argc, char** argv) {
     const stiffmsa::ModelFamily family =
         stiffmsa::load_model_family(std::string(STIFFMSA_EXAMPLES_DIR) + "/" + c.file);
     const stiffmsa::PoseTable poses = stiffmsa::grid_poses(c.grid);
-    const double count = static_cast<double>(poses.size());
 
     // One untimed sweep first: page faults of fresh memory, TBB's worker threads, caches.
     options.threads = 2;
@@ -169,16 +166,15 @@ int main(int argc, char** argv) {
     for (const auto& [name, n] : statuses) status_json << (status_json.tellp() ? ", " : "") << '"' << name << "\": " << n;
     std::printf(
         "{\"model\": \"%s\", \"file\": \"%s\", \"solver\": \"%s\", \"grid\": \"%s=%g:%g:%zu %s=%g:%g:%zu\", "
-        "\"poses\": %zu, \"statuses\": {%s}, \"members_built\": %zu, \"repeats\": %d, "
+        "\"poses\": %zu, \"statuses\": {%s}, "
         "\"wall_s_1\": %s, \"wall_s_2\": %s, \"cpu_s_1\": %s, \"cpu_s_2\": %s, \"steal_ticks_1\": %s, "
-        "\"steal_ticks_2\": %s, \"make_builder_s\": %.6g, \"build_s\": %s, \"solve_s\": %s, "
-        "\"best_poses_per_s_1\": %.1f, \"best_poses_per_s_2\": %.1f}\n",
+        "\"steal_ticks_2\": %s, \"make_builder_s\": %.6g, \"build_s\": %s, \"solve_s\": %s}\n",
         c.key.c_str(), c.file.c_str(), stiffmsa::to_string(options.solve.solver), c.grid[0].parameter.c_str(),
         c.grid[0].start, c.grid[0].stop, c.grid[0].count, c.grid[1].parameter.c_str(), c.grid[1].start,
-        c.grid[1].stop, c.grid[1].count, poses.size(), status_json.str().c_str(), members.size(), repeats,
+        c.grid[1].stop, c.grid[1].count, poses.size(), status_json.str().c_str(),
         json_list(wall[1]).c_str(), json_list(wall[2]).c_str(), json_list(cpu[1]).c_str(), json_list(cpu[2]).c_str(),
         json_list(steal[1]).c_str(), json_list(steal[2]).c_str(), make_builder_s, json_list(build_s).c_str(),
-        json_list(solve_s).c_str(), count / lowest(wall[1]), count / lowest(wall[2]));
+        json_list(solve_s).c_str());
     std::fflush(stdout);
   }
   return 0;
