@@ -188,7 +188,11 @@ void print_report(std::ostream& out, const SolveReport& report) {
       << '\n'
       << "  relative residual:    " << scientific(report.relative_residual, 0, 2) << '\n'
       << "  equilibrium error:    " << scientific(report.equilibrium_error, 0, 2) << '\n'
-      << "  reciprocal condition: " << scientific(report.reciprocal_condition, 0, 2);
+      << "  reciprocal condition: ";
+  if (report.solver == "tree")
+    out << "not estimated (the tree solve factorises nothing)";
+  else
+    out << scientific(report.reciprocal_condition, 0, 2);
   if (report.reciprocal_condition > 0) {
     out << "  (condition number about " << scientific(1.0 / report.reciprocal_condition, 0, 1)
         << ')';

@@ -273,3 +273,124 @@ TEST(FreeEnd, WrenchEqualsTheLoad) {
   block.add_external_wrench(0, 0, load, rhs);
   EXPECT_LT((A * unknowns({Vec6::Random()}, {load}) - rhs).norm(), 1e-15);
 }
+
+// ---- the tree solve's passes: each block solves its own equations -------------------------
+
+namespace {
+
+// Unknowns and external wrenches of `ends` link ends, three load cases, the preloads in the
+// first. The unknowns start random: a pass must set what it hands on whatever was there.
+struct TreeFixture {
+  static constexpr Index kColumns = 3;
+  explicit TreeFixture(int end_count)
+      : ends(end_count), x(MatX::Random(12 * end_count, kColumns)), low(MatX::Zero(12 * end_count, kColumns)),
+        external(end_count, kColumns) {}
+  TreeColumns state() { return TreeColumns{x, low, external, 0}; }
+  void load(int end) {
+    for (Index c = 0; c < kColumns; ++c) external.add(end, c, Vec6::Random() * 100.0);
+  }
+  // max |equations·x − rhs| over the block's rows, relative to the largest term.
+  double residual(const ElementBlock& block, const std::vector<int>& held) const {
+    const MatX a = equations_of(block, ends);
+    const MatX solution = x + low;
+    MatX rhs = MatX::Zero(block.equation_count(), kColumns);
+    for (Index c = 0; c < kColumns; ++c) {
+      VecX column = VecX::Zero(block.equation_count());
+      for (int end : held) block.add_external_wrench(0, end, external.at(end).col(c), column);
+      if (c == 0) block.add_preload(0, column);
+      rhs.col(c) = column;
+    }
+    const double scale = (a.cwiseAbs() * solution.cwiseAbs()).maxCoeff() + rhs.cwiseAbs().maxCoeff();
+    const double largest = (a * solution - rhs).cwiseAbs().maxCoeff();
+    return scale > 0 ? largest / scale : largest;  // a rigid support's rows over zero deflections
+  }
+  int ends;
+  MatX x, low;
+  EndWrenches external;
+};
+
+Mat6 sample_compliance() {
+  const Mat6 m = Mat6::Random();
+  return 1e-6 * (m * m.transpose() + Mat6::Identity());
+}
+
+}  // namespace
+
+TEST(TreePasses, LinkPassesWrenchesAndDeflectionsEitherWay) {
+  for (const std::optional<Mat6>& compliance : {std::optional<Mat6>(sample_compliance()), std::optional<Mat6>()}) {
+    const LinkBlock link(0, 1, kTo - kFrom, compliance);
+    ASSERT_TRUE(link.passes_tree());
+    for (int toward_root : {0, 1}) {
+      TreeFixture f(2);
+      auto state = f.state();
+      link.pass_wrench_to_root(toward_root, state);
+      link.pass_deflection_from_root(toward_root, state);
+      EXPECT_LT(f.residual(link, {}), 1e-15) << "toward end " << toward_root;
+    }
+  }
+}
+
+TEST(TreePasses, RigidJointOfThreeEndsBalancesItsLoadsAndMovesAsOne) {
+  const ConstraintJointBlock joint({0, 2, 4}, free_directions(Kinematics::rigid()), std::nullopt);
+  ASSERT_TRUE(joint.passes_tree());
+  for (int toward_root : {0, 2, 4}) {
+    TreeFixture f(5);
+    f.load(0);
+    f.load(4);
+    auto state = f.state();
+    joint.pass_wrench_to_root(toward_root, state);
+    joint.pass_deflection_from_root(toward_root, state);
+    EXPECT_LT(f.residual(joint, {0, 2, 4}), 1e-15) << "toward end " << toward_root;
+  }
+}
+
+TEST(TreePasses, ElasticJointWithPreloadSolvesItsSpringEitherWay) {
+  MatX universal_stiffness(2, 2);
+  universal_stiffness << 4e4, 1e3, 1e3, 2e4;
+  const std::vector<std::pair<Kinematics, MatX>> springs = {
+      {Kinematics::revolute(Vec3(1, 2, 3)), MatX::Constant(1, 1, 3e4)},
+      {Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)), universal_stiffness},
+      {Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()}), MatX::Constant(1, 1, 5e5)}};
+  for (const auto& [kinematics, stiffness] : springs) {
+    const ElasticJointBlock joint(0, 2, free_directions(kinematics), stiffness, VecX::Constant(stiffness.rows(), 7.5));
+    for (int toward_root : {0, 2}) {
+      TreeFixture f(3);
+      f.load(0);
+      f.load(2);
+      auto state = f.state();
+      joint.pass_wrench_to_root(toward_root, state);
+      joint.pass_deflection_from_root(toward_root, state);
+      EXPECT_LT(f.residual(joint, {0, 2}), 1e-14) << to_string(kinematics.type) << ", toward end " << toward_root;
+    }
+  }
+}
+
+TEST(TreePasses, RootSupportHoldsItsEndsRigidlyOrOnItsSpring) {
+  Eigen::Matrix3d k;
+  k << 5e6, 1e5, 0, 1e5, 4e6, 2e5, 0, 2e5, 6e6;
+  const SupportBlock elastic({0, 2}, free_directions(Kinematics::spherical()), MatX(k), VecX::Constant(3, -40.0));
+  const SupportBlock rigid({0, 2}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt);
+  for (const SupportBlock* support : {&elastic, &rigid}) {
+    ASSERT_TRUE(support->passes_tree());
+    TreeFixture f(3);
+    f.load(2);
+    auto state = f.state();
+    support->set_root_deflection(state);
+    EXPECT_LT(f.residual(*support, {0, 2}), 1e-15);
+  }
+}
+
+TEST(TreePasses, FreeEndCarriesItsLoad) {
+  const FreeEndBlock free_end(1);
+  TreeFixture f(2);
+  f.load(1);
+  auto state = f.state();
+  free_end.pass_wrench_to_root(1, state);
+  EXPECT_EQ(f.residual(free_end, {1}), 0.0);
+}
+
+TEST(TreePasses, FreeMotionAndSingularLinkMatricesAreLeftToTheFactorisingSolve) {
+  EXPECT_FALSE(ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3(0, 0, 1))), std::nullopt).passes_tree());
+  EXPECT_FALSE(SupportBlock({0}, free_directions(Kinematics::spherical()), std::nullopt, std::nullopt).passes_tree());
+  EXPECT_FALSE(StiffnessLinkBlock(0, 1, Mat12::Identity()).passes_tree());
+}

@@ -11,6 +11,7 @@
 #include "elements/free_directions.hpp"
 #include "model/link_ends.hpp"
 #include "solver/sparse_solver.hpp"
+#include "solver/tree_solver.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/config.hpp"
 #include "stiffmsa/validate.hpp"
@@ -47,6 +48,9 @@ struct Workspace::Impl {
   // (FactorizedSystem), so that a pose's results do not depend on the poses solved before it.
   // A one-shot solve takes them, as its own blocks.
   detail::Blocks recorded_blocks;
+  // Where links and connections form a tree on the one support, `auto` solves by passing
+  // wrenches and deflections along it (solver/tree_solver.hpp) instead of factorising.
+  std::optional<detail::TreeOrder> tree;
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
@@ -54,6 +58,7 @@ Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   impl_->topology = detail::build_topology(model);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
   impl_->assembler = std::make_unique<detail::Assembler>(impl_->recorded_blocks, impl_->topology.unknowns());
+  impl_->tree = detail::tree_order(impl_->topology);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -234,22 +239,23 @@ void check_accuracy(const SolveOptions& options, Result& result) {
                                 result.report.failed_checks.end());
 }
 
-// Solves the loads and every end effector's unit wrenches with `solve_columns`, which maps
-// right-hand sides (one per column) to solutions, and fills deflections, wrenches, compliance
-// and stiffness.
-template <class SolveColumns>
-void solve_loads_and_compliance(Problem& problem, Result& result, SolveColumns solve_columns) {
+// The right-hand sides: the loads and preloads in column 0, then a unit wrench in each of the
+// 6 directions at every end effector.
+MatX load_and_unit_wrench_rhs(const Problem& problem) {
   const auto& t = problem.ws.topology;
-  const Index n = t.unknowns();
   const std::size_t effectors = problem.model.end_effectors.size();
-  MatX rhs(n, 1 + 6 * static_cast<Index>(effectors));
+  MatX rhs(t.unknowns(), 1 + 6 * static_cast<Index>(effectors));
   rhs.col(0) = problem.load_rhs();
   for (std::size_t e = 0; e < effectors; ++e)
     rhs.middleCols<6>(1 + 6 * static_cast<Index>(e)) = problem.unit_wrench_rhs(t.effector_ends[e]);
-  double residual = 0;
-  const MatX x = solve_columns(std::move(rhs), residual);
-  result.report.relative_residual = std::max(result.report.relative_residual, residual);
+  return rhs;
+}
 
+// Deflections, wrenches, compliance and stiffness from the solutions of those right-hand sides.
+void fill_loads_and_compliance(const Problem& problem, const MatX& x, double residual, Result& result) {
+  const auto& t = problem.ws.topology;
+  const std::size_t effectors = problem.model.end_effectors.size();
+  result.report.relative_residual = std::max(result.report.relative_residual, residual);
   fill_state_results(problem, x.col(0), result);
   const double length = detail::characteristic_length(problem.model);
   for (std::size_t e = 0; e < effectors; ++e) {
@@ -273,10 +279,29 @@ void solve_loads_and_compliance(Problem& problem, Result& result, SolveColumns s
 }
 
 void solve_regular(Problem& problem, Result& result) {
-  solve_loads_and_compliance(problem, result, [&](MatX rhs, double& residual) {
-    return problem.ws.system->solve(std::move(rhs), problem.options.refinement_steps, residual);
-  });
+  double residual = 0;
+  const MatX x = problem.ws.system->solve(load_and_unit_wrench_rhs(problem), problem.options.refinement_steps, residual);
+  fill_loads_and_compliance(problem, x, residual, result);
   check_accuracy(problem.options, result);
+}
+
+// The tree solve (solver/tree_solver.hpp), checked against the assembled system. False, with
+// the result untouched, where its residual fails the check: the factorising solve then decides.
+bool solve_on_tree(Problem& problem, Result& result) {
+  const auto& t = problem.ws.topology;
+  const std::size_t effectors = problem.model.end_effectors.size();
+  detail::EndWrenches external(t.end_count(), 1 + 6 * static_cast<Index>(effectors));
+  for (std::size_t e = 0; e < problem.external.size(); ++e)
+    if (!problem.external[e].isZero(0)) external.add(static_cast<int>(e), 0, problem.external[e]);
+  for (std::size_t e = 0; e < effectors; ++e)
+    for (int c = 0; c < 6; ++c) external.add(t.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
+  const MatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns(), 0);
+  const double residual = detail::relative_residual(problem.ws.matrix, x, load_and_unit_wrench_rhs(problem));
+  if (!(residual <= problem.options.max_relative_residual)) return false;
+  result.report.solver = "tree";
+  fill_loads_and_compliance(problem, x, residual, result);
+  check_accuracy(problem.options, result);
+  return true;
 }
 
 detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns, const MatX& rows) {
@@ -334,15 +359,15 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
   detail::FactorizedSystem system(problem.options.solver);
   if (!system.factorize(extended, problem.options.singular_rcond))
     throw SingularModelError(SingularModelError::Cause::numerical, "the model is singular and could not be solved", structure.descriptions);
-  solve_loads_and_compliance(problem, result, [&](const MatX& rhs, double& residual) {
+  {
+    const MatX rhs = load_and_unit_wrench_rhs(problem);
     MatX padded = MatX::Zero(n + null_vectors.cols(), rhs.cols());
     padded.topRows(n) = rhs;
     double bordered_residual = 0;
     const MatX x = system.solve(std::move(padded), problem.options.refinement_steps, bordered_residual);
     const MatX solution = x.topRows(n);
-    residual = detail::relative_residual(problem.ws.matrix, solution, rhs);
-    return solution;
-  });
+    fill_loads_and_compliance(problem, solution, detail::relative_residual(problem.ws.matrix, solution, rhs), result);
+  }
   if (result.report.relative_residual > 1e-8)
     throw SingularModelError(SingularModelError::Cause::free_motion, "the structure cannot hold its loads or preloads: they act along a free motion",
                              structure.descriptions);
@@ -473,6 +498,13 @@ namespace {
 
 Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
   auto& ws = workspace.impl();
+  Problem problem(model, ws, options, topology_known);
+  Result result = empty_result(model, ws);
+  result.system = ws.assembler->size();
+  result.system.nonzeros = count_nonzero_values(ws.matrix);
+  if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
+      solve_on_tree(problem, result))
+    return result;
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);
     if (!topology_known) {
@@ -480,14 +512,11 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
       // factorised, so that a throw leaves the next solve to try the reference again.
       ws.assembler->fill(ws.recorded_blocks, ws.matrix);
       system->factorize(ws.matrix, options.singular_rcond);
+      ws.assembler->fill(problem.blocks, ws.matrix);
     }
     ws.system = std::move(system);
     ws.solver_kind = options.solver;
   }
-  Problem problem(model, ws, options, topology_known);
-  Result result = empty_result(model, ws);
-  result.system = ws.assembler->size();
-  result.system.nonzeros = count_nonzero_values(ws.matrix);
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
   result.report.solver = ws.system->solver_name();  // `auto` has chosen by now
   result.report.reciprocal_condition = ws.system->reciprocal_condition();

@@ -49,4 +49,26 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
   rhs.segment(passive + p(), p()) -= projected;
 }
 
+// Σ W_k = Σ W_ext,k (Λ_r = I) solved for the end toward the root, as a running sum through
+// the first of the other ends.
+void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
+  int through = -1;
+  MatX increment = MatX::Zero(6, state.x.cols());
+  for (int end : ends_) {
+    increment += state.external.at(end);
+    if (end == toward_root) continue;
+    if (through < 0)
+      through = end;
+    else
+      increment -= state.wrench(end) + state.x_low.middleRows<6>(wrench_column(end));
+  }
+  state.set_sum(wrench_column(toward_root), wrench_column(through), -1.0, increment);
+}
+
+// Δt_1 = Δt_k (Λ_r = I).
+void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
+  for (int end : ends_)
+    if (end != toward_root) state.set_copy(deflection_column(end), deflection_column(toward_root));
+}
+
 }  // namespace stiffmsa::detail

@@ -8,4 +8,51 @@ void ElementBlock::add_external_wrench(Index, int, const Vec6&, VecX&) const {
   throw Error("internal error: an external wrench was routed to a block that holds no link end");
 }
 
+void ElementBlock::pass_wrench_to_root(int, TreeColumns&) const {
+  throw Error("internal error: a block that does not pass the tree solve was asked for a wrench");
+}
+void ElementBlock::pass_deflection_from_root(int, TreeColumns&) const {
+  throw Error("internal error: a block that does not pass the tree solve was asked for a deflection");
+}
+void ElementBlock::set_root_deflection(TreeColumns&) const {
+  throw Error("internal error: a block that is no support was made the root of a tree solve");
+}
+
+void TreeColumns::set_sum(Index target, Index source, double sign, const MatX& increment) {
+  // Knuth's TwoSum: s + e = a + b exactly.
+  const Eigen::ArrayXXd a = sign * x.middleRows<6>(source).array();
+  const Eigen::ArrayXXd b = increment.array() + sign * x_low.middleRows<6>(source).array();
+  const Eigen::ArrayXXd s = a + b;
+  const Eigen::ArrayXXd b_part = s - a;
+  x_low.middleRows<6>(target) = ((a - (s - b_part)) + (b - b_part)).matrix();
+  x.middleRows<6>(target) = s.matrix();
+}
+
+void TreeColumns::set_copy(Index target, Index source) {
+  x.middleRows<6>(target) = x.middleRows<6>(source);
+  x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
+}
+
+void TreeColumns::set_value(Index target, const MatX& value) {
+  x.middleRows<6>(target) = value;
+  x_low.middleRows<6>(target).setZero();
+}
+
+EndWrenches::EndWrenches(int end_count, Index columns)
+    : slot_(static_cast<std::size_t>(end_count), -1), zero_(MatX::Zero(6, columns)) {}
+
+void EndWrenches::add(int end, Index column, const Vec6& wrench) {
+  int& slot = slot_[static_cast<std::size_t>(end)];
+  if (slot < 0) {
+    slot = static_cast<int>(values_.size());
+    values_.push_back(zero_);
+  }
+  values_[static_cast<std::size_t>(slot)].col(column) += wrench;
+}
+
+const MatX& EndWrenches::at(int end) const {
+  const int slot = slot_[static_cast<std::size_t>(end)];
+  return slot < 0 ? zero_ : values_[static_cast<std::size_t>(slot)];
+}
+
 }  // namespace stiffmsa::detail

@@ -5,6 +5,7 @@
 // (row, column) positions an element writes depends only on the topology, never on values:
 // explicit zeros are written too, so a model whose numbers change keeps its sparsity pattern.
 #include <Eigen/Core>
+#include <vector>
 
 #include "stiffmsa/types.hpp"
 
@@ -30,6 +31,40 @@ class EquationWriter {
   }
 };
 
+// The state of a tree solve (solver/tree_solver.hpp): the unknowns x (n × k, the mixed
+// system's layout, one column per load case) and the external wrench at each link end per
+// column. A block asked to pass something writes only the rows the pass names.
+class EndWrenches {
+ public:
+  EndWrenches(int end_count, Index columns);
+  Index columns() const { return zero_.cols(); }
+  void add(int end, Index column, const Vec6& wrench);
+  // 6 × k: the wrenches at `end`, zero where none is applied.
+  const MatX& at(int end) const;
+
+ private:
+  std::vector<int> slot_;  // per link end: index into values_, or −1
+  std::vector<MatX> values_;
+  MatX zero_;
+};
+
+// Values passed along a long chain are running sums: x holds each rounded to double and
+// x_low what the rounding left out, so that ten thousand links add no more error than one.
+struct TreeColumns {
+  MatX& x;
+  MatX& x_low;
+  const EndWrenches& external;
+  Index preload_column;  // the column that carries the preloads (with the model's loads)
+
+  auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
+  auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }
+  // The rows of `target` (a deflection or wrench column) become sign·(rows of `source`) +
+  // increment, both parts: the increment is formed from rounded values, the sum is not rounded.
+  void set_sum(Index target, Index source, double sign, const MatX& increment);
+  void set_copy(Index target, Index source);  // both parts
+  void set_value(Index target, const MatX& value);  // low part zero
+};
+
 class ElementBlock {
  public:
   virtual ~ElementBlock() = default;
@@ -41,6 +76,19 @@ class ElementBlock {
                                    VecX& rhs) const;
   // Right-hand side of the block's preload, if any.
   virtual void add_preload(Index /*first_row*/, VecX& /*rhs*/) const {}
+
+  // The tree solve: where links and connections form a tree with the one support at its root,
+  // every wrench follows from equilibrium, passed from the leaves to the root, and every
+  // deflection from the support's, passed back out, each block solving its own equations for
+  // the ends it hands on. `toward_root` is the block's link end on the path to the support.
+  // Whether the block's equations can be solved so (a passive joint's cannot: free motion).
+  virtual bool passes_tree() const { return false; }
+  // Sets W at `toward_root` from W at the block's other ends and the external wrenches.
+  virtual void pass_wrench_to_root(int toward_root, TreeColumns& state) const;
+  // Sets Δt at the block's other ends from Δt at `toward_root` and the wrenches.
+  virtual void pass_deflection_from_root(int toward_root, TreeColumns& state) const;
+  // The root (a support): sets Δt at its ends from their wrenches.
+  virtual void set_root_deflection(TreeColumns& state) const;
 };
 
 }  // namespace stiffmsa::detail

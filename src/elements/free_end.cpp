@@ -10,4 +10,8 @@ void FreeEndBlock::add_external_wrench(Index row, int, const Vec6& wrench, VecX&
   rhs.segment<6>(row) += wrench;
 }
 
+void FreeEndBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
+  state.set_value(wrench_column(toward_root), state.external.at(toward_root));
+}
+
 }  // namespace stiffmsa::detail

@@ -23,6 +23,9 @@ class LinkBlock final : public ElementBlock {
       : end_i_(end_i), end_j_(end_j), d_(d), compliance_(std::move(compliance)) {}
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
+  bool passes_tree() const override { return true; }
+  void pass_wrench_to_root(int toward_root, TreeColumns& state) const override;
+  void pass_deflection_from_root(int toward_root, TreeColumns& state) const override;
 
  private:
   int end_i_, end_j_;

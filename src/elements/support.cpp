@@ -1,3 +1,4 @@
+#include <Eigen/LU>
 #include <utility>
 
 #include "elements/connection_blocks.hpp"
@@ -43,6 +44,24 @@ void SupportBlock::add_preload(Index row, VecX& rhs) const {
   const Index p = directions_.free.rows();
   const Index held = row + 6 * static_cast<Index>(ends_.size()) - p;
   rhs.segment(held, p) += directions_.gram() * *preload_;
+}
+
+// The ends move as one: Δt = 0 when rigid; when elastic, Λ_r·Δt = 0 and
+// G·K·Λ_p·Δt = G·w_0 − Λ_p·R, with R = Σ(W_k − W_ext,k) the reaction.
+void SupportBlock::set_root_deflection(TreeColumns& state) const {
+  const Index r = directions_.constrained.rows(), p = directions_.free.rows();
+  MatX deflection = MatX::Zero(6, state.x.cols());
+  if (p > 0) {
+    MatX reaction = MatX::Zero(6, state.x.cols());
+    for (int end : ends_) reaction += state.wrench(end) - state.external.at(end);
+    deflection.bottomRows(p).noalias() = -directions_.free * reaction;
+    if (preload_) deflection.bottomRows(p).col(state.preload_column) += directions_.gram() * *preload_;
+    Mat6 equations;
+    equations.topRows(r) = directions_.constrained;
+    equations.bottomRows(p) = *spring_;
+    deflection = equations.partialPivLu().solve(deflection);
+  }
+  for (int end : ends_) state.set_value(deflection_column(end), deflection);
 }
 
 }  // namespace stiffmsa::detail

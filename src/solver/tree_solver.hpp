@@ -1,0 +1,35 @@
+#pragma once
+// The tree solve: where the links and connection groups of a model form a tree whose root is
+// its one support (a serial robot, a chain, a branched arm), the mixed system is solved
+// without factorising it. Every wrench follows from equilibrium, passed from the leaves to
+// the support, and every deflection from the support's, passed back out; each element block
+// solves its own equations for the link ends it hands on (ElementBlock::pass_*). It costs a
+// few 6×6 products per link end and load case, and sums the transported compliances the way a
+// hand-condensed serial model does, so it loses no digits on long chains. The analyses check
+// its residual against the assembled system like any other solve.
+#include <optional>
+#include <vector>
+
+#include "assembly/assembler.hpp"
+
+namespace stiffmsa::detail {
+
+struct TreeOrder {
+  int root = -1;                 // the support's connection group
+  std::vector<int> groups;       // breadth first from the root, the root first
+  std::vector<int> toward_root;  // per entry of `groups`: its link end on the path to the root (−1 at the root)
+};
+
+// The order of a tree solve; nullopt where the links and connection groups do not form a tree
+// or where there is not exactly one support.
+std::optional<TreeOrder> tree_order(const Topology& topology);
+
+// Whether every block can take part in a tree solve (no passive joint or support).
+bool passes_tree(const Blocks& blocks);
+
+// The unknowns (unknowns × external.columns(), the mixed system's layout) under the external
+// wrenches of each column, with the preloads added to column `preload_column`.
+MatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
+                Index unknowns, Index preload_column);
+
+}  // namespace stiffmsa::detail

@@ -1,0 +1,215 @@
+// The tree solve against the factorising solve of the same system: models whose links and
+// connections form a tree on one support are solved by `auto` without factorising
+// (solver/tree_solver.hpp); every number they report must be the one the factorised mixed
+// system gives.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+
+#include "assembly/topology.hpp"
+#include "solver/tree_solver.hpp"
+#include "stiffmsa/stiffmsa.hpp"
+
+using namespace stiffmsa;
+
+namespace {
+
+const Material kSteel{2.1e11, 0.3, std::nullopt};
+
+SolverKind factorising_solver() { return solver_available(SolverKind::klu) ? SolverKind::klu : SolverKind::sparse_lu; }
+
+// Largest difference between two optional vectors or matrices over the largest entry of the
+// factorised one (both absent counts as equal, one absent as a failure).
+template <class T>
+void expect_same(const std::optional<T>& tree, const std::optional<T>& factorised, double& largest_difference,
+                 double scale, const std::string& what) {
+  ASSERT_EQ(tree.has_value(), factorised.has_value()) << what;
+  if (!tree) return;
+  ASSERT_EQ(tree->size(), factorised->size()) << what;
+  if (factorised->size() == 0) return;  // a rigid joint's relative deflection
+  const double size = std::max(scale, factorised->cwiseAbs().maxCoeff());
+  if (size == 0) return;
+  largest_difference = std::max(largest_difference, (*tree - *factorised).cwiseAbs().maxCoeff() / size);
+}
+
+// Every reported number of two results of one model, each kind relative to its largest entry.
+void expect_same_results(const Result& tree, const Result& factorised, double tolerance) {
+  auto largest_deflection = 0.0, largest_wrench = 0.0;
+  for (const auto& l : factorised.links)
+    for (const auto* end : {&l.from, &l.to}) {
+      if (end->deflection) largest_deflection = std::max(largest_deflection, end->deflection->cwiseAbs().maxCoeff());
+      if (end->wrench) largest_wrench = std::max(largest_wrench, end->wrench->cwiseAbs().maxCoeff());
+    }
+  double difference = 0;
+  ASSERT_EQ(tree.links.size(), factorised.links.size());
+  for (std::size_t l = 0; l < tree.links.size(); ++l) {
+    const std::string name = "link " + factorised.links[l].name;
+    expect_same(tree.links[l].from.deflection, factorised.links[l].from.deflection, difference, largest_deflection, name);
+    expect_same(tree.links[l].to.deflection, factorised.links[l].to.deflection, difference, largest_deflection, name);
+    expect_same(tree.links[l].from.wrench, factorised.links[l].from.wrench, difference, largest_wrench, name);
+    expect_same(tree.links[l].to.wrench, factorised.links[l].to.wrench, difference, largest_wrench, name);
+  }
+  for (std::size_t j = 0; j < tree.joints.size(); ++j) {
+    const std::string name = "joint " + factorised.joints[j].name;
+    expect_same(tree.joints[j].wrench, factorised.joints[j].wrench, difference, largest_wrench, name);
+    expect_same(tree.joints[j].effort, factorised.joints[j].effort, difference, largest_wrench, name);
+    ASSERT_EQ(tree.joints[j].relative_deflection.has_value(), factorised.joints[j].relative_deflection.has_value());
+    if (tree.joints[j].relative_deflection)
+      for (std::size_t k = 0; k < tree.joints[j].relative_deflection->size(); ++k)
+        expect_same(std::optional<VecX>((*tree.joints[j].relative_deflection)[k]),
+                    std::optional<VecX>((*factorised.joints[j].relative_deflection)[k]), difference, largest_deflection,
+                    name);
+  }
+  for (std::size_t s = 0; s < tree.supports.size(); ++s)
+    expect_same(tree.supports[s].reaction, factorised.supports[s].reaction, difference, largest_wrench,
+                "support " + factorised.supports[s].name);
+  for (std::size_t e = 0; e < tree.end_effectors.size(); ++e) {
+    const std::string name = "end effector " + factorised.end_effectors[e].name;
+    expect_same(tree.end_effectors[e].compliance, factorised.end_effectors[e].compliance, difference, 0.0, name);
+    expect_same(tree.end_effectors[e].stiffness, factorised.end_effectors[e].stiffness, difference, 0.0, name);
+    expect_same(tree.end_effectors[e].deflection, factorised.end_effectors[e].deflection, difference, largest_deflection, name);
+  }
+  EXPECT_LT(difference, tolerance);
+  EXPECT_LT(tree.report.relative_residual, 1e-15);
+  EXPECT_LT(tree.report.equilibrium_error, 1e-13);
+  EXPECT_TRUE(tree.report.failed_checks.empty());
+}
+
+// A branched arm with every element a tree solve passes: an elastic, preloaded support; a rigid
+// joint of three link ends; elastic joints (one preloaded, one of two directions); beams,
+// rigid links and a CAD compliance link; loads on both branches and on a loose end; two end
+// effectors.
+Model branched_arm() {
+  Model m;
+  m.add_point("base", Vec3(0, 0, 0));
+  m.add_point("hub", Vec3(0.05, 0.02, 0.6));
+  m.add_point("elbow_a", Vec3(0.45, 0.1, 0.7));
+  m.add_point("tip_a", Vec3(0.8, 0.05, 0.55));
+  m.add_point("elbow_b", Vec3(-0.3, 0.35, 0.75));
+  m.add_point("tip_b", Vec3(-0.5, 0.6, 0.5));
+  m.add_point("stub", Vec3(0.1, -0.3, 0.65));
+  m.add_beam("column", "base", "hub", kSteel, Section::tube(0.12, 0.008));
+  m.add_beam("upper_a", "hub", "elbow_a", kSteel, Section::rect_tube(0.08, 0.1, 0.005));
+  m.add_beam("fore_a", "elbow_a", "tip_a", kSteel, Section::circle(0.04)).kind = [] {
+    BeamLink beam{kSteel, Section::circle(0.04), true, std::nullopt};
+    return LinkKind(beam);
+  }();
+  m.add_rigid_link("upper_b", "hub", "elbow_b");
+  Mat6 c = Mat6::Identity() * 2e-7;
+  c(0, 4) = c(4, 0) = 3e-8;
+  m.add_compliance_link("fore_b", "elbow_b", "tip_b", c);
+  m.add_beam("bracket", "hub", "stub", kSteel, Section::rect(0.03, 0.05));
+
+  MatX hip_k(3, 3);
+  hip_k << 8e6, 2e5, 0, 2e5, 6e6, 1e5, 0, 1e5, 9e6;
+  Connection hip{Kinematics::spherical(), hip_k, VecX::Constant(3, 15.0), false};
+  m.add_support("ground", "base", {}, hip);
+  m.add_joint("hub", "hub", {"column", "upper_a", "upper_b", "bracket"}, Connection{});
+  Connection elbow_a{Kinematics::revolute(Vec3(0, 1, 0.2)), MatX::Constant(1, 1, 4e4), VecX::Constant(1, -3.0), false};
+  m.add_joint("elbow_a", "elbow_a", {"upper_a", "fore_a"}, elbow_a);
+  MatX wrist_k(2, 2);
+  wrist_k << 2e4, 5e2, 5e2, 3e4;
+  Connection elbow_b{Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 0.6, 0.8)), wrist_k, std::nullopt, false};
+  m.add_joint("elbow_b", "elbow_b", {"fore_b", "upper_b"}, elbow_b);  // end 1 is the outer link
+  m.add_load("tip_a", std::nullopt, (Vec6() << 10, -40, -120, 2, 0, 1).finished());
+  m.add_load("tip_b", std::nullopt, (Vec6() << -5, 20, -60, 0, 3, 0).finished());
+  m.add_load("stub", std::nullopt, (Vec6() << 0, 0, -30, 0, 0, 0).finished());
+  m.add_end_effector("a", "tip_a");
+  m.add_end_effector("b", "tip_b");
+  return m;
+}
+
+}  // namespace
+
+TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
+  std::set<std::string> solved_on_tree;
+  for (const char* file : {"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml", "planar-3rpr.yaml",
+                           "gough-stewart-6ups.yaml", "tripteron.yaml"}) {
+    const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
+    const Result automatic = solve(m);
+    if (automatic.report.solver != "tree") continue;
+    solved_on_tree.insert(file);
+    SolveOptions factorising;
+    factorising.solver = factorising_solver();
+    SCOPED_TRACE(file);
+    expect_same_results(automatic, solve(m, factorising), 1e-13);
+  }
+  // The serial ones; the parallel robots close loops through their legs.
+  EXPECT_EQ(solved_on_tree, (std::set<std::string>{"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml"}));
+}
+
+TEST(TreeSolve, BranchedArmWithEveryKindOfTreeElementMatchesTheFactorisedSolve) {
+  const Model m = branched_arm();
+  const Result automatic = solve(m);
+  ASSERT_EQ(automatic.report.solver, "tree");
+  SolveOptions factorising;
+  factorising.solver = factorising_solver();
+  expect_same_results(automatic, solve(m, factorising), 1e-13);
+  // A workspace's later poses take the tree too.
+  Workspace workspace(m);
+  Model moved = m;
+  moved.points[3].position += Vec3(0.02, -0.01, 0.03);
+  const Result pose = solve(workspace, moved);
+  EXPECT_EQ(pose.report.solver, "tree");
+  expect_same_results(pose, solve(moved, factorising), 1e-13);
+}
+
+TEST(TreeSolve, TakesOnlyTreesOnOneSupportWithoutFreeMotion) {
+  Model two_supports = branched_arm();
+  two_supports.add_support("prop", "stub", {}, Connection{});
+  EXPECT_FALSE(detail::tree_order(detail::build_topology(two_supports)));
+  EXPECT_NE(solve(two_supports).report.solver, "tree");
+
+  Model loop = branched_arm();
+  loop.add_beam("tie", "tip_a", "stub", kSteel, Section::circle(0.01));
+  loop.loads[0].link = "fore_a";
+  loop.loads[2].link = "bracket";
+  loop.end_effectors[0].link = "fore_a";
+  EXPECT_FALSE(detail::tree_order(detail::build_topology(loop)));
+  EXPECT_NE(solve(loop).report.solver, "tree");
+
+  // A passive joint on a tree is a free motion: the factorising solve finds and names it.
+  Model passive = branched_arm();
+  passive.joints[1].connection = Connection{Kinematics::revolute(Vec3(0, 1, 0.2)), std::nullopt, std::nullopt, false};
+  passive.loads.clear();
+  passive.supports[0].connection.preload.reset();
+  EXPECT_TRUE(detail::tree_order(detail::build_topology(passive)));
+  EXPECT_NE(solve(passive).report.solver, "tree");
+}
+
+TEST(TreeSolve, TheOrderVisitsEveryGroupAfterTheOneTowardTheSupport) {
+  const Model m = branched_arm();
+  const detail::Topology topology = detail::build_topology(m);
+  const auto order = detail::tree_order(topology);
+  ASSERT_TRUE(order);
+  ASSERT_EQ(order->groups.size(), topology.groups.size());
+  EXPECT_EQ(topology.groups[static_cast<std::size_t>(order->root)].kind, detail::ConnectionGroup::Kind::support);
+  std::vector<int> position(topology.groups.size(), -1);
+  for (std::size_t k = 0; k < order->groups.size(); ++k) position[static_cast<std::size_t>(order->groups[k])] = static_cast<int>(k);
+  for (std::size_t k = 1; k < order->groups.size(); ++k) {
+    const int toward_root = order->toward_root[k];
+    EXPECT_EQ(topology.group_of_end[static_cast<std::size_t>(toward_root)], order->groups[k]);
+    // The link's other end is in a group visited before.
+    EXPECT_LT(position[static_cast<std::size_t>(topology.group_of_end[static_cast<std::size_t>(toward_root ^ 1)])],
+              static_cast<int>(k));
+  }
+}
+
+TEST(TreeSolve, AResidualThatFailsTheCheckIsRedoneByFactorising) {
+  const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
+  SolveOptions strict;
+  strict.max_relative_residual = 1e-300;  // no floating-point solve meets this
+  const Result failed = solve(m, strict);
+  EXPECT_NE(failed.report.solver, "tree");
+  ASSERT_EQ(failed.report.failed_checks.size(), 1u);
+  EXPECT_NE(failed.report.failed_checks[0].find("the relative residual"), std::string::npos);
+}
+
+TEST(TreeSolve, ChoosingAFactorisingSolverSkipsTheTree) {
+  const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
+  SolveOptions options;
+  options.solver = SolverKind::sparse_lu;
+  EXPECT_EQ(solve(m, options).report.solver, "sparse_lu");
+}
