@@ -53,7 +53,8 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
 // the first of the other ends.
 void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
   int through = -1;
-  MatX increment = MatX::Zero(6, state.x.cols());
+  MatX& increment = state.increment;
+  increment.setZero();
   for (int end : ends_) {
     increment += state.external.at(end);
     if (end == toward_root) continue;
@@ -62,7 +63,7 @@ void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& sta
     else
       increment -= state.wrench(end) + state.x_low.middleRows<6>(wrench_column(end));
   }
-  state.set_sum(wrench_column(toward_root), wrench_column(through), -1.0, increment);
+  state.set_sum(wrench_column(toward_root), wrench_column(through), -1.0);
 }
 
 // Δt_1 = Δt_k (Λ_r = I).

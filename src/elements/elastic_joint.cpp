@@ -46,24 +46,27 @@ void ElasticJointBlock::add_preload(Index row, VecX& rhs) const {
 // W_1 + W_2 = W_ext,1 + W_ext,2 solved for the end toward the root.
 void ElasticJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
   const int other = toward_root == end_1_ ? end_2_ : end_1_;
-  state.set_sum(wrench_column(toward_root), wrench_column(other), -1.0,
-                state.external.at(end_1_) + state.external.at(end_2_));
+  state.increment = state.external.at(end_1_) + state.external.at(end_2_);
+  state.set_sum(wrench_column(toward_root), wrench_column(other), -1.0);
 }
 
 // The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0.
 void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
   const Index r = directions_.constrained.rows(), p = directions_.free.rows();
-  MatX delta = MatX::Zero(6, state.x.cols());
+  MatX& delta = state.increment;
+  delta.topRows(r).setZero();
   delta.bottomRows(p).noalias() = directions_.free * (state.wrench(end_1_) - state.external.at(end_1_));
   if (preload_) delta.bottomRows(p).col(state.preload_column) -= directions_.gram() * *preload_;
   Mat6 equations;
   equations.topRows(r) = directions_.constrained;
   equations.bottomRows(p) = spring_;
-  delta = equations.partialPivLu().solve(delta);
-  if (toward_root == end_1_)
-    state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0, delta);
-  else
-    state.set_sum(deflection_column(end_1_), deflection_column(end_2_), 1.0, -delta);
+  delta = MatX(equations.partialPivLu().solve(delta));
+  if (toward_root == end_1_) {
+    state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);
+  } else {
+    delta = -delta;
+    state.set_sum(deflection_column(end_1_), deflection_column(end_2_), 1.0);
+  }
 }
 
 }  // namespace stiffmsa::detail

@@ -18,14 +18,17 @@ void ElementBlock::set_root_deflection(TreeColumns&) const {
   throw Error("internal error: a block that is no support was made the root of a tree solve");
 }
 
-void TreeColumns::set_sum(Index target, Index source, double sign, const MatX& increment) {
-  // Knuth's TwoSum: s + e = a + b exactly.
-  const Eigen::ArrayXXd a = sign * x.middleRows<6>(source).array();
-  const Eigen::ArrayXXd b = increment.array() + sign * x_low.middleRows<6>(source).array();
-  const Eigen::ArrayXXd s = a + b;
-  const Eigen::ArrayXXd b_part = s - a;
-  x_low.middleRows<6>(target) = ((a - (s - b_part)) + (b - b_part)).matrix();
-  x.middleRows<6>(target) = s.matrix();
+void TreeColumns::set_sum(Index target, Index source, double sign) {
+  for (Index c = 0; c < x.cols(); ++c)
+    for (Index i = 0; i < 6; ++i) {
+      // Knuth's TwoSum: sum + error = a + b exactly.
+      const double a = sign * x(source + i, c);
+      const double b = increment(i, c) + sign * x_low(source + i, c);
+      const double sum = a + b;
+      const double b_part = sum - a;
+      x_low(target + i, c) = (a - (sum - b_part)) + (b - b_part);
+      x(target + i, c) = sum;
+    }
 }
 
 void TreeColumns::set_copy(Index target, Index source) {

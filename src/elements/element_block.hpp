@@ -51,16 +51,20 @@ class EndWrenches {
 // Values passed along a long chain are running sums: x holds each rounded to double and
 // x_low what the rounding left out, so that ten thousand links add no more error than one.
 struct TreeColumns {
+  TreeColumns(MatX& x_, MatX& x_low_, const EndWrenches& external_, Index preload_column_)
+      : x(x_), x_low(x_low_), external(external_), preload_column(preload_column_), increment(6, x_.cols()) {}
+
   MatX& x;
   MatX& x_low;
   const EndWrenches& external;
   Index preload_column;  // the column that carries the preloads (with the model's loads)
+  MatX increment;        // 6 × k scratch of the passes, for set_sum
 
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
   auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }
   // The rows of `target` (a deflection or wrench column) become sign·(rows of `source`) +
-  // increment, both parts: the increment is formed from rounded values, the sum is not rounded.
-  void set_sum(Index target, Index source, double sign, const MatX& increment);
+  // `increment`, both parts: the increment is formed from rounded values, the sum is not rounded.
+  void set_sum(Index target, Index source, double sign);
   void set_copy(Index target, Index source);  // both parts
   void set_value(Index target, const MatX& value);  // low part zero
 };

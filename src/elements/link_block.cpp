@@ -21,25 +21,29 @@ void LinkBlock::write_equations(Index row, EquationWriter& out) const {
 void LinkBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
   const int far = toward_root == end_i_ ? end_j_ : end_i_;
   const double sign = toward_root == end_i_ ? -1.0 : 1.0;
-  MatX increment = MatX::Zero(6, state.x.cols());
+  MatX& increment = state.increment;
+  increment.topRows<3>().setZero();
   increment.bottomRows<3>().noalias() = sign * skew(d_) * state.wrench(far).topRows<3>();
-  state.set_sum(wrench_column(toward_root), wrench_column(far), -1.0, increment);
+  state.set_sum(wrench_column(toward_root), wrench_column(far), -1.0);
 }
 
 // D·Δt_i − Δt_j + C·W_j = 0 solved for the end away from the root, with D·Δt = Δt + [−d×Δφ; 0]:
 // Δt_j = Δt_i + [−d×Δφ_i; 0] + C·W_j, or Δt_i = Δt_j − C·W_j + [d×Δφ_i; 0], Δφ_i = Δφ_j − (C·W_j)_φ.
 void LinkBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
   const Mat3 d_cross = skew(d_);
-  MatX increment = MatX::Zero(6, state.x.cols());
-  if (compliance_) increment.noalias() = *compliance_ * state.wrench(end_j_);
+  MatX& increment = state.increment;
+  if (compliance_)
+    increment.noalias() = *compliance_ * state.wrench(end_j_);
+  else
+    increment.setZero();
   if (toward_root == end_i_) {
     increment.topRows<3>().noalias() -= d_cross * state.deflection(end_i_).bottomRows<3>();
-    state.set_sum(deflection_column(end_j_), deflection_column(end_i_), 1.0, increment);
+    state.set_sum(deflection_column(end_j_), deflection_column(end_i_), 1.0);
   } else {
     increment = -increment;
-    const MatX rotation_i = state.deflection(end_j_).bottomRows<3>() + increment.bottomRows<3>();
-    increment.topRows<3>().noalias() += d_cross * rotation_i;
-    state.set_sum(deflection_column(end_i_), deflection_column(end_j_), 1.0, increment);
+    increment.topRows<3>().noalias() += d_cross * state.deflection(end_j_).bottomRows<3>();
+    increment.topRows<3>().noalias() += d_cross * increment.bottomRows<3>();
+    state.set_sum(deflection_column(end_i_), deflection_column(end_j_), 1.0);
   }
 }
 

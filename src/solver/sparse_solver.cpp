@@ -427,22 +427,17 @@ double largest_relative_change(const D& d, const X& x) {
 }  // namespace
 
 namespace {
-// B − A·X, every column in one pass over A: each entry updates k independent sums, where k
-// sparse products, one per column, would each wait on their own read-modify-write chain.
+// B − A·X, every column in one pass over A, with X and the result stored by rows: an entry
+// of A updates k adjacent sums from k adjacent values, where k sparse products, one per
+// column, would each wait on their own read-modify-write chain.
 // Columns first .. first + x.cols() − 1 of B − A·X.
-MatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const SparseColumns& b, Index first) {
-  MatX r = MatX::Zero(x.rows(), x.cols());
-  const Index n = r.rows(), k = r.cols(), x_stride = x.outerStride();
-  for (Index c = 0; c < k; ++c) b.for_each(first + c, [&](Index i, double v) { r(i, c) = v; });
-  double* const out = r.data();
-  for (Index j = 0; j < a.outerSize(); ++j) {
-    const double* const xj = x.data() + j;
-    for (SparseMatrix::InnerIterator e(a, j); e; ++e) {
-      const double v = e.value();
-      double* const row = out + e.row();
-      for (Index c = 0; c < k; ++c) row[c * n] -= v * xj[c * x_stride];
-    }
-  }
+using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+RowMajorMatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const SparseColumns& b, Index first) {
+  const RowMajorMatX x_rows = x;
+  RowMajorMatX r = RowMajorMatX::Zero(x.rows(), x.cols());
+  for (Index c = 0; c < r.cols(); ++c) b.for_each(first + c, [&](Index i, double v) { r(i, c) = v; });
+  for (Index j = 0; j < a.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator e(a, j); e; ++e) r.row(e.row()).noalias() -= e.value() * x_rows.row(j);
   return r;
 }
 
@@ -455,7 +450,7 @@ std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_nor
   std::vector<double> errors(static_cast<std::size_t>(x.cols()));
   for (Index first = 0; first < x.cols(); first += block) {
     const Index count = std::min(block, x.cols() - first);
-    const MatX r = residuals(a, x.middleCols(first, count), b, first);
+    const RowMajorMatX r = residuals(a, x.middleCols(first, count), b, first);
     for (Index c = first; c < first + count; ++c) {
       const double numerator = r.col(c - first).lpNorm<Eigen::Infinity>();
       errors[static_cast<std::size_t>(c)] = std::isfinite(numerator) && x.col(c).allFinite()

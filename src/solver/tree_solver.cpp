@@ -43,7 +43,7 @@ MatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, co
                 Index unknowns, Index preload_column) {
   MatX x = MatX::Zero(unknowns, external.columns());
   MatX x_low = MatX::Zero(unknowns, external.columns());
-  TreeColumns state{x, x_low, external, preload_column};
+  TreeColumns state(x, x_low, external, preload_column);
   auto group_block = [&](int group) -> const ElementBlock& {
     return *blocks[static_cast<std::size_t>(link_count + group)];
   };
