@@ -72,6 +72,10 @@ void expect_same_results(const Result& tree, const Result& factorised, double to
     expect_same(tree.end_effectors[e].deflection, factorised.end_effectors[e].deflection, difference, largest_deflection, name);
   }
   EXPECT_LT(difference, tolerance);
+  // Counted block by block, the system the factorising solve assembles.
+  EXPECT_EQ(tree.system.unknowns, factorised.system.unknowns);
+  EXPECT_EQ(tree.system.equations, factorised.system.equations);
+  EXPECT_EQ(tree.system.nonzeros, factorised.system.nonzeros);
   EXPECT_LT(tree.report.relative_residual, 1e-15);
   EXPECT_LT(tree.report.equilibrium_error, 1e-13);
   EXPECT_TRUE(tree.report.failed_checks.empty());

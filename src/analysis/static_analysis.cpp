@@ -39,7 +39,12 @@ void SolveOptions::validate() const {
 
 struct Workspace::Impl {
   detail::Topology topology;
+  // The pattern, recorded from the first blocks assembled (a tree solve assembles nothing).
   std::unique_ptr<detail::Assembler> assembler;
+  detail::Assembler& assembler_for(const detail::Blocks& blocks) {
+    if (!assembler) assembler = std::make_unique<detail::Assembler>(blocks, topology.unknowns());
+    return *assembler;
+  }
   detail::SparseMatrix matrix;
   std::unique_ptr<detail::FactorizedSystem> system;
   SolverKind solver_kind = SolverKind::automatic;
@@ -51,20 +56,26 @@ struct Workspace::Impl {
   // Where links and connections form a tree on the one support, `auto` solves by passing
   // wrenches and deflections along it (solver/tree_solver.hpp) instead of factorising.
   std::optional<detail::TreeOrder> tree;
+  // The pattern_fingerprint of the reference's blocks, once a tree solve needs it: a model whose
+  // blocks write other positions has changed topology, solved on a tree or not.
+  std::optional<std::uint64_t> tree_pattern;
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   stiffmsa::validate(model);
   impl_->topology = detail::build_topology(model);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
-  impl_->assembler = std::make_unique<detail::Assembler>(impl_->recorded_blocks, impl_->topology.unknowns());
   impl_->tree = detail::tree_order(impl_->topology);
+  if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks)) impl_->assembler_for(impl_->recorded_blocks);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
 Workspace& Workspace::operator=(Workspace&&) noexcept = default;
 
-SystemSize Workspace::size() const { return impl_->assembler->size(); }
+SystemSize Workspace::size() const {
+  // Recorded from the reference where no solve has assembled yet.
+  return impl_->assembler ? impl_->assembler->size() : detail::Assembler(impl_->recorded_blocks, impl_->topology.unknowns()).size();
+}
 
 namespace {
 
@@ -96,6 +107,7 @@ struct Problem {
   detail::Blocks blocks;
   std::vector<Vec6> external;  // per link end: sum of the model's loads there
   bool loaded = false;         // any nonzero load or preload
+  bool blocks_are_the_reference = false;  // a one-shot solve's: its own pattern
 
   // `topology_known`: the workspace was built from this very model.
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
@@ -104,10 +116,10 @@ struct Problem {
     if (topology_known && !ws.recorded_blocks.empty()) {
       blocks = std::move(ws.recorded_blocks);
       ws.recorded_blocks.clear();
+      blocks_are_the_reference = true;
     } else {
       blocks = detail::make_blocks(model, ws.topology);
     }
-    ws.assembler->fill(blocks, ws.matrix);
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
     for (std::size_t i = 0; i < model.loads.size(); ++i) {
       external[static_cast<std::size_t>(ws.topology.load_ends[i])] += model.loads[i].wrench;
@@ -285,8 +297,9 @@ void solve_regular(Problem& problem, Result& result) {
   check_accuracy(problem.options, result);
 }
 
-// The tree solve (solver/tree_solver.hpp), checked against the assembled system. False, with
-// the result untouched, where its residual fails the check: the factorising solve then decides.
+// The tree solve (solver/tree_solver.hpp), checked against the equations block by block.
+// False, with the result untouched, where its residual fails the check: the factorising solve
+// then decides.
 bool solve_on_tree(Problem& problem, Result& result) {
   const auto& t = problem.ws.topology;
   const std::size_t effectors = problem.model.end_effectors.size();
@@ -296,10 +309,15 @@ bool solve_on_tree(Problem& problem, Result& result) {
   for (std::size_t e = 0; e < effectors; ++e)
     for (int c = 0; c < 6; ++c) external.add(t.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
   const MatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns(), 0);
-  const double residual = detail::relative_residual(problem.ws.matrix, x, load_and_unit_wrench_rhs(problem));
-  if (!(residual <= problem.options.max_relative_residual)) return false;
+  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, 0);
+  if (!problem.blocks_are_the_reference) {
+    if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.ws.recorded_blocks);
+    if (check.pattern != *problem.ws.tree_pattern) detail::throw_topology_changed();
+  }
+  if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
+  result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
   result.report.solver = "tree";
-  fill_loads_and_compliance(problem, x, residual, result);
+  fill_loads_and_compliance(problem, x, check.relative_residual, result);
   check_accuracy(problem.options, result);
   return true;
 }
@@ -488,8 +506,9 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
 SystemSize check(const Model& model) {
   Workspace workspace(model);
   auto& ws = workspace.impl();
-  ws.assembler->fill(ws.recorded_blocks, ws.matrix);
-  SystemSize size = ws.assembler->size();
+  detail::Assembler& assembler = ws.assembler_for(ws.recorded_blocks);
+  assembler.fill(ws.recorded_blocks, ws.matrix);
+  SystemSize size = assembler.size();
   size.nonzeros = count_nonzero_values(ws.matrix);
   return size;
 }
@@ -500,23 +519,24 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   auto& ws = workspace.impl();
   Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);
-  result.system = ws.assembler->size();
-  result.system.nonzeros = count_nonzero_values(ws.matrix);
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
       solve_on_tree(problem, result))
     return result;
+  detail::Assembler& assembler = ws.assembler_for(problem.blocks);
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);
     if (!topology_known) {
       // The reference first; whether it is regular does not matter here. Installed only once
       // factorised, so that a throw leaves the next solve to try the reference again.
-      ws.assembler->fill(ws.recorded_blocks, ws.matrix);
+      assembler.fill(ws.recorded_blocks, ws.matrix);
       system->factorize(ws.matrix, options.singular_rcond);
-      ws.assembler->fill(problem.blocks, ws.matrix);
     }
     ws.system = std::move(system);
     ws.solver_kind = options.solver;
   }
+  assembler.fill(problem.blocks, ws.matrix);
+  result.system = assembler.size();
+  result.system.nonzeros = count_nonzero_values(ws.matrix);
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
   result.report.solver = ws.system->solver_name();  // `auto` has chosen by now
   result.report.reciprocal_condition = ws.system->reciprocal_condition();

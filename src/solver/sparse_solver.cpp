@@ -363,9 +363,7 @@ namespace {
 // ‖r‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) from ‖r‖∞ (finite, ≥ 0).
 template <class X>
 double normwise(double residual_norm, double a_norm_inf, const X& x, double b_norm_inf) {
-  if (residual_norm == 0) return 0.0;
-  const double scale = a_norm_inf * x.template lpNorm<Eigen::Infinity>() + b_norm_inf;
-  return scale > 0 ? residual_norm / scale : INFINITY;
+  return normwise_backward_error(residual_norm, a_norm_inf, x.template lpNorm<Eigen::Infinity>(), b_norm_inf);
 }
 
 // r = b − A·x accumulated in extended precision: refinement then converges to the solution as
@@ -461,6 +459,12 @@ std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_nor
   return errors;
 }
 }  // namespace
+
+double normwise_backward_error(double residual_norm, double a_norm_inf, double x_norm_inf, double b_norm_inf) {
+  if (residual_norm == 0) return 0.0;
+  const double scale = a_norm_inf * x_norm_inf + b_norm_inf;
+  return scale > 0 ? residual_norm / scale : INFINITY;
+}
 
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b) {
   const std::vector<double> errors = normwise_backward_errors(a, norm_inf(a), x, SparseColumns(b));

@@ -95,4 +95,8 @@ class FactorizedSystem {
 // ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞), per column, the largest.
 double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b);
 
+// That ratio from its norms (residual finite and ≥ 0): 0 for a zero residual, +inf where the
+// denominator vanishes and the residual does not.
+double normwise_backward_error(double residual_norm, double a_norm_inf, double x_norm_inf, double b_norm_inf);
+
 }  // namespace stiffmsa::detail

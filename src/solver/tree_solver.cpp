@@ -1,6 +1,9 @@
 #include "solver/tree_solver.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
 
@@ -62,6 +65,95 @@ MatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, co
   }
   x += x_low;
   return x;
+}
+
+namespace {
+
+// FNV-1a over the written positions.
+class PatternHash : public EquationWriter {
+ public:
+  void add(Index row, Index column, double) override { record(row, column); }
+  void record(Index row, Index column) {
+    for (const auto value : {static_cast<std::uint64_t>(row), static_cast<std::uint64_t>(column)}) {
+      hash ^= value;
+      hash *= 0x100000001b3ULL;
+    }
+  }
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+};
+
+// r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
+// the count of its nonzero coefficients. Rows are stored by rows, so that a coefficient updates
+// the k adjacent sums of its row.
+class BlockResidual final : public PatternHash {
+ public:
+  explicit BlockResidual(const MatX& x) : x_(x) {}
+  void start(Index rows) {
+    residual.setZero(rows, x_.cols());
+    row_sums.setZero(rows);
+  }
+  void add(Index row, Index column, double value) override {
+    record(row, column);
+    if (value == 0) return;
+    ++nonzeros;
+    row_sums(row) += std::abs(value);
+    residual.row(row).noalias() -= value * x_.row(column);
+  }
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> residual;
+  VecX row_sums;
+  long nonzeros = 0;
+
+ private:
+  const MatX& x_;
+};
+
+}  // namespace
+
+std::uint64_t pattern_fingerprint(const Blocks& blocks) {
+  PatternHash hash;
+  for (const auto& block : blocks) block->write_equations(0, hash);
+  return hash.hash;
+}
+
+TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const MatX& x,
+                              const EndWrenches& external, Index preload_column) {
+  const Index columns = x.cols();
+  BlockResidual block_residual(x);
+  VecX rhs;
+  double a_norm = 0;
+  bool finite = true;  // std::max would drop a NaN
+  VecX residual_norm = VecX::Zero(columns), rhs_norm = VecX::Zero(columns);
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const ElementBlock& block = *blocks[k];
+    const Index rows = block.equation_count();
+    block_residual.start(rows);
+    block.write_equations(0, block_residual);
+    a_norm = std::max(a_norm, block_residual.row_sums.maxCoeff());
+    // Links hold no link end's loads; connection group g is block link_count + g.
+    const bool holds_ends = k >= static_cast<std::size_t>(topology.link_count);
+    for (Index c = 0; c < columns; ++c) {
+      rhs.setZero(rows);
+      if (holds_ends)
+        for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends)
+          block.add_external_wrench(0, end, external.at(end).col(c), rhs);
+      if (c == preload_column) block.add_preload(0, rhs);
+      rhs_norm(c) = std::max(rhs_norm(c), rhs.lpNorm<Eigen::Infinity>());
+      const double residual = (block_residual.residual.col(c) + rhs).lpNorm<Eigen::Infinity>();
+      finite &= std::isfinite(residual);
+      residual_norm(c) = std::max(residual_norm(c), residual);
+    }
+  }
+  TreeCheck check;
+  check.nonzeros = block_residual.nonzeros;
+  check.pattern = block_residual.hash;
+  for (Index c = 0; c < columns; ++c) {
+    const double x_norm = x.col(c).lpNorm<Eigen::Infinity>();
+    check.relative_residual =
+        std::max(check.relative_residual, finite && std::isfinite(x_norm)
+                                              ? normwise_backward_error(residual_norm(c), a_norm, x_norm, rhs_norm(c))
+                                              : INFINITY);
+  }
+  return check;
 }
 
 }  // namespace stiffmsa::detail

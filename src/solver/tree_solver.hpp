@@ -7,6 +7,7 @@
 // few 6×6 products per link end and load case, and sums the transported compliances the way a
 // hand-condensed serial model does, so it loses no digits on long chains. The analyses check
 // its residual against the assembled system like any other solve.
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -31,5 +32,19 @@ bool passes_tree(const Blocks& blocks);
 // wrenches of each column, with the preloads added to column `preload_column`.
 MatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
                 Index unknowns, Index preload_column);
+
+// The check of a solution against the equations it solves, one block at a time, so that the
+// system is never assembled: each block's rows hold only its own link ends' unknowns.
+struct TreeCheck {
+  double relative_residual = 0;  // the largest over the columns, as relative_residual() defines it
+  long nonzeros = 0;             // nonzero coefficients of the equations
+  std::uint64_t pattern = 0;     // pattern_fingerprint of the blocks
+};
+// A hash of the positions the blocks write, in order (explicit zeros included): blocks of a
+// model whose numbers changed but whose pattern did not give the same fingerprint.
+std::uint64_t pattern_fingerprint(const Blocks& blocks);
+
+TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const MatX& x,
+                              const EndWrenches& external, Index preload_column);
 
 }  // namespace stiffmsa::detail
