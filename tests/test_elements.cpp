@@ -283,7 +283,7 @@ namespace {
 struct TreeFixture {
   static constexpr Index kColumns = 3;
   explicit TreeFixture(int end_count)
-      : ends(end_count), x(MatX::Random(12 * end_count, kColumns)), low(MatX::Zero(12 * end_count, kColumns)),
+      : ends(end_count), x(RowMajorMatX::Random(12 * end_count, kColumns)), low(RowMajorMatX::Zero(12 * end_count, kColumns)),
         external(end_count, kColumns) {}
   TreeColumns state() { return TreeColumns(x, low, external, 0); }
   void load(int end) {
@@ -305,7 +305,7 @@ struct TreeFixture {
     return scale > 0 ? largest / scale : largest;  // a rigid support's rows over zero deflections
   }
   int ends;
-  MatX x, low;
+  RowMajorMatX x, low;
   EndWrenches external;
 };
 

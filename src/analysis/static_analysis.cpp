@@ -62,8 +62,9 @@ struct Workspace::Impl {
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
-  stiffmsa::validate(model);
-  impl_->topology = detail::build_topology(model);
+  const detail::ModelIndex index(model);
+  detail::validate(model, index);
+  impl_->topology = detail::build_topology(model, index);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
   impl_->tree = detail::tree_order(impl_->topology);
   if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks)) impl_->assembler_for(impl_->recorded_blocks);
@@ -112,7 +113,6 @@ struct Problem {
   // `topology_known`: the workspace was built from this very model.
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
       : model(m), ws(w), options(o) {
-    if (!topology_known && !(detail::build_topology(model) == ws.topology)) detail::throw_topology_changed();
     if (topology_known && !ws.recorded_blocks.empty()) {
       blocks = std::move(ws.recorded_blocks);
       ws.recorded_blocks.clear();
@@ -263,15 +263,17 @@ MatX load_and_unit_wrench_rhs(const Problem& problem) {
   return rhs;
 }
 
-// Deflections, wrenches, compliance and stiffness from the solutions of those right-hand sides.
-void fill_loads_and_compliance(const Problem& problem, const MatX& x, double residual, Result& result) {
+// Deflections, wrenches, compliance and stiffness from the solutions of those right-hand sides
+// (a MatX, or the tree solve's RowMajorMatX).
+template <class Solution>
+void fill_loads_and_compliance(const Problem& problem, const Solution& x, double residual, Result& result) {
   const auto& t = problem.ws.topology;
   const std::size_t effectors = problem.model.end_effectors.size();
   result.report.relative_residual = std::max(result.report.relative_residual, residual);
-  fill_state_results(problem, x.col(0), result);
+  fill_state_results(problem, VecX(x.col(0)), result);
   const double length = detail::characteristic_length(problem.model);
   for (std::size_t e = 0; e < effectors; ++e) {
-    const Mat6 compliance = x.block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));
+    const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));
     auto& r = result.end_effectors[e];
     r.compliance = compliance;
     r.stiffness = detail::stiffness_from_compliance(compliance, length);
@@ -308,7 +310,7 @@ bool solve_on_tree(Problem& problem, Result& result) {
     if (!problem.external[e].isZero(0)) external.add(static_cast<int>(e), 0, problem.external[e]);
   for (std::size_t e = 0; e < effectors; ++e)
     for (int c = 0; c < 6; ++c) external.add(t.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
-  const MatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns(), 0);
+  const detail::RowMajorMatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns(), 0);
   const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, 0);
   if (!problem.blocks_are_the_reference) {
     if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.ws.recorded_blocks);
@@ -564,7 +566,9 @@ Result solve(const Model& model, const SolveOptions& options) {
 
 Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
   options.validate();
-  stiffmsa::validate(model);
+  const detail::ModelIndex index(model);
+  detail::validate(model, index);
+  if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
   return solve_validated(workspace, model, options, false);
 }
 

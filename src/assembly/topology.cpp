@@ -55,8 +55,9 @@ int end_of(const ModelIndex& index, const std::string& point, const std::optiona
 
 }  // namespace
 
-Topology build_topology(const Model& model) {
-  const ModelIndex index(model);
+Topology build_topology(const Model& model) { return build_topology(model, ModelIndex(model)); }
+
+Topology build_topology(const Model& model, const ModelIndex& index) {
   Topology t;
   t.link_count = static_cast<int>(model.links.size());
   t.group_of_end.assign(static_cast<std::size_t>(t.end_count()), -1);

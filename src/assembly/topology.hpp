@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "elements/element_block.hpp"
+#include "model/link_ends.hpp"
 #include "stiffmsa/model.hpp"
 
 namespace stiffmsa::detail {
@@ -35,6 +36,7 @@ struct Topology {
 
 // The topology of a validated model. Throws InputError where the connection rules are broken.
 Topology build_topology(const Model& model);
+Topology build_topology(const Model& model, const ModelIndex& index);
 
 // The element blocks of a model in assembly order: one per link, then one per connection group.
 std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology);

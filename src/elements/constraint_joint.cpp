@@ -53,7 +53,7 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
 // the first of the other ends.
 void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
   int through = -1;
-  MatX& increment = state.increment;
+  RowMajorMatX& increment = state.increment;
   increment.setZero();
   for (int end : ends_) {
     increment += state.external.at(end);

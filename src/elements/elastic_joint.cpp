@@ -53,7 +53,7 @@ void ElasticJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state)
 // The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0.
 void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
   const Index r = directions_.constrained.rows(), p = directions_.free.rows();
-  MatX& delta = state.increment;
+  RowMajorMatX& delta = state.increment;
   delta.topRows(r).setZero();
   delta.bottomRows(p).noalias() = directions_.free * (state.wrench(end_1_) - state.external.at(end_1_));
   if (preload_) delta.bottomRows(p).col(state.preload_column) -= directions_.gram() * *preload_;

@@ -19,16 +19,21 @@ void ElementBlock::set_root_deflection(TreeColumns&) const {
 }
 
 void TreeColumns::set_sum(Index target, Index source, double sign) {
-  for (Index c = 0; c < x.cols(); ++c)
-    for (Index i = 0; i < 6; ++i) {
-      // Knuth's TwoSum: sum + error = a + b exactly.
-      const double a = sign * x(source + i, c);
-      const double b = increment(i, c) + sign * x_low(source + i, c);
-      const double sum = a + b;
-      const double b_part = sum - a;
-      x_low(target + i, c) = (a - (sum - b_part)) + (b - b_part);
-      x(target + i, c) = sum;
-    }
+  const Index count = 6 * x.cols();  // rows are adjacent: 6 rows of k columns are one run
+  const double* const high_in = x.row(source).data();
+  const double* const low_in = x_low.row(source).data();
+  const double* const step = increment.data();
+  double* const high_out = x.row(target).data();
+  double* const low_out = x_low.row(target).data();
+  for (Index i = 0; i < count; ++i) {
+    // Knuth's TwoSum: sum + error = a + b exactly.
+    const double a = sign * high_in[i];
+    const double b = step[i] + sign * low_in[i];
+    const double sum = a + b;
+    const double b_part = sum - a;
+    low_out[i] = (a - (sum - b_part)) + (b - b_part);
+    high_out[i] = sum;
+  }
 }
 
 void TreeColumns::set_copy(Index target, Index source) {
@@ -36,7 +41,7 @@ void TreeColumns::set_copy(Index target, Index source) {
   x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
 }
 
-void TreeColumns::set_value(Index target, const MatX& value) {
+void TreeColumns::set_value(Index target, const MatX& value) {  // NOLINT: value is 6 × k
   x.middleRows<6>(target) = value;
   x_low.middleRows<6>(target).setZero();
 }

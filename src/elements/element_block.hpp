@@ -38,6 +38,7 @@ class EndWrenches {
  public:
   EndWrenches(int end_count, Index columns);
   Index columns() const { return zero_.cols(); }
+  bool any_at(int end) const { return slot_[static_cast<std::size_t>(end)] >= 0; }
   void add(int end, Index column, const Vec6& wrench);
   // 6 × k: the wrenches at `end`, zero where none is applied.
   const MatX& at(int end) const;
@@ -48,17 +49,21 @@ class EndWrenches {
   MatX zero_;
 };
 
+// Unknowns stored by rows: a link end's deflections and wrenches in every load case are
+// adjacent, as the tree solve visits them end by end.
+using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 // Values passed along a long chain are running sums: x holds each rounded to double and
 // x_low what the rounding left out, so that ten thousand links add no more error than one.
 struct TreeColumns {
-  TreeColumns(MatX& x_, MatX& x_low_, const EndWrenches& external_, Index preload_column_)
+  TreeColumns(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, Index preload_column_)
       : x(x_), x_low(x_low_), external(external_), preload_column(preload_column_), increment(6, x_.cols()) {}
 
-  MatX& x;
-  MatX& x_low;
+  RowMajorMatX& x;
+  RowMajorMatX& x_low;
   const EndWrenches& external;
   Index preload_column;  // the column that carries the preloads (with the model's loads)
-  MatX increment;        // 6 × k scratch of the passes, for set_sum
+  RowMajorMatX increment;  // 6 × k scratch of the passes, for set_sum
 
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
   auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }

@@ -21,7 +21,7 @@ void LinkBlock::write_equations(Index row, EquationWriter& out) const {
 void LinkBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
   const int far = toward_root == end_i_ ? end_j_ : end_i_;
   const double sign = toward_root == end_i_ ? -1.0 : 1.0;
-  MatX& increment = state.increment;
+  RowMajorMatX& increment = state.increment;
   increment.topRows<3>().setZero();
   increment.bottomRows<3>().noalias() = sign * skew(d_) * state.wrench(far).topRows<3>();
   state.set_sum(wrench_column(toward_root), wrench_column(far), -1.0);
@@ -31,7 +31,7 @@ void LinkBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
 // Δt_j = Δt_i + [−d×Δφ_i; 0] + C·W_j, or Δt_i = Δt_j − C·W_j + [d×Δφ_i; 0], Δφ_i = Δφ_j − (C·W_j)_φ.
 void LinkBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
   const Mat3 d_cross = skew(d_);
-  MatX& increment = state.increment;
+  RowMajorMatX& increment = state.increment;
   if (compliance_)
     increment.noalias() = *compliance_ * state.wrench(end_j_);
   else

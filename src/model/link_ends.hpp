@@ -71,4 +71,8 @@ class ModelIndex {
   std::unordered_map<std::string_view, std::vector<LinkEndRef>> ends_at_unknown_points_;
 };
 
+// stiffmsa::validate with the model's index already built (the analyses build the topology
+// from the same index).
+void validate(const Model& model, const ModelIndex& index);
+
 }  // namespace stiffmsa::detail

@@ -184,9 +184,9 @@ class RepeatFinder {
 
 class Checker {
  public:
-  explicit Checker(const Model& model)
+  Checker(const Model& model, const detail::ModelIndex& index)
       : model_(model),
-        index_(model),
+        index_(index),
         zero_length_(kLengthTolerance * std::max(1.0, extent(model))),
         end_owner_(2 * model.links.size()) {
     model_origin_.location.file = model.source_file;
@@ -641,7 +641,7 @@ class Checker {
   }
 
   const Model& model_;
-  const detail::ModelIndex index_;
+  const detail::ModelIndex& index_;
   int suggestions_left_ = 200;
   // For suggestions; gathered at the first unknown name.
   std::optional<std::vector<std::string>> point_names_, link_names_;
@@ -694,10 +694,15 @@ std::vector<ValueDefect> section_defects(const Section& s) {
 
 }  // namespace detail
 
-std::vector<Diagnostic> find_defects(const Model& model) { return Checker(model).run(); }
+std::vector<Diagnostic> find_defects(const Model& model) {
+  const detail::ModelIndex index(model);
+  return Checker(model, index).run();
+}
 
-void validate(const Model& model) {
-  auto defects = find_defects(model);
+void validate(const Model& model) { detail::validate(model, detail::ModelIndex(model)); }
+
+void detail::validate(const Model& model, const ModelIndex& index) {
+  auto defects = Checker(model, index).run();
   if (!defects.empty()) throw InputError(std::move(defects));
 }
 

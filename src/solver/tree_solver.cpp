@@ -42,10 +42,10 @@ bool passes_tree(const Blocks& blocks) {
   return std::all_of(blocks.begin(), blocks.end(), [](const auto& block) { return block->passes_tree(); });
 }
 
-MatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
+RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
                 Index unknowns, Index preload_column) {
-  MatX x = MatX::Zero(unknowns, external.columns());
-  MatX x_low = MatX::Zero(unknowns, external.columns());
+  RowMajorMatX x = RowMajorMatX::Zero(unknowns, external.columns());
+  RowMajorMatX x_low = RowMajorMatX::Zero(unknowns, external.columns());
   TreeColumns state(x, x_low, external, preload_column);
   auto group_block = [&](int group) -> const ElementBlock& {
     return *blocks[static_cast<std::size_t>(link_count + group)];
@@ -87,7 +87,7 @@ class PatternHash : public EquationWriter {
 // the k adjacent sums of its row.
 class BlockResidual final : public PatternHash {
  public:
-  explicit BlockResidual(const MatX& x) : x_(x) {}
+  explicit BlockResidual(const RowMajorMatX& x) : x_(x) {}
   void start(Index rows) {
     residual.setZero(rows, x_.cols());
     row_sums.setZero(rows);
@@ -99,12 +99,12 @@ class BlockResidual final : public PatternHash {
     row_sums(row) += std::abs(value);
     residual.row(row).noalias() -= value * x_.row(column);
   }
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> residual;
+  RowMajorMatX residual;
   VecX row_sums;
   long nonzeros = 0;
 
  private:
-  const MatX& x_;
+  const RowMajorMatX& x_;
 };
 
 }  // namespace
@@ -115,13 +115,13 @@ std::uint64_t pattern_fingerprint(const Blocks& blocks) {
   return hash.hash;
 }
 
-TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const MatX& x,
+TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                               const EndWrenches& external, Index preload_column) {
   const Index columns = x.cols();
   BlockResidual block_residual(x);
-  VecX rhs;
+  RowMajorMatX rhs;
+  VecX column;
   double a_norm = 0;
-  bool finite = true;  // std::max would drop a NaN
   VecX residual_norm = VecX::Zero(columns), rhs_norm = VecX::Zero(columns);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
     const ElementBlock& block = *blocks[k];
@@ -129,29 +129,35 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
     block_residual.start(rows);
     block.write_equations(0, block_residual);
     a_norm = std::max(a_norm, block_residual.row_sums.maxCoeff());
-    // Links hold no link end's loads; connection group g is block link_count + g.
-    const bool holds_ends = k >= static_cast<std::size_t>(topology.link_count);
-    for (Index c = 0; c < columns; ++c) {
-      rhs.setZero(rows);
-      if (holds_ends)
-        for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends)
-          block.add_external_wrench(0, end, external.at(end).col(c), rhs);
-      if (c == preload_column) block.add_preload(0, rhs);
-      rhs_norm(c) = std::max(rhs_norm(c), rhs.lpNorm<Eigen::Infinity>());
-      const double residual = (block_residual.residual.col(c) + rhs).lpNorm<Eigen::Infinity>();
-      finite &= std::isfinite(residual);
-      residual_norm(c) = std::max(residual_norm(c), residual);
-    }
+    // The block's right-hand side: the loads at the link ends it holds (links hold none;
+    // connection group g is block link_count + g) and its preload.
+    rhs.setZero(rows, columns);
+    column.setZero(rows);
+    block.add_preload(0, column);
+    rhs.col(preload_column) = column;
+    if (k >= static_cast<std::size_t>(topology.link_count))
+      for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {
+        if (!external.any_at(end)) continue;
+        for (Index c = 0; c < columns; ++c) {
+          column.setZero();
+          block.add_external_wrench(0, end, external.at(end).col(c), column);
+          rhs.col(c) += column;
+        }
+      }
+    block_residual.residual += rhs;
+    rhs_norm = rhs_norm.cwiseMax(rhs.cwiseAbs().colwise().maxCoeff().transpose());
+    residual_norm = residual_norm.cwiseMax(block_residual.residual.cwiseAbs().colwise().maxCoeff().transpose());
   }
   TreeCheck check;
   check.nonzeros = block_residual.nonzeros;
   check.pattern = block_residual.hash;
   for (Index c = 0; c < columns; ++c) {
     const double x_norm = x.col(c).lpNorm<Eigen::Infinity>();
+    // cwiseMax may drop a NaN residual, which only a NaN or infinite unknown makes.
+    const bool finite = x.col(c).allFinite() && std::isfinite(residual_norm(c));
     check.relative_residual =
-        std::max(check.relative_residual, finite && std::isfinite(x_norm)
-                                              ? normwise_backward_error(residual_norm(c), a_norm, x_norm, rhs_norm(c))
-                                              : INFINITY);
+        std::max(check.relative_residual,
+                 finite ? normwise_backward_error(residual_norm(c), a_norm, x_norm, rhs_norm(c)) : INFINITY);
   }
   return check;
 }

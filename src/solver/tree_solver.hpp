@@ -30,7 +30,7 @@ bool passes_tree(const Blocks& blocks);
 
 // The unknowns (unknowns × external.columns(), the mixed system's layout) under the external
 // wrenches of each column, with the preloads added to column `preload_column`.
-MatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
+RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
                 Index unknowns, Index preload_column);
 
 // The check of a solution against the equations it solves, one block at a time, so that the
@@ -44,7 +44,7 @@ struct TreeCheck {
 // model whose numbers changed but whose pattern did not give the same fingerprint.
 std::uint64_t pattern_fingerprint(const Blocks& blocks);
 
-TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const MatX& x,
+TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                               const EndWrenches& external, Index preload_column);
 
 }  // namespace stiffmsa::detail
