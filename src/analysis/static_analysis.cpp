@@ -83,8 +83,11 @@ namespace {
 using detail::deflection_column;
 using detail::wrench_column;
 
-Vec6 deflection_of(const VecX& x, int end) { return x.segment<6>(deflection_column(end)); }
-Vec6 wrench_of(const VecX& x, int end) { return x.segment<6>(wrench_column(end)); }
+// Of a solution vector (a VecX, or a column of the tree solve's unknowns stored by rows).
+template <class Column>
+Vec6 deflection_of(const Column& x, int end) { return x.template segment<6>(deflection_column(end)); }
+template <class Column>
+Vec6 wrench_of(const Column& x, int end) { return x.template segment<6>(wrench_column(end)); }
 
 // Where each link end sits.
 std::vector<Vec3> end_positions(const Model& model, const detail::Topology& topology) {
@@ -150,7 +153,8 @@ struct Problem {
   }
 };
 
-void fill_state_results(const Problem& problem, const VecX& x, Result& result) {
+template <class Column>
+void fill_state_results(const Problem& problem, const Column& x, Result& result) {
   const Model& model = problem.model;
   const detail::Topology& t = problem.ws.topology;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
@@ -270,7 +274,7 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
   const auto& t = problem.ws.topology;
   const std::size_t effectors = problem.model.end_effectors.size();
   result.report.relative_residual = std::max(result.report.relative_residual, residual);
-  fill_state_results(problem, VecX(x.col(0)), result);
+  fill_state_results(problem, x.col(0), result);
   const double length = detail::characteristic_length(problem.model);
   for (std::size_t e = 0; e < effectors; ++e) {
     const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));

@@ -169,7 +169,10 @@ std::unique_ptr<ElementBlock> make_link_block(const Model& model, const Topology
       link.kind);
 }
 
-FreeDirections locked() { return free_directions(Kinematics::rigid()); }
+const FreeDirections& locked() {
+  static const FreeDirections rigid = free_directions(Kinematics::rigid());
+  return rigid;
+}
 
 std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const ConnectionGroup& g) {
   switch (g.kind) {

@@ -131,34 +131,51 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
     a_norm = std::max(a_norm, block_residual.row_sums.maxCoeff());
     // The block's right-hand side: the loads at the link ends it holds (links hold none;
     // connection group g is block link_count + g) and its preload.
-    rhs.setZero(rows, columns);
     column.setZero(rows);
     block.add_preload(0, column);
-    rhs.col(preload_column) = column;
+    bool any_rhs = !column.isZero(0);
+    if (any_rhs) {
+      rhs.setZero(rows, columns);
+      rhs.col(preload_column) = column;
+    }
     if (k >= static_cast<std::size_t>(topology.link_count))
       for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {
         if (!external.any_at(end)) continue;
+        if (!any_rhs) rhs.setZero(rows, columns);
+        any_rhs = true;
         for (Index c = 0; c < columns; ++c) {
           column.setZero();
           block.add_external_wrench(0, end, external.at(end).col(c), column);
           rhs.col(c) += column;
         }
       }
-    block_residual.residual += rhs;
-    rhs_norm = rhs_norm.cwiseMax(rhs.cwiseAbs().colwise().maxCoeff().transpose());
-    residual_norm = residual_norm.cwiseMax(block_residual.residual.cwiseAbs().colwise().maxCoeff().transpose());
+    RowMajorMatX& residual = block_residual.residual;
+    if (any_rhs) {
+      residual += rhs;
+      for (Index i = 0; i < rows; ++i)
+        for (Index c = 0; c < columns; ++c) rhs_norm(c) = std::max(rhs_norm(c), std::abs(rhs(i, c)));
+    }
+    for (Index i = 0; i < rows; ++i)
+      for (Index c = 0; c < columns; ++c) residual_norm(c) = std::max(residual_norm(c), std::abs(residual(i, c)));
   }
   TreeCheck check;
   check.nonzeros = block_residual.nonzeros;
   check.pattern = block_residual.hash;
-  for (Index c = 0; c < columns; ++c) {
-    const double x_norm = x.col(c).lpNorm<Eigen::Infinity>();
-    // cwiseMax may drop a NaN residual, which only a NaN or infinite unknown makes.
-    const bool finite = x.col(c).allFinite() && std::isfinite(residual_norm(c));
-    check.relative_residual =
-        std::max(check.relative_residual,
-                 finite ? normwise_backward_error(residual_norm(c), a_norm, x_norm, rhs_norm(c)) : INFINITY);
-  }
+  // One pass over x by rows, as it is stored. std::max drops a NaN residual, which only a NaN
+  // or infinite unknown makes: those are looked for here.
+  VecX x_norm = VecX::Zero(columns);
+  std::vector<char> finite(static_cast<std::size_t>(columns), 1);
+  for (Index i = 0; i < x.rows(); ++i)
+    for (Index c = 0; c < columns; ++c) {
+      const double v = x(i, c);
+      x_norm(c) = std::max(x_norm(c), std::abs(v));
+      finite[static_cast<std::size_t>(c)] &= static_cast<char>(std::isfinite(v));
+    }
+  for (Index c = 0; c < columns; ++c)
+    check.relative_residual = std::max(check.relative_residual,
+                                       finite[static_cast<std::size_t>(c)] && std::isfinite(residual_norm(c))
+                                           ? normwise_backward_error(residual_norm(c), a_norm, x_norm(c), rhs_norm(c))
+                                           : INFINITY);
   return check;
 }
 
