@@ -1,9 +1,14 @@
 // The result file "stiffmsa-result/1" (model-format.md, "Result file"). Programs outside this
-// repository parse it, so the keys and their nesting are a contract; the layout (one matrix
-// row per line) is only for people reading the file.
-#include <iterator>
+// repository parse it, so the keys and their nesting are a contract; the layout (two spaces
+// per level, a vector or one matrix row per line) is only for people reading the file.
+//
+// The text is written straight from the Result, without a JSON document in between: a
+// 100 000-link result holds 2.4 million numbers, and building, printing and freeing a
+// document node for each took longer than the solve.
+#include <charconv>
+#include <cmath>
 #include <nlohmann/json.hpp>
-#include <utility>
+#include <string_view>
 #include <vector>
 
 #include "stiffmsa/io/result_file.hpp"
@@ -11,175 +16,228 @@
 namespace stiffmsa {
 namespace {
 
-// Ordered, so that names appear in model order as the user wrote them.
-using Json = nlohmann::ordered_json;
-
 constexpr const char* result_format = "stiffmsa-result/1";
 
-template <class Derived>
-Json vector_json(const Eigen::MatrixBase<Derived>& v) {
-  Json values = Json::array();
-  // Adding +0.0 turns a negative zero (rounding's sign of nothing) into a plain 0.
-  for (Eigen::Index i = 0; i < v.size(); ++i) values.push_back(v(i) + 0.0);
-  return values;
-}
+class ResultWriter {
+ public:
+  std::string text;
 
-// A list of rows, as the format writes matrices.
-Json matrix_json(const Mat6& m) {
-  Json rows = Json::array();
-  for (Eigen::Index r = 0; r < m.rows(); ++r) rows.push_back(vector_json(m.row(r)));
-  return rows;
-}
-
-template <class T, class ToJson>
-Json or_null(const std::optional<T>& value, ToJson to_json) {
-  return value ? to_json(*value) : Json(nullptr);
-}
-
-const auto vec6_json = [](const Vec6& v) { return vector_json(v); };
-const auto vecx_json = [](const VecX& v) { return vector_json(v); };
-
-// A two-end joint has one relative deflection, written as a flat list; a joint of m > 2 ends
-// has m − 1, written as a list of lists.
-Json relative_deflection_json(const std::vector<VecX>& per_end) {
-  if (per_end.size() == 1) return vector_json(per_end.front());
-  Json lists = Json::array();
-  for (const VecX& q : per_end) lists.push_back(vector_json(q));
-  return lists;
-}
-
-// An object of the named entities of one kind, in model order. Built from the list at once:
-// ordered_json's operator[] compares the key with every earlier one, which made a 100 000-link
-// result take half a minute. The names are unique in a result of a valid model; a Result
-// assembled by hand with a repeated name gets the key twice.
-template <class Entities, class ToJson>
-Json named_objects(const Entities& entities, ToJson to_json) {
-  std::vector<std::pair<std::string, Json>> members;
-  members.reserve(entities.size());
-  for (const auto& entity : entities) members.emplace_back(entity.name, to_json(entity));
-  Json j = Json::object();
-  j.get_ref<Json::object_t&>() =
-      Json::object_t(std::make_move_iterator(members.begin()), std::make_move_iterator(members.end()));
-  return j;
-}
-
-Json end_effector_json(const EndEffectorResult& e) {
-  Json j = Json::object();
-  j["point"] = e.point;
-  j["link"] = e.link;
-  j["compliance"] = or_null(e.compliance, matrix_json);
-  j["stiffness"] = or_null(e.stiffness, matrix_json);
-  j["deflection"] = or_null(e.deflection, vec6_json);
-  return j;
-}
-
-Json link_end_json(const LinkEndResult& end) {
-  Json j = Json::object();
-  j["deflection"] = or_null(end.deflection, vec6_json);
-  j["wrench"] = or_null(end.wrench, vec6_json);
-  return j;
-}
-
-Json joint_json(const JointResult& joint) {
-  Json j = Json::object();
-  j["relative_deflection"] = or_null(joint.relative_deflection, relative_deflection_json);
-  j["wrench"] = or_null(joint.wrench, vec6_json);
-  if (joint.actuated || joint.effort) j["effort"] = or_null(joint.effort, vecx_json);
-  return j;
-}
-
-Json report_json(const SolveReport& report) {
-  Json j = Json::object();
-  j["solver"] = report.solver;
-  j["relative_residual"] = report.relative_residual;
-  j["equilibrium_error"] = report.equilibrium_error;
-  j["reciprocal_condition"] = report.reciprocal_condition;
-  j["notes"] = report.notes;
-  j["warnings"] = report.warnings;
-  return j;
-}
-
-Json result_json(const Result& result) {
-  Json j = Json::object();
-  j["format"] = result_format;
-  j["model"] = result.model;
-  j["system"] = Json{{"unknowns", result.system.unknowns},
-                     {"equations", result.system.equations},
-                     {"nonzeros", result.system.nonzeros}};
-
-  j["end_effectors"] = named_objects(result.end_effectors, end_effector_json);
-  j["link_ends"] = named_objects(result.links, [](const LinkResult& link) {
-    return Json{{"from", link_end_json(link.from)}, {"to", link_end_json(link.to)}};
-  });
-  j["joints"] = named_objects(result.joints, joint_json);
-  j["supports"] = named_objects(result.supports, [](const SupportResult& s) {
-    return Json{{"reaction", or_null(s.reaction, vec6_json)}};
-  });
-  j["report"] = report_json(result.report);
-  return j;
-}
-
-// Scalars are written by nlohmann: numbers in their shortest form that reads back to the same
-// double (non-finite ones become null), strings escaped. Invalid UTF-8 in a user's name is
-// replaced rather than failing the whole write.
-std::string scalar_text(const Json& value) {
-  return value.dump(-1, ' ', false, Json::error_handler_t::replace);
-}
-
-bool holds_only_scalars(const Json& array) {
-  for (const Json& element : array) {
-    if (element.is_structured()) return false;
-  }
-  return true;
-}
-
-void append_indented(std::string& out, const Json& value, int indent) {
-  const std::string inner(static_cast<std::size_t>(indent + 2), ' ');
-  const std::string closing(static_cast<std::size_t>(indent), ' ');
-  if (value.is_object()) {
-    if (value.empty()) {
-      out += "{}";
+  // Numbers in the shortest form that reads back to the same double, with ".0" on integral
+  // values so that they read as reals; non-finite ones (which JSON lacks) become null.
+  void number(double value) {
+    if (!std::isfinite(value)) {
+      text += "null";
       return;
     }
-    out += "{\n";
-    bool first = true;
-    for (const auto& [key, member] : value.items()) {
-      if (!first) out += ",\n";
-      first = false;
-      out += inner + scalar_text(Json(key)) + ": ";
-      append_indented(out, member, indent + 2);
+    char buffer[32];
+    // Adding +0.0 turns a negative zero (rounding's sign of nothing) into a plain 0.
+    const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value + 0.0);
+    const std::string_view digits(buffer, static_cast<std::size_t>(end - buffer));
+    text += digits;
+    if (digits.find_first_of(".e") == std::string_view::npos) text += ".0";
+  }
+  void integer(long value) { text += std::to_string(value); }
+  // Escaped by nlohmann; invalid UTF-8 in a user's name is replaced rather than failing.
+  void string(const std::string& value) {
+    text += nlohmann::json(value).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+  void null() { text += "null"; }
+
+  // A vector, or one matrix row, on one line.
+  template <class Derived>
+  void vector(const Eigen::MatrixBase<Derived>& v) {
+    text += '[';
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      if (i > 0) text += ", ";
+      number(v(i));
     }
-    out += "\n" + closing + "}";
-  } else if (value.is_array()) {
-    if (holds_only_scalars(value)) {
-      // A vector, or one matrix row, on one line.
-      out += "[";
-      for (std::size_t i = 0; i < value.size(); ++i) {
-        if (i > 0) out += ", ";
-        out += scalar_text(value[i]);
-      }
-      out += "]";
+    text += ']';
+  }
+  void matrix(const Mat6& m) {
+    list(m.rows(), [&](Eigen::Index r) { vector(m.row(r)); });
+  }
+  void strings(const std::vector<std::string>& values) {
+    text += '[';
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (i > 0) text += ", ";
+      string(values[i]);
+    }
+    text += ']';
+  }
+
+  // A list of structured values, one per line: item(i) writes the i-th.
+  template <class Item>
+  void list(Eigen::Index count, Item item) {
+    if (count == 0) {
+      text += "[]";
       return;
     }
-    out += "[\n";
-    for (std::size_t i = 0; i < value.size(); ++i) {
-      if (i > 0) out += ",\n";
-      out += inner;
-      append_indented(out, value[i], indent + 2);
+    text += "[\n";
+    ++depth_;
+    for (Eigen::Index i = 0; i < count; ++i) {
+      if (i > 0) text += ",\n";
+      indent();
+      item(i);
     }
-    out += "\n" + closing + "]";
-  } else {
-    out += scalar_text(value);
+    --depth_;
+    text += '\n';
+    indent();
+    text += ']';
   }
+
+  // An object: members(*this) calls member() for each key in order.
+  template <class Members>
+  void object(Members members) {
+    const std::size_t start = text.size();
+    text += "{\n";
+    ++depth_;
+    first_member_ = true;
+    members();
+    --depth_;
+    if (first_member_) {  // no member: {}
+      text.resize(start);
+      text += "{}";
+      first_member_ = false;
+      return;
+    }
+    text += '\n';
+    indent();
+    text += '}';
+    first_member_ = false;
+  }
+  // A member of the object being written: value() writes its value. The format's own keys
+  // are plain identifiers, written as they are; a user's names are escaped.
+  template <class Value>
+  void member(std::string_view key, Value value) {
+    next_member();
+    text += '"';
+    text += key;
+    text += "\": ";
+    value();
+  }
+  template <class Value>
+  void named(const std::string& name, Value value) {
+    next_member();
+    string(name);
+    text += ": ";
+    value();
+  }
+
+ private:
+  void next_member() {
+    if (!first_member_) text += ",\n";
+    first_member_ = false;
+    indent();
+  }
+  void indent() { text.append(static_cast<std::size_t>(2 * depth_), ' '); }
+  int depth_ = 0;
+  bool first_member_ = false;
+};
+
+template <class T, class Write>
+auto or_null(ResultWriter& out, const std::optional<T>& value, Write write) {
+  return [&out, &value, write] {
+    if (value)
+      write(*value);
+    else
+      out.null();
+  };
+}
+
+void write_result(ResultWriter& out, const Result& result) {
+  auto vec6 = [&](const auto& v) { out.vector(v); };
+  auto mat6 = [&](const Mat6& m) { out.matrix(m); };
+  out.object([&] {
+    out.member("format", [&] { out.string(result_format); });
+    out.member("model", [&] { out.string(result.model); });
+    out.member("system", [&] {
+      out.object([&] {
+        out.member("unknowns", [&] { out.integer(result.system.unknowns); });
+        out.member("equations", [&] { out.integer(result.system.equations); });
+        out.member("nonzeros", [&] { out.integer(result.system.nonzeros); });
+      });
+    });
+    // Named entities in model order. The names are unique in a result of a valid model; a
+    // Result assembled by hand with a repeated name gets the key twice.
+    out.member("end_effectors", [&] {
+      out.object([&] {
+        for (const EndEffectorResult& e : result.end_effectors)
+          out.named(e.name, [&] {
+            out.object([&] {
+              out.member("point", [&] { out.string(e.point); });
+              out.member("link", [&] { out.string(e.link); });
+              out.member("compliance", or_null(out, e.compliance, mat6));
+              out.member("stiffness", or_null(out, e.stiffness, mat6));
+              out.member("deflection", or_null(out, e.deflection, vec6));
+            });
+          });
+      });
+    });
+    out.member("link_ends", [&] {
+      out.object([&] {
+        for (const LinkResult& link : result.links)
+          out.named(link.name, [&] {
+            out.object([&] {
+              for (const auto& [name, end] : {std::pair{"from", &link.from}, std::pair{"to", &link.to}})
+                out.member(name, [&, end = end] {
+                  out.object([&] {
+                    out.member("deflection", or_null(out, end->deflection, vec6));
+                    out.member("wrench", or_null(out, end->wrench, vec6));
+                  });
+                });
+            });
+          });
+      });
+    });
+    out.member("joints", [&] {
+      out.object([&] {
+        for (const JointResult& joint : result.joints)
+          out.named(joint.name, [&] {
+            out.object([&] {
+              // A two-end joint has one relative deflection, written as a flat list; a joint of
+              // m > 2 ends has m − 1, written as a list of lists.
+              out.member("relative_deflection", or_null(out, joint.relative_deflection, [&](const std::vector<VecX>& q) {
+                           if (q.size() == 1)
+                             out.vector(q.front());
+                           else
+                             out.list(static_cast<Eigen::Index>(q.size()),
+                                      [&](Eigen::Index k) { out.vector(q[static_cast<std::size_t>(k)]); });
+                         }));
+              out.member("wrench", or_null(out, joint.wrench, vec6));
+              if (joint.actuated || joint.effort) out.member("effort", or_null(out, joint.effort, vec6));
+            });
+          });
+      });
+    });
+    out.member("supports", [&] {
+      out.object([&] {
+        for (const SupportResult& s : result.supports)
+          out.named(s.name, [&] { out.object([&] { out.member("reaction", or_null(out, s.reaction, vec6)); }); });
+      });
+    });
+    out.member("report", [&] {
+      out.object([&] {
+        const SolveReport& report = result.report;
+        out.member("solver", [&] { out.string(report.solver); });
+        out.member("relative_residual", [&] { out.number(report.relative_residual); });
+        out.member("equilibrium_error", [&] { out.number(report.equilibrium_error); });
+        out.member("reciprocal_condition", [&] { out.number(report.reciprocal_condition); });
+        out.member("notes", [&] { out.strings(report.notes); });
+        out.member("warnings", [&] { out.strings(report.warnings); });
+      });
+    });
+  });
 }
 
 }  // namespace
 
 std::string result_to_json(const Result& result) {
-  std::string text;
-  append_indented(text, result_json(result), 0);
-  text += '\n';
-  return text;
+  ResultWriter out;
+  // About 40 bytes per number: one growth of the text instead of many.
+  out.text.reserve(4096 + 40 * (12 * 2 * result.links.size() + 90 * result.end_effectors.size()));
+  write_result(out, result);
+  out.text += '\n';
+  return std::move(out.text);
 }
 
 void write_result_file(const Result& result, const std::filesystem::path& path) {
