@@ -14,6 +14,10 @@
 //   <robot>/part:...              pieces of those two stages, to find where the time goes
 //   <robot>/pipeline/S            the internal stages back to back, per pose: make_blocks,
 //                                 fill, right-hand sides, factorize, solve, K = C⁻¹
+//   <robot>/pipeline/tree         serial robots (a tree on one support): make_blocks, the tree
+//                                 solve, its block-by-block check, K = C⁻¹ (what `auto` does)
+//   <robot>/stage:tree_solve      detail::tree_solve of the 1 + 6 load cases
+//   <robot>/stage:tree_check      detail::check_tree_solution: residual of every block
 //   <robot>/dense_lu              the same pipeline with Eigen::PartialPivLU on the assembled
 //                                 system as a dense matrix: the naive baseline
 //   6axis/vjm_floor               closed-form VJM compliance C = Σ J_i·k_i⁻¹·J_iᵀ and K = C⁻¹
@@ -44,6 +48,7 @@
 #include "assembly/topology.hpp"
 #include "bench_models.hpp"
 #include "solver/sparse_solver.hpp"
+#include "solver/tree_solver.hpp"
 #include "stiffmsa/config.hpp"
 #if STIFFMSA_HAVE_SUITESPARSE
 #include <klu.h>
@@ -119,6 +124,7 @@ struct Robot {
   std::vector<MatX> rhs;                // per pose
   std::vector<Mat6> compliance;         // per pose, from the public solve: the reference
   double length = 1;                    // detail::characteristic_length
+  std::optional<detail::TreeOrder> tree;  // serial robots
 
   Robot(std::string robot_name, std::vector<Model> robot_poses)
       : name(std::move(robot_name)), poses(std::move(robot_poses)) {
@@ -136,6 +142,7 @@ struct Robot {
         throw std::runtime_error("bench: a pose of " + name + " is not a healthy regular solve");
       compliance.push_back(*result.end_effectors.front().compliance);
     }
+    if (auto order = detail::tree_order(topology); order && detail::passes_tree(blocks.front())) tree = std::move(order);
   }
   std::size_t pose_count() const { return poses.size(); }
 };
@@ -356,6 +363,70 @@ void pipeline(benchmark::State& state, const Robot& robot, SolverKind kind) {
   count_allocations(state, before);
 }
 
+// ---- the tree solve (serial robots) ----------------------------------------------------------
+
+detail::EndWrenches tree_loads(const Model& pose, const detail::Topology& topology) {
+  detail::EndWrenches external(topology.end_count(), 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
+  for (std::size_t i = 0; i < pose.loads.size(); ++i) external.add(topology.load_ends[i], 0, pose.loads[i].wrench);
+  for (std::size_t e = 0; e < topology.effector_ends.size(); ++e)
+    for (int c = 0; c < 6; ++c) external.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
+  return external;
+}
+
+Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Model& pose) {
+  const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
+  const detail::EndWrenches external = tree_loads(pose, robot.topology);
+  const detail::RowMajorMatX x =
+      detail::tree_solve(blocks, robot.topology.link_count, order, external, robot.topology.unknowns(), 0);
+  if (!(detail::check_tree_solution(blocks, robot.topology, x, external, 0).relative_residual < 1e-14))
+    throw std::runtime_error("bench: a tree solve failed its check");
+  const Mat6 c = x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
+  return {c, detail::stiffness_from_compliance(c, robot.length)};
+}
+
+void tree_pipeline(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
+  double error = 0;  // against the public solve, over every pose
+  for (std::size_t p = 0; p < robot.pose_count(); ++p)
+    error = std::max(error, bench::scaled_difference(tree_pose(robot, order, robot.poses[p]).compliance, robot.compliance[p]));
+  std::size_t p = 0;
+  const auto before = bench::allocation_count();
+  for (auto _ : state) {
+    Cartesian c = tree_pose(robot, order, robot.poses[p]);
+    benchmark::DoNotOptimize(c);
+    p = (p + 1) % robot.pose_count();
+  }
+  count_allocations(state, before);
+  state.counters["c_diff"] = error;
+}
+
+void stage_tree_solve(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
+  std::vector<detail::EndWrenches> loads;
+  for (const Model& pose : robot.poses) loads.push_back(tree_loads(pose, robot.topology));
+  std::size_t p = 0;
+  for (auto _ : state) {
+    detail::RowMajorMatX x = detail::tree_solve(robot.blocks[p], robot.topology.link_count, order, loads[p],
+                                                robot.topology.unknowns(), 0);
+    benchmark::DoNotOptimize(x);
+    p = (p + 1) % robot.pose_count();
+  }
+}
+
+void stage_tree_check(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
+  std::vector<detail::EndWrenches> loads;
+  std::vector<detail::RowMajorMatX> solutions;
+  for (std::size_t p = 0; p < robot.pose_count(); ++p) {
+    loads.push_back(tree_loads(robot.poses[p], robot.topology));
+    solutions.push_back(detail::tree_solve(robot.blocks[p], robot.topology.link_count, order, loads.back(),
+                                           robot.topology.unknowns(), 0));
+  }
+  std::size_t p = 0;
+  for (auto _ : state) {
+    detail::TreeCheck check = detail::check_tree_solution(robot.blocks[p], robot.topology, solutions[p], loads[p], 0);
+    benchmark::DoNotOptimize(check);
+    p = (p + 1) % robot.pose_count();
+  }
+}
+
 void dense_lu(benchmark::State& state, const Robot& robot) {
   SparseMatrix matrix;
   double error = 0;  // against the public solve, over every pose
@@ -548,6 +619,11 @@ void register_robot(const Robot& robot) {
   add(r + "/part:klu_refactor", part_klu_refactor, std::cref(robot), true);
 #endif
   add(r + "/dense_lu", dense_lu, std::cref(robot));
+  if (robot.tree) {
+    add(r + "/pipeline/tree", tree_pipeline, std::cref(robot), std::cref(*robot.tree));
+    add(r + "/stage:tree_solve", stage_tree_solve, std::cref(robot), std::cref(*robot.tree));
+    add(r + "/stage:tree_check", stage_tree_check, std::cref(robot), std::cref(*robot.tree));
+  }
 }
 
 }  // namespace

@@ -63,7 +63,10 @@ void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& sta
     else
       increment -= state.wrench(end) + state.x_low.middleRows<6>(wrench_column(end));
   }
-  state.set_sum(wrench_column(toward_root), wrench_column(through), -1.0);
+  if (through < 0)  // a joint of one end (validation refuses those): the loads alone
+    state.set_value(wrench_column(toward_root), increment);
+  else
+    state.set_sum(wrench_column(toward_root), wrench_column(through), -1.0);
 }
 
 // Δt_1 = Δt_k (Λ_r = I).

@@ -50,17 +50,25 @@ void ElasticJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state)
   state.set_sum(wrench_column(toward_root), wrench_column(other), -1.0);
 }
 
-// The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0.
+// The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0:
+// δ = C_j·(W_1 − W_ext,1) − δ_0, with the joint's compliance C_j = M⁻¹·[0; Λ_p] and
+// δ_0 = M⁻¹·[0; G·w_0], M = [Λ_r; G·K·Λ_p]. Fixed-size 6×6 work, once per pass.
 void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
   const Index r = directions_.constrained.rows(), p = directions_.free.rows();
-  RowMajorMatX& delta = state.increment;
-  delta.topRows(r).setZero();
-  delta.bottomRows(p).noalias() = directions_.free * (state.wrench(end_1_) - state.external.at(end_1_));
-  if (preload_) delta.bottomRows(p).col(state.preload_column) -= directions_.gram() * *preload_;
   Mat6 equations;
   equations.topRows(r) = directions_.constrained;
   equations.bottomRows(p) = spring_;
-  delta = MatX(equations.partialPivLu().solve(delta));
+  const Eigen::PartialPivLU<Mat6> lu(equations);
+  Mat6 selector = Mat6::Zero();
+  selector.bottomRows(p) = directions_.free;
+  const Mat6 compliance = lu.solve(selector);
+  RowMajorMatX& delta = state.increment;
+  delta.noalias() = compliance * (state.wrench(end_1_) - state.external.at(end_1_));
+  if (preload_) {
+    Vec6 preload = Vec6::Zero();
+    preload.tail(p) = directions_.gram() * *preload_;
+    delta.col(state.preload_column) -= lu.solve(preload);
+  }
   if (toward_root == end_1_) {
     state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);
   } else {
