@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The library before and after a change, in one session: builds BASELINE (a commit) in a git
 # worktree under build-compare/, and the working tree in build-bench/, then alternates the two
-# ROUNDS times (default 3) on one core: the robots' public solve with each solver, the chain of
+# ROUNDS times (default 3) on one core: the robots' public solve with each solver (and the
+# serial robots' tree pipeline, the VJM floor), the chain of
 # 10 000 and 100 000 links (one process each: time, peak memory, tip error) and the `stiffmsa
 # solve` command on the 100 000-link file. This VM's timings drift from process to process and
 # hour to hour, so only figures taken side by side are compared; the table takes the best of
@@ -42,7 +43,7 @@ for round in $(seq "$rounds"); do
   for side in "${order[@]}"; do
     dir="${build_of[$side]}"
     read -r -a solvers <<<"${solvers_on[$side]}"
-    filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$"
+    filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$|^6axis[a-z_]*/pipeline/tree\$|^6axis/vjm_floor\$"
     "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_format=json 2>/dev/null |
       python3 -c "import json, sys
 for b in json.load(sys.stdin)['benchmarks']: print('$side', 'pose', b['name'], b['cpu_time'], 'us')" | tee -a "$out"
