@@ -99,7 +99,8 @@ const CLI::Validator at_least_one(
 void add_solver_option(CLI::App& command, std::string& solver) {
   command
       .add_option("--solver", solver,
-                  "Sparse LU: auto (klu, or sparse_lu where klu would fill in), sparse_lu, umfpack, klu")
+                  "auto (tree-shaped models without factorising, else klu, or sparse_lu where klu would fill "
+                  "in), or a sparse LU: sparse_lu, umfpack, klu")
       ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
       ->capture_default_str();
 }

@@ -10,8 +10,10 @@
 
 namespace stiffmsa {
 
-// `automatic` picks, per pattern, KLU (robots, chains) or Eigen's SparseLU (where KLU's ordering
-// predicts heavy fill, as on building frames); the result's report names the one used.
+// `automatic` solves a model whose links and connections form a tree on its one support (serial
+// robots, chains) without factorising (docs/theory.md §7.1); others it factorises with KLU, or
+// with Eigen's SparseLU where KLU's ordering predicts heavy fill, as on building frames. The
+// others force that factorisation. The result's report names what was used.
 enum class SolverKind { automatic, sparse_lu, umfpack, klu };
 const char* to_string(SolverKind s);
 std::optional<SolverKind> solver_kind_from_string(const std::string& s);
@@ -40,7 +42,8 @@ struct SolveOptions {
 class Workspace {
  public:
   // Builds the topology of a validated model: unknown and equation numbering, element blocks
-  // and the sparsity pattern. Throws InputError on an invalid model.
+  // and, unless the model is solved as a tree, the sparsity pattern. Throws InputError on an
+  // invalid model.
   explicit Workspace(const Model& model);
   ~Workspace();
   Workspace(Workspace&&) noexcept;
