@@ -108,9 +108,14 @@ KeyList section_shape_names() {
   return names;
 }
 
-SourceLocation location_in(const std::string& file, const YamlNode& node) {
-  return {file, node.line(), node.column()};
-}
+// Where a node is in the file being read. Values and keys carry only this while they are read:
+// a SourceLocation would copy the file's name for each of the million keys of a large model.
+struct Position {
+  int line = 0;
+  int column = 0;
+};
+
+Position position_of(const YamlNode& node) { return {node.line(), node.column()}; }
 
 std::string describe(const YamlNode& node) {
   switch (node.kind()) {
@@ -130,13 +135,13 @@ std::string describe(const YamlNode& node) {
 struct Value {
   const YamlNode* node;
   std::string path;
-  SourceLocation at;
+  Position at;
 };
 
 // One `key: value` of a mapping.
 struct Entry {
   std::string key;
-  SourceLocation key_at;
+  Position key_at;
   Value value;
 };
 
@@ -200,8 +205,8 @@ class Loader {
  private:
   // ---- reporting -------------------------------------------------------------------------
 
-  void fail(const SourceLocation& at, const std::string& path, std::string message) {
-    diagnostics_.push_back({at, path, std::move(message)});
+  void fail(const Position& at, const std::string& path, std::string message) {
+    diagnostics_.push_back({located(at), path, std::move(message)});
   }
   // A value that could not be read: the model holds a default in its place.
   void fail(const Value& v, std::string message) {
@@ -213,7 +218,8 @@ class Loader {
   // so validation's findings about those defaults are not reported.
   void spoil(const std::string& path) { spoiled_.insert(path); }
 
-  SourceLocation where(const YamlNode& node) const { return location_in(file_, node); }
+  Position where(const YamlNode& node) const { return position_of(node); }
+  SourceLocation located(const Position& at) const { return {file_, at.line, at.column}; }
 
   Value item(const Value& list, std::size_t i) const {
     const YamlNode* node = list.node->items()[i];
@@ -229,7 +235,7 @@ class Loader {
                   const KeyList& known, const std::string& what);
   const Entry* required(const std::vector<Entry>& entries, const Value& owner,
                         const std::string& key);
-  static void record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix);
+  void record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix) const;
   void record_items(Origin& origin, const std::string& key, const Value& list) const;
 
   // ---- scalars, vectors and matrices -----------------------------------------------------
@@ -343,7 +349,7 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
   // mapping of 100 000 keys: a scan of the keys before each one would take minutes.
   std::unordered_map<std::string, int> first_lines;
   for (const auto& [key, value] : v.node->entries()) {
-    const SourceLocation key_at = where(*key);
+    const Position key_at = where(*key);
     if (!key->is_scalar() || key->text().empty()) {
       fail(key_at, v.path, "a key must be a non-empty name, got " + describe(*key));
       continue;
@@ -399,14 +405,14 @@ const Entry* Loader::required(const std::vector<Entry>& entries, const Value& ow
   return nullptr;
 }
 
-void Loader::record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix) {
-  for (const auto& e : entries) origin.key_locations[prefix + e.key] = e.key_at;
+void Loader::record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix) const {
+  for (const auto& e : entries) origin.key_locations[prefix + e.key] = located(e.key_at);
 }
 
 void Loader::record_items(Origin& origin, const std::string& key, const Value& list) const {
   if (!list.node->is_sequence()) return;
   for (std::size_t i = 0; i < list.node->size(); ++i)
-    origin.key_locations[key + "[" + std::to_string(i) + "]"] = item(list, i).at;
+    origin.key_locations[key + "[" + std::to_string(i) + "]"] = located(item(list, i).at);
 }
 
 // ---- scalars, vectors and matrices -------------------------------------------------------
@@ -455,7 +461,7 @@ std::optional<double> Loader::expression(const Value& v) {
   const std::string& text = v.node->text();
   if (const auto value = detail::plain_number(text)) return value;
   if (probing_) {
-    sites_.push_back({text, v.path, v.at});
+    sites_.push_back({text, v.path, located(v.at)});
     return probe_value(sites_.size() - 1);
   }
   const auto outcome = expressions_->evaluate(text);
@@ -613,7 +619,7 @@ Model Loader::read(const YamlNode& root) {
     const std::string start =
         std::string("a model file is a mapping that starts with `format: ") + kFormat + "`";
     if (root.is_null())
-      fail({file_, 1, 1}, "", "the file is empty; " + start);
+      fail(Position{1, 1}, "", "the file is empty; " + start);
     else
       fail(whole, start + "; got " + describe(root));
     spoil("");
@@ -678,7 +684,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   std::vector<double> defaults;
   const std::vector<Entry> parameter_entries = parameters ? named_mapping(*parameters) : std::vector<Entry>{};
   for (const auto& named : parameter_entries) {
-    Parameter parameter{named.key, 0, {}, named.key_at};
+    Parameter parameter{named.key, 0, {}, located(named.key_at)};
     if (auto problem = detail::parameter_name_problem(named.key)) {
       fail(named.key_at, named.value.path, *problem);
       continue;
@@ -723,7 +729,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       fail(named.value, "expected an expression of the parameters, got " + describe(*named.value.node));
     } else {
       derived_names_.push_back(named.key);
-      derived_sites_.push_back({named.value.node->text(), named.value.path, named.value.at});
+      derived_sites_.push_back({named.value.node->text(), named.value.path, located(named.value.at)});
       derived_entries.push_back(std::move(named));
     }
   }
@@ -790,7 +796,7 @@ Section Loader::read_section(const Value& v, Origin& origin, const std::string& 
 void Loader::read_materials(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     Definition<Material> material;
-    material.origin.location = named.key_at;
+    material.origin.location = located(named.key_at);
     material.value = read_material(named.value, material.origin, "");
     materials_.emplace(named.key, std::move(material));
   }
@@ -799,7 +805,7 @@ void Loader::read_materials(const Entry& section) {
 void Loader::read_sections(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     Definition<Section> s;
-    s.origin.location = named.key_at;
+    s.origin.location = located(named.key_at);
     s.value = read_section(named.value, s.origin, "");
     sections_.emplace(named.key, std::move(s));
   }
@@ -813,7 +819,7 @@ void Loader::read_points(const Entry& section) {
     // An unreadable position is left undefined so that validation measures nothing from it.
     model_.points.push_back(
         {named.key, position.value_or(Vec3::Constant(std::numeric_limits<double>::quiet_NaN())),
-         Origin{named.key_at, {}}});
+         Origin{located(named.key_at), {}}});
   }
 }
 
@@ -825,7 +831,7 @@ Link Loader::read_link(const Entry& named) {
   Link link;
   link.name = named.key;
   link.kind = RigidLink{};  // stands in when the type cannot be read
-  link.origin.location = named.key_at;
+  link.origin.location = located(named.key_at);
   const Value& v = named.value;
   const auto e = fixed_mapping(v);
   record(link.origin, e, "");
@@ -912,7 +918,7 @@ T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Defini
 // Joints and supports share every key but how they name their links (model-format.md).
 Loader::Site Loader::read_site(const Entry& named, bool is_support) {
   Site site;
-  site.origin.location = named.key_at;
+  site.origin.location = located(named.key_at);
   const Value& v = named.value;
   const auto e = fixed_mapping(v);
   record(site.origin, e, "");
@@ -963,7 +969,7 @@ std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, co
   if (links) return read_link_names(*links, origin);
   if (!link) return {};
   aliases_.emplace(v.path + ".links[0]", link->value.path);
-  origin.key_locations["links[0]"] = link->key_at;
+  origin.key_locations["links[0]"] = located(link->key_at);
   return {text(link->value).value_or("")};
 }
 
@@ -1091,7 +1097,7 @@ void Loader::read_loads(const Entry& section) {
   for (std::size_t i = 0; i < v.node->size(); ++i) {
     const Value entry = item(v, i);
     Load load;
-    load.origin.location = entry.at;
+    load.origin.location = located(entry.at);
     const auto e = fixed_mapping(entry);
     check_keys(e, entry.path, kLoadKeys, {}, "a load");
     record(load.origin, e, "");
@@ -1108,7 +1114,7 @@ void Loader::read_end_effectors(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     EndEffector ee;
     ee.name = named.key;
-    ee.origin.location = named.key_at;
+    ee.origin.location = located(named.key_at);
     const auto e = fixed_mapping(named.value);
     check_keys(e, named.value.path, kEndEffectorKeys, {}, "an end effector");
     record(ee.origin, e, "");
@@ -1357,7 +1363,7 @@ void require_entity_counts_within(const YamlNode& root, const std::string& file,
     if (count <= limits.max_entities) continue;
     std::string kind = key->text();
     std::replace(kind.begin(), kind.end(), '_', ' ');
-    too_many.push_back({location_in(file, *key), key->text(),
+    too_many.push_back({SourceLocation{file, key->line(), key->column()}, key->text(),
                         "the model has " + std::to_string(count) + " " + kind +
                             ", above the limit of " + std::to_string(limits.max_entities) +
                             " of each kind; if the model is meant to be this large, raise the "
