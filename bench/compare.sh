@@ -46,7 +46,8 @@ for round in $(seq "$rounds"); do
     filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$|^6axis[a-z_]*/pipeline/tree\$|^6axis/vjm_floor\$"
     "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_format=json 2>/dev/null |
       python3 -c "import json, sys
-for b in json.load(sys.stdin)['benchmarks']: print('$side', 'pose', b['name'], b['cpu_time'], 'us')" | tee -a "$out"
+scale = {'ns': 1e-3, 'us': 1.0, 'ms': 1e3, 's': 1e6}
+for b in json.load(sys.stdin)['benchmarks']: print('$side', 'pose', b['name'], b['cpu_time'] * scale[b['time_unit']], 'us')" | tee -a "$out"
     for n in 10000 100000; do
       for s in "${solvers[@]}"; do
         "${pin[@]}" "$dir/bench/stiffmsa_chain" "$n" "$s" --once |

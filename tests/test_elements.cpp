@@ -285,7 +285,7 @@ struct TreeFixture {
   explicit TreeFixture(int end_count)
       : ends(end_count), x(RowMajorMatX::Random(12 * end_count, kColumns)), low(RowMajorMatX::Zero(12 * end_count, kColumns)),
         external(end_count, kColumns) {}
-  TreeColumns state() { return TreeColumns(x, low, external, 0); }
+  TreeState state() { return TreeState(x, low, external, 0); }
   void load(int end) {
     for (Index c = 0; c < kColumns; ++c) external.add(end, c, Vec6::Random() * 100.0);
   }

@@ -54,6 +54,37 @@ end_effectors:
   tip: {at: P, link: left}
 )";
 
+// A serial arm whose elbow moves with the parameters: a tree, which `auto` solves without
+// factorising.
+const char* const kSerialArm = R"(format: stiffmsa/1
+name: serial-arm
+parameters:
+  px: 0.3
+  py: 0.2
+materials:
+  aluminium: {E: 7.0e10, nu: 0.33}
+sections:
+  box: {shape: rect_tube, b: 0.06, h: 0.08, t: 0.004}
+points:
+  floor: [0, 0, -0.25]
+  shoulder: [0, 0, 0]
+  elbow: [px, py, 0.05]
+  tip: ["px + 0.3", "py - 0.1", 0]
+links:
+  pedestal: {type: rigid, from: floor, to: shoulder}
+  upper_arm: {type: beam, from: shoulder, to: elbow, material: aluminium, section: box}
+  forearm: {type: beam, from: elbow, to: tip, material: aluminium, section: box}
+joints:
+  shoulder_joint: {type: revolute, at: shoulder, links: [pedestal, upper_arm], axis: [0, 0, 1], stiffness: 2.0e5}
+  elbow_joint: {type: revolute, at: elbow, links: [upper_arm, forearm], axis: [0, 0, 1], stiffness: 1.0e5}
+supports:
+  base: {type: rigid, at: floor}
+loads:
+  - {at: tip, wrench: [50, -200, 0, 0, 0, 0]}
+end_effectors:
+  tool: {at: tip}
+)";
+
 // The measures a sweep reports, computed here from an independent solve of the pose: with a
 // fresh workspace built from the family's defaults, as every sweep thread's is (its reference
 // matrix fixes the scaling start and pivot order), and with no workspace at all.
@@ -126,30 +157,36 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
   const std::size_t n = forward.size(), k = forward.parameters.size();
   for (std::size_t i = 0; i < n; ++i)
     std::copy_n(forward.values.begin() + static_cast<long>((n - 1 - i) * k), k, backward.values.begin() + static_cast<long>(i * k));
-  const ModelFamily family = load_model_family(example("tripteron-parametric.yaml"));
-  SweepOptions one, two;
-  one.threads = 1;
-  two.threads = 2;
-  one.solve.solver = two.solve.solver = GetParam();
-  one.keep_matrices = two.keep_matrices = true;
-  const SweepResult a = sweep(family, forward, one);
-  const SweepResult b = sweep(family, forward, two);
-  const SweepResult c = sweep(family, backward, two);
-  EXPECT_EQ(b.threads, 2u);
-  std::size_t ok = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const PoseResult& ra = a.results[i];
-    for (const PoseResult* other : {&b.results[i], &c.results[n - 1 - i]}) {
-      ASSERT_EQ(other->status, ra.status) << i;
-      EXPECT_EQ(other->message, ra.message) << i;
-      if (ra.status != PoseStatus::ok) continue;
-      EXPECT_EQ(*other->end_effectors[0].compliance, *ra.end_effectors[0].compliance) << i;
-      EXPECT_EQ(other->end_effectors[0].deflection_translation, ra.end_effectors[0].deflection_translation) << i;
+  // A parallel robot (factorised by every solver) and a serial arm (a tree solve under auto).
+  for (const ModelFamily& family :
+       {load_model_family(example("tripteron-parametric.yaml")), parse_model_family(kSerialArm, "arm.yaml")}) {
+    SCOPED_TRACE(family.name());
+    if (family.name() == "serial-arm" && GetParam() == SolverKind::automatic)
+      EXPECT_EQ(solve(family.build(family.default_values())).report.solver, "tree");
+    SweepOptions one, two;
+    one.threads = 1;
+    two.threads = 2;
+    one.solve.solver = two.solve.solver = GetParam();
+    one.keep_matrices = two.keep_matrices = true;
+    const SweepResult a = sweep(family, forward, one);
+    const SweepResult b = sweep(family, forward, two);
+    const SweepResult c = sweep(family, backward, two);
+    EXPECT_EQ(b.threads, 2u);
+    std::size_t ok = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const PoseResult& ra = a.results[i];
+      for (const PoseResult* other : {&b.results[i], &c.results[n - 1 - i]}) {
+        ASSERT_EQ(other->status, ra.status) << i;
+        EXPECT_EQ(other->message, ra.message) << i;
+        if (ra.status != PoseStatus::ok) continue;
+        EXPECT_EQ(*other->end_effectors[0].compliance, *ra.end_effectors[0].compliance) << i;
+        EXPECT_EQ(other->end_effectors[0].deflection_translation, ra.end_effectors[0].deflection_translation) << i;
+      }
+      ok += ra.status == PoseStatus::ok ? 1 : 0;
     }
-    ok += ra.status == PoseStatus::ok ? 1 : 0;
+    EXPECT_GT(ok, n / 2);  // the comparison covered real solves
+    EXPECT_EQ(sweep_to_csv(a, true), sweep_to_csv(b, true));
   }
-  EXPECT_GT(ok, n / 2);  // the comparison covered real solves
-  EXPECT_EQ(sweep_to_csv(a, true), sweep_to_csv(b, true));
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, SweepWithEverySolver,

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -216,4 +217,34 @@ TEST(TreeSolve, ChoosingAFactorisingSolverSkipsTheTree) {
   SolveOptions options;
   options.solver = SolverKind::sparse_lu;
   EXPECT_EQ(solve(m, options).report.solver, "sparse_lu");
+}
+
+TEST(TreeSolve, TheCheckSeesAWrongOrNonFiniteSolution) {
+  const Model m = branched_arm();
+  const detail::Topology topology = detail::build_topology(m);
+  const auto order = detail::tree_order(topology);
+  ASSERT_TRUE(order);
+  const detail::Blocks blocks = detail::make_blocks(m, topology);
+  detail::EndWrenches external(topology.end_count(), 1);
+  for (std::size_t i = 0; i < m.loads.size(); ++i) external.add(topology.load_ends[i], 0, m.loads[i].wrench);
+  detail::RowMajorMatX x = detail::tree_solve(blocks, topology.link_count, *order, external, topology.unknowns(), 0);
+  const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external, 0);
+  EXPECT_LT(right.relative_residual, 1e-15);
+  // One deflection off by a hundredth of the largest unknown: above the default limit of the
+  // relative residual, so the solve would be redone by factorising. (The ratio is normwise:
+  // ‖A‖∞ here is the support's 8e6 N/m, so smaller errors hide below it, as in any solve.)
+  const double largest = x.cwiseAbs().maxCoeff();
+  x(detail::deflection_column(5) + 2, 0) += 0.01 * largest;
+  EXPECT_GT(detail::check_tree_solution(blocks, topology, x, external, 0).relative_residual,
+            SolveOptions{}.max_relative_residual);
+  x(detail::deflection_column(5) + 2, 0) = std::nan("");
+  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, external, 0).relative_residual, INFINITY);
+  // The fingerprint follows the positions written, not the numbers.
+  EXPECT_EQ(right.pattern, detail::pattern_fingerprint(blocks));
+  Model moved = m;
+  moved.points[2].position.x() += 0.1;
+  EXPECT_EQ(detail::pattern_fingerprint(detail::make_blocks(moved, topology)), right.pattern);
+  Model rigid_elbow = m;
+  rigid_elbow.joints[1].connection = Connection{};
+  EXPECT_NE(detail::pattern_fingerprint(detail::make_blocks(rigid_elbow, topology)), right.pattern);
 }

@@ -19,6 +19,10 @@ const char* to_string(SolverKind s);
 std::optional<SolverKind> solver_kind_from_string(const std::string& s);
 bool solver_available(SolverKind s);
 
+// A tree solve (solver "tree") factorises nothing: singular_rcond, refinement_steps and the
+// condition warning of warn_condition apply only to factorised systems; its solution is
+// checked against max_relative_residual, and the end effectors' stiffness spread against
+// warn_condition, like any other.
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;
   // Below this reciprocal condition estimate of the equilibrated system, it is singular.

@@ -39,10 +39,12 @@ void SolveOptions::validate() const {
 
 struct Workspace::Impl {
   detail::Topology topology;
-  // The pattern, recorded from the first blocks assembled (a tree solve assembles nothing).
-  std::unique_ptr<detail::Assembler> assembler;
-  detail::Assembler& assembler_for(const detail::Blocks& blocks) {
-    if (!assembler) assembler = std::make_unique<detail::Assembler>(blocks, topology.unknowns());
+  // The pattern of the reference's blocks (`reference`: recorded_blocks, or the blocks a
+  // one-shot solve took from there), recorded when first needed: a tree solve needs none. Never
+  // from another model's blocks, whose pattern may differ and is checked against this one.
+  mutable std::unique_ptr<detail::Assembler> assembler;
+  detail::Assembler& pattern(const detail::Blocks& reference) const {
+    if (!assembler) assembler = std::make_unique<detail::Assembler>(reference, topology.unknowns());
     return *assembler;
   }
   detail::SparseMatrix matrix;
@@ -67,16 +69,13 @@ Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   impl_->topology = detail::build_topology(model, index);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
   impl_->tree = detail::tree_order(impl_->topology);
-  if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks)) impl_->assembler_for(impl_->recorded_blocks);
+  if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks)) impl_->pattern(impl_->recorded_blocks);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
 Workspace& Workspace::operator=(Workspace&&) noexcept = default;
 
-SystemSize Workspace::size() const {
-  // Recorded from the reference where no solve has assembled yet.
-  return impl_->assembler ? impl_->assembler->size() : detail::Assembler(impl_->recorded_blocks, impl_->topology.unknowns()).size();
-}
+SystemSize Workspace::size() const { return impl_->pattern(impl_->recorded_blocks).size(); }
 
 namespace {
 
@@ -512,7 +511,7 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
 SystemSize check(const Model& model) {
   Workspace workspace(model);
   auto& ws = workspace.impl();
-  detail::Assembler& assembler = ws.assembler_for(ws.recorded_blocks);
+  detail::Assembler& assembler = ws.pattern(ws.recorded_blocks);
   assembler.fill(ws.recorded_blocks, ws.matrix);
   SystemSize size = assembler.size();
   size.nonzeros = count_nonzero_values(ws.matrix);
@@ -528,7 +527,7 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
       solve_on_tree(problem, result))
     return result;
-  detail::Assembler& assembler = ws.assembler_for(problem.blocks);
+  detail::Assembler& assembler = ws.pattern(problem.blocks_are_the_reference ? problem.blocks : ws.recorded_blocks);
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);
     if (!topology_known) {

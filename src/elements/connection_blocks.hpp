@@ -24,8 +24,8 @@ class ConstraintJointBlock final : public ElementBlock {
   void add_preload(Index first_row, VecX& rhs) const override;
   // Rigid (and locked) joints only: a passive joint's free motion has no tree solution.
   bool passes_tree() const override { return p() == 0; }
-  void pass_wrench_to_root(int toward_root, TreeColumns& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeColumns& state) const override;
+  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
+  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
 
  private:
   Index r() const { return directions_.constrained.rows(); }
@@ -48,8 +48,8 @@ class ElasticJointBlock final : public ElementBlock {
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeColumns& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeColumns& state) const override;
+  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
+  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
 
  private:
   int end_1_, end_2_;
@@ -72,7 +72,7 @@ class SupportBlock final : public ElementBlock {
   void add_preload(Index first_row, VecX& rhs) const override;
   // Rigid or elastic supports only: a passive support's free motion has no tree solution.
   bool passes_tree() const override { return directions_.free.rows() == 0 || spring_.has_value(); }
-  void set_root_deflection(TreeColumns& state) const override;
+  void set_root_deflection(TreeState& state) const override;
 
  private:
   std::vector<int> ends_;
@@ -89,8 +89,8 @@ class FreeEndBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeColumns& state) const override;
-  void pass_deflection_from_root(int, TreeColumns&) const override {}
+  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
+  void pass_deflection_from_root(int, TreeState&) const override {}
 
  private:
   int end_;

@@ -51,7 +51,7 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
 
 // Σ W_k = Σ W_ext,k (Λ_r = I) solved for the end toward the root, as a running sum through
 // the first of the other ends.
-void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
+void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
   int through = -1;
   RowMajorMatX& increment = state.increment;
   increment.setZero();
@@ -70,7 +70,7 @@ void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& sta
 }
 
 // Δt_1 = Δt_k (Λ_r = I).
-void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
+void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
   for (int end : ends_)
     if (end != toward_root) state.set_copy(deflection_column(end), deflection_column(toward_root));
 }

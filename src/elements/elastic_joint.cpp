@@ -1,4 +1,3 @@
-#include <Eigen/LU>
 #include <utility>
 
 #include "elements/connection_blocks.hpp"
@@ -44,31 +43,18 @@ void ElasticJointBlock::add_preload(Index row, VecX& rhs) const {
 }
 
 // W_1 + W_2 = W_ext,1 + W_ext,2 solved for the end toward the root.
-void ElasticJointBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
+void ElasticJointBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
   const int other = toward_root == end_1_ ? end_2_ : end_1_;
   state.increment = state.external.at(end_1_) + state.external.at(end_2_);
   state.set_sum(wrench_column(toward_root), wrench_column(other), -1.0);
 }
 
-// The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0:
-// δ = C_j·(W_1 − W_ext,1) − δ_0, with the joint's compliance C_j = M⁻¹·[0; Λ_p] and
-// δ_0 = M⁻¹·[0; G·w_0], M = [Λ_r; G·K·Λ_p]. Fixed-size 6×6 work, once per pass.
-void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
-  const Index r = directions_.constrained.rows(), p = directions_.free.rows();
-  Mat6 equations;
-  equations.topRows(r) = directions_.constrained;
-  equations.bottomRows(p) = spring_;
-  const Eigen::PartialPivLU<Mat6> lu(equations);
-  Mat6 selector = Mat6::Zero();
-  selector.bottomRows(p) = directions_.free;
-  const Mat6 compliance = lu.solve(selector);
+// The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0.
+void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
+  const SpringCompliance spring = spring_compliance(directions_, spring_, preload_);
   RowMajorMatX& delta = state.increment;
-  delta.noalias() = compliance * (state.wrench(end_1_) - state.external.at(end_1_));
-  if (preload_) {
-    Vec6 preload = Vec6::Zero();
-    preload.tail(p) = directions_.gram() * *preload_;
-    delta.col(state.preload_column) -= lu.solve(preload);
-  }
+  delta.noalias() = spring.compliance * (state.wrench(end_1_) - state.external.at(end_1_));
+  delta.col(state.preload_column) -= spring.preload_motion;
   if (toward_root == end_1_) {
     state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);
   } else {

@@ -8,17 +8,17 @@ void ElementBlock::add_external_wrench(Index, int, const Vec6&, VecX&) const {
   throw Error("internal error: an external wrench was routed to a block that holds no link end");
 }
 
-void ElementBlock::pass_wrench_to_root(int, TreeColumns&) const {
+void ElementBlock::pass_wrench_to_root(int, TreeState&) const {
   throw Error("internal error: a block that does not pass the tree solve was asked for a wrench");
 }
-void ElementBlock::pass_deflection_from_root(int, TreeColumns&) const {
+void ElementBlock::pass_deflection_from_root(int, TreeState&) const {
   throw Error("internal error: a block that does not pass the tree solve was asked for a deflection");
 }
-void ElementBlock::set_root_deflection(TreeColumns&) const {
+void ElementBlock::set_root_deflection(TreeState&) const {
   throw Error("internal error: a block that is no support was made the root of a tree solve");
 }
 
-void TreeColumns::set_sum(Index target, Index source, double sign) {
+void TreeState::set_sum(Index target, Index source, double sign) {
   const Index count = 6 * x.cols();  // rows are adjacent: 6 rows of k columns are one run
   const double* const high_in = x.row(source).data();
   const double* const low_in = x_low.row(source).data();
@@ -36,12 +36,12 @@ void TreeColumns::set_sum(Index target, Index source, double sign) {
   }
 }
 
-void TreeColumns::set_copy(Index target, Index source) {
+void TreeState::set_copy(Index target, Index source) {
   x.middleRows<6>(target) = x.middleRows<6>(source);
   x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
 }
 
-void TreeColumns::set_value(Index target, const MatX& value) {  // NOLINT: value is 6 × k
+void TreeState::set_value(Index target, const MatX& value) {  // NOLINT: value is 6 × k
   x.middleRows<6>(target) = value;
   x_low.middleRows<6>(target).setZero();
 }

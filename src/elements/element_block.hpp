@@ -55,8 +55,8 @@ using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen
 
 // Values passed along a long chain are running sums: x holds each rounded to double and
 // x_low what the rounding left out, so that ten thousand links add no more error than one.
-struct TreeColumns {
-  TreeColumns(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, Index preload_column_)
+struct TreeState {
+  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, Index preload_column_)
       : x(x_), x_low(x_low_), external(external_), preload_column(preload_column_), increment(6, x_.cols()) {}
 
   RowMajorMatX& x;
@@ -93,11 +93,11 @@ class ElementBlock {
   // Whether the block's equations can be solved so (a passive joint's cannot: free motion).
   virtual bool passes_tree() const { return false; }
   // Sets W at `toward_root` from W at the block's other ends and the external wrenches.
-  virtual void pass_wrench_to_root(int toward_root, TreeColumns& state) const;
+  virtual void pass_wrench_to_root(int toward_root, TreeState& state) const;
   // Sets Δt at the block's other ends from Δt at `toward_root` and the wrenches.
-  virtual void pass_deflection_from_root(int toward_root, TreeColumns& state) const;
+  virtual void pass_deflection_from_root(int toward_root, TreeState& state) const;
   // The root (a support): sets Δt at its ends from their wrenches.
-  virtual void set_root_deflection(TreeColumns& state) const;
+  virtual void set_root_deflection(TreeState& state) const;
 };
 
 }  // namespace stiffmsa::detail

@@ -1,5 +1,7 @@
 #include "elements/free_directions.hpp"
 
+#include <Eigen/LU>
+
 #include "elements/element_block.hpp"
 
 #include <Eigen/QR>
@@ -104,6 +106,24 @@ FreeDirections free_directions(const Kinematics& k) {
   const MatX q = qr.householderQ() * MatX::Identity(6, 6);
   d.constrained = q.rightCols(6 - p).transpose();
   return d;
+}
+
+SpringCompliance spring_compliance(const FreeDirections& directions, const MatX& spring,
+                                   const std::optional<VecX>& preload) {
+  const Index r = directions.constrained.rows(), p = directions.free.rows();
+  Mat6 equations;
+  equations.topRows(r) = directions.constrained;
+  equations.bottomRows(p) = spring;
+  const Eigen::PartialPivLU<Mat6> lu(equations);
+  Mat6 selector = Mat6::Zero();
+  selector.bottomRows(p) = directions.free;
+  SpringCompliance result{lu.solve(selector), Vec6::Zero()};
+  if (preload) {
+    Vec6 force = Vec6::Zero();
+    force.tail(p) = directions.gram() * *preload;
+    result.preload_motion = lu.solve(force);
+  }
+  return result;
 }
 
 }  // namespace stiffmsa::detail

@@ -12,6 +12,17 @@ struct FreeDirections {
   MatX gram() const { return free * free.transpose(); }
 };
 
+// A spring along the free directions (an elastic joint or support) as a compliance: the motion
+// δ with Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·w − G·w₀ is δ = compliance·w − preload_motion, from
+// M = [Λ_r; G·K·Λ_p] (`spring` is G·K·Λ_p): compliance = M⁻¹·[0; Λ_p], preload_motion =
+// M⁻¹·[0; G·w₀] (zero without a preload).
+struct SpringCompliance {
+  Mat6 compliance;
+  Vec6 preload_motion;
+};
+SpringCompliance spring_compliance(const FreeDirections& directions, const MatX& spring,
+                                   const std::optional<VecX>& preload);
+
 // Throws InputError (no location) when the kinematics are degenerate; validate() reports the
 // same defects with their place in the file before a solve gets here.
 FreeDirections free_directions(const Kinematics& kinematics);

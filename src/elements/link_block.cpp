@@ -18,7 +18,7 @@ void LinkBlock::write_equations(Index row, EquationWriter& out) const {
 
 // W_i + Dᵀ·W_j = 0 solved for the end toward the root: W_i = −W_j − [0; d×F_j], or
 // W_j = −W_i + [0; d×F_i].
-void LinkBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
+void LinkBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
   const int far = toward_root == end_i_ ? end_j_ : end_i_;
   const double sign = toward_root == end_i_ ? -1.0 : 1.0;
   RowMajorMatX& increment = state.increment;
@@ -29,7 +29,7 @@ void LinkBlock::pass_wrench_to_root(int toward_root, TreeColumns& state) const {
 
 // D·Δt_i − Δt_j + C·W_j = 0 solved for the end away from the root, with D·Δt = Δt + [−d×Δφ; 0]:
 // Δt_j = Δt_i + [−d×Δφ_i; 0] + C·W_j, or Δt_i = Δt_j − C·W_j + [d×Δφ_i; 0], Δφ_i = Δφ_j − (C·W_j)_φ.
-void LinkBlock::pass_deflection_from_root(int toward_root, TreeColumns& state) const {
+void LinkBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
   const Mat3 d_cross = skew(d_);
   RowMajorMatX& increment = state.increment;
   if (compliance_)

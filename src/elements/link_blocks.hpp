@@ -24,8 +24,8 @@ class LinkBlock final : public ElementBlock {
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
   bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeColumns& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeColumns& state) const override;
+  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
+  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
 
  private:
   int end_i_, end_j_;

@@ -1,4 +1,3 @@
-#include <Eigen/LU>
 #include <utility>
 
 #include "elements/connection_blocks.hpp"
@@ -47,27 +46,15 @@ void SupportBlock::add_preload(Index row, VecX& rhs) const {
 }
 
 // The ends move as one: Δt = 0 when rigid; when elastic, Λ_r·Δt = 0 and
-// G·K·Λ_p·Δt = G·w_0 − Λ_p·R, with R = Σ(W_k − W_ext,k) the reaction: Δt = M⁻¹·[0; G·w_0 − Λ_p·R],
-// M = [Λ_r; G·K·Λ_p].
-void SupportBlock::set_root_deflection(TreeColumns& state) const {
-  const Index r = directions_.constrained.rows(), p = directions_.free.rows();
+// G·K·Λ_p·Δt = G·w_0 − Λ_p·R, with R = Σ(W_k − W_ext,k) the reaction.
+void SupportBlock::set_root_deflection(TreeState& state) const {
   MatX deflection = MatX::Zero(6, state.x.cols());
-  if (p > 0) {
-    Mat6 equations;
-    equations.topRows(r) = directions_.constrained;
-    equations.bottomRows(p) = *spring_;
-    const Eigen::PartialPivLU<Mat6> lu(equations);
-    Mat6 selector = Mat6::Zero();
-    selector.bottomRows(p) = directions_.free;
-    const Mat6 compliance = lu.solve(selector);
+  if (directions_.free.rows() > 0) {
+    const SpringCompliance spring = spring_compliance(directions_, *spring_, preload_);
     MatX reaction = MatX::Zero(6, state.x.cols());
     for (int end : ends_) reaction += state.wrench(end) - state.external.at(end);
-    deflection.noalias() = -compliance * reaction;
-    if (preload_) {
-      Vec6 preload = Vec6::Zero();
-      preload.tail(p) = directions_.gram() * *preload_;
-      deflection.col(state.preload_column) += lu.solve(preload);
-    }
+    deflection.noalias() = -spring.compliance * reaction;
+    deflection.col(state.preload_column) += spring.preload_motion;
   }
   for (int end : ends_) state.set_value(deflection_column(end), deflection);
 }

@@ -46,7 +46,7 @@ RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& o
                 Index unknowns, Index preload_column) {
   RowMajorMatX x = RowMajorMatX::Zero(unknowns, external.columns());
   RowMajorMatX x_low = RowMajorMatX::Zero(unknowns, external.columns());
-  TreeColumns state(x, x_low, external, preload_column);
+  TreeState state(x, x_low, external, preload_column);
   auto group_block = [&](int group) -> const ElementBlock& {
     return *blocks[static_cast<std::size_t>(link_count + group)];
   };
@@ -68,6 +68,12 @@ RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& o
 }
 
 namespace {
+
+// largest = max(largest, value), except that a NaN on either side sticks: std::max would drop a
+// NaN coefficient, residual or unknown, and the check pass them.
+void raise_to(double& largest, double value) {
+  if (!(value <= largest) && !std::isnan(largest)) largest = value;
+}
 
 // FNV-1a over the written positions.
 class PatternHash : public EquationWriter {
@@ -128,7 +134,7 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
     const Index rows = block.equation_count();
     block_residual.start(rows);
     block.write_equations(0, block_residual);
-    a_norm = std::max(a_norm, block_residual.row_sums.maxCoeff());
+    for (Index i = 0; i < rows; ++i) raise_to(a_norm, block_residual.row_sums(i));
     // The block's right-hand side: the loads at the link ends it holds (links hold none;
     // connection group g is block link_count + g) and its preload.
     column.setZero(rows);
@@ -153,29 +159,24 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
     if (any_rhs) {
       residual += rhs;
       for (Index i = 0; i < rows; ++i)
-        for (Index c = 0; c < columns; ++c) rhs_norm(c) = std::max(rhs_norm(c), std::abs(rhs(i, c)));
+        for (Index c = 0; c < columns; ++c) raise_to(rhs_norm(c), std::abs(rhs(i, c)));
     }
     for (Index i = 0; i < rows; ++i)
-      for (Index c = 0; c < columns; ++c) residual_norm(c) = std::max(residual_norm(c), std::abs(residual(i, c)));
+      for (Index c = 0; c < columns; ++c) raise_to(residual_norm(c), std::abs(residual(i, c)));
   }
   TreeCheck check;
   check.nonzeros = block_residual.nonzeros;
   check.pattern = block_residual.hash;
-  // One pass over x by rows, as it is stored. std::max drops a NaN residual, which only a NaN
-  // or infinite unknown makes: those are looked for here.
+  // One pass over x by rows, as it is stored.
   VecX x_norm = VecX::Zero(columns);
-  std::vector<char> finite(static_cast<std::size_t>(columns), 1);
   for (Index i = 0; i < x.rows(); ++i)
-    for (Index c = 0; c < columns; ++c) {
-      const double v = x(i, c);
-      x_norm(c) = std::max(x_norm(c), std::abs(v));
-      finite[static_cast<std::size_t>(c)] &= static_cast<char>(std::isfinite(v));
-    }
-  for (Index c = 0; c < columns; ++c)
-    check.relative_residual = std::max(check.relative_residual,
-                                       finite[static_cast<std::size_t>(c)] && std::isfinite(residual_norm(c))
-                                           ? normwise_backward_error(residual_norm(c), a_norm, x_norm(c), rhs_norm(c))
-                                           : INFINITY);
+    for (Index c = 0; c < columns; ++c) raise_to(x_norm(c), std::abs(x(i, c)));
+  for (Index c = 0; c < columns; ++c) {
+    const bool finite = std::isfinite(a_norm) && std::isfinite(x_norm(c)) && std::isfinite(rhs_norm(c)) &&
+                        std::isfinite(residual_norm(c));
+    raise_to(check.relative_residual,
+             finite ? normwise_backward_error(residual_norm(c), a_norm, x_norm(c), rhs_norm(c)) : INFINITY);
+  }
   return check;
 }
 
