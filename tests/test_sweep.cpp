@@ -171,7 +171,10 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
     const SweepResult a = sweep(family, forward, one);
     const SweepResult b = sweep(family, forward, two);
     const SweepResult c = sweep(family, backward, two);
-    EXPECT_EQ(b.threads, 2u);
+    // The threads that took part: on a busy machine a fast sweep can be done before the second
+    // one starts.
+    EXPECT_GE(b.threads, 1u);
+    EXPECT_LE(b.threads, 2u);
     std::size_t ok = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const PoseResult& ra = a.results[i];
