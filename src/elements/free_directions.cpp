@@ -1,6 +1,6 @@
 #include "elements/free_directions.hpp"
 
-#include <Eigen/LU>
+#include <Eigen/Cholesky>
 
 #include "elements/element_block.hpp"
 
@@ -110,19 +110,16 @@ FreeDirections free_directions(const Kinematics& k) {
 
 SpringCompliance spring_compliance(const FreeDirections& directions, const MatX& spring,
                                    const std::optional<VecX>& preload) {
-  const Index r = directions.constrained.rows(), p = directions.free.rows();
-  Mat6 equations;
-  equations.topRows(r) = directions.constrained;
-  equations.bottomRows(p) = spring;
-  const Eigen::PartialPivLU<Mat6> lu(equations);
-  Mat6 selector = Mat6::Zero();
-  selector.bottomRows(p) = directions.free;
-  SpringCompliance result{lu.solve(selector), Vec6::Zero()};
-  if (preload) {
-    Vec6 force = Vec6::Zero();
-    force.tail(p) = directions.gram() * *preload;
-    result.preload_motion = lu.solve(force);
-  }
+  SpringCompliance result{Mat6::Zero(), Vec6::Zero()};
+  if (directions.free.rows() == 0) return result;
+  // Λ_r spans the orthogonal complement of Λ_p's rows, so Λ_r·δ = 0 makes δ = Λ_pᵀ·q, and
+  // G·K·Λ_p·Λ_pᵀ·q = G·K·G·q: a p×p symmetric positive definite system instead of M's 6×6.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  const Small gkg = spring * directions.free.transpose();
+  const Eigen::LLT<Small> llt(gkg);
+  const Small q = llt.solve(Small(directions.free));
+  result.compliance.noalias() = directions.free.transpose() * q;
+  if (preload) result.preload_motion.noalias() = directions.free.transpose() * llt.solve(directions.gram() * *preload);
   return result;
 }
 

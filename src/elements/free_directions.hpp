@@ -13,9 +13,9 @@ struct FreeDirections {
 };
 
 // A spring along the free directions (an elastic joint or support) as a compliance: the motion
-// δ with Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·w − G·w₀ is δ = compliance·w − preload_motion, from
-// M = [Λ_r; G·K·Λ_p] (`spring` is G·K·Λ_p): compliance = M⁻¹·[0; Λ_p], preload_motion =
-// M⁻¹·[0; G·w₀] (zero without a preload).
+// δ with Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·w − G·w₀ (`spring` is G·K·Λ_p) is
+// δ = compliance·w − preload_motion, compliance = Λ_pᵀ·(G·K·G)⁻¹·Λ_p and preload_motion =
+// Λ_pᵀ·(G·K·G)⁻¹·G·w₀ (zero without a preload).
 struct SpringCompliance {
   Mat6 compliance;
   Vec6 preload_motion;
