@@ -365,20 +365,12 @@ void pipeline(benchmark::State& state, const Robot& robot, SolverKind kind) {
 
 // ---- the tree solve (serial robots) ----------------------------------------------------------
 
-detail::EndWrenches tree_loads(const Model& pose, const detail::Topology& topology) {
-  detail::EndWrenches external(topology.end_count(), 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
-  for (std::size_t i = 0; i < pose.loads.size(); ++i) external.add(topology.load_ends[i], 0, pose.loads[i].wrench);
-  for (std::size_t e = 0; e < topology.effector_ends.size(); ++e)
-    for (int c = 0; c < 6; ++c) external.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
-  return external;
-}
-
 Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Model& pose) {
   const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
-  const detail::EndWrenches external = tree_loads(pose, robot.topology);
+  const detail::EndWrenches external = detail::load_cases(pose, robot.topology);
   const detail::RowMajorMatX x =
-      detail::tree_solve(blocks, robot.topology.link_count, order, external, robot.topology.unknowns(), 0);
-  if (!(detail::check_tree_solution(blocks, robot.topology, x, external, 0).relative_residual < 1e-14))
+      detail::tree_solve(blocks, robot.topology.link_count, order, external, robot.topology.unknowns());
+  if (!(detail::check_tree_solution(blocks, robot.topology, x, external).relative_residual < 1e-14))
     throw std::runtime_error("bench: a tree solve failed its check");
   const Mat6 c = x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
   return {c, detail::stiffness_from_compliance(c, robot.length)};
@@ -401,11 +393,11 @@ void tree_pipeline(benchmark::State& state, const Robot& robot, const detail::Tr
 
 void stage_tree_solve(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
   std::vector<detail::EndWrenches> loads;
-  for (const Model& pose : robot.poses) loads.push_back(tree_loads(pose, robot.topology));
+  for (const Model& pose : robot.poses) loads.push_back(detail::load_cases(pose, robot.topology));
   std::size_t p = 0;
   for (auto _ : state) {
     detail::RowMajorMatX x = detail::tree_solve(robot.blocks[p], robot.topology.link_count, order, loads[p],
-                                                robot.topology.unknowns(), 0);
+                                                robot.topology.unknowns());
     benchmark::DoNotOptimize(x);
     p = (p + 1) % robot.pose_count();
   }
@@ -415,13 +407,13 @@ void stage_tree_check(benchmark::State& state, const Robot& robot, const detail:
   std::vector<detail::EndWrenches> loads;
   std::vector<detail::RowMajorMatX> solutions;
   for (std::size_t p = 0; p < robot.pose_count(); ++p) {
-    loads.push_back(tree_loads(robot.poses[p], robot.topology));
+    loads.push_back(detail::load_cases(robot.poses[p], robot.topology));
     solutions.push_back(detail::tree_solve(robot.blocks[p], robot.topology.link_count, order, loads.back(),
-                                           robot.topology.unknowns(), 0));
+                                           robot.topology.unknowns()));
   }
   std::size_t p = 0;
   for (auto _ : state) {
-    detail::TreeCheck check = detail::check_tree_solution(robot.blocks[p], robot.topology, solutions[p], loads[p], 0);
+    detail::TreeCheck check = detail::check_tree_solution(robot.blocks[p], robot.topology, solutions[p], loads[p]);
     benchmark::DoNotOptimize(check);
     p = (p + 1) % robot.pose_count();
   }

@@ -285,7 +285,14 @@ struct TreeFixture {
   explicit TreeFixture(int end_count)
       : ends(end_count), x(RowMajorMatX::Random(12 * end_count, kColumns)), low(RowMajorMatX::Zero(12 * end_count, kColumns)),
         external(end_count, kColumns) {}
-  TreeState state() { return TreeState(x, low, external, 0); }
+  TreeState state() { return TreeState(x, low, external); }
+  // Both passes of `block` toward `toward_root`, then the residual of its rows.
+  double passed(const ElementBlock& block, int toward_root, const std::vector<int>& held) {
+    auto s = state();
+    block.pass_wrench_to_root(toward_root, s);
+    block.pass_deflection_from_root(toward_root, s);
+    return residual(block, held);
+  }
   void load(int end) {
     for (Index c = 0; c < kColumns; ++c) external.add(end, c, Vec6::Random() * 100.0);
   }
@@ -297,7 +304,7 @@ struct TreeFixture {
     for (Index c = 0; c < kColumns; ++c) {
       VecX column = VecX::Zero(block.equation_count());
       for (int end : held) block.add_external_wrench(0, end, external.at(end).col(c), column);
-      if (c == 0) block.add_preload(0, column);
+      if (c == kLoadCase) block.add_preload(0, column);
       rhs.col(c) = column;
     }
     const double scale = (a.cwiseAbs() * solution.cwiseAbs()).maxCoeff() + rhs.cwiseAbs().maxCoeff();
@@ -322,10 +329,7 @@ TEST(TreePasses, LinkPassesWrenchesAndDeflectionsEitherWay) {
     ASSERT_TRUE(link.passes_tree());
     for (int toward_root : {0, 1}) {
       TreeFixture f(2);
-      auto state = f.state();
-      link.pass_wrench_to_root(toward_root, state);
-      link.pass_deflection_from_root(toward_root, state);
-      EXPECT_LT(f.residual(link, {}), 1e-15) << "toward end " << toward_root;
+      EXPECT_LT(f.passed(link, toward_root, {}), 1e-15) << "toward end " << toward_root;
     }
   }
 }
@@ -337,10 +341,7 @@ TEST(TreePasses, RigidJointOfThreeEndsBalancesItsLoadsAndMovesAsOne) {
     TreeFixture f(5);
     f.load(0);
     f.load(4);
-    auto state = f.state();
-    joint.pass_wrench_to_root(toward_root, state);
-    joint.pass_deflection_from_root(toward_root, state);
-    EXPECT_LT(f.residual(joint, {0, 2, 4}), 1e-15) << "toward end " << toward_root;
+    EXPECT_LT(f.passed(joint, toward_root, {0, 2, 4}), 1e-15) << "toward end " << toward_root;
   }
 }
 
@@ -357,10 +358,7 @@ TEST(TreePasses, ElasticJointWithPreloadSolvesItsSpringEitherWay) {
       TreeFixture f(3);
       f.load(0);
       f.load(2);
-      auto state = f.state();
-      joint.pass_wrench_to_root(toward_root, state);
-      joint.pass_deflection_from_root(toward_root, state);
-      EXPECT_LT(f.residual(joint, {0, 2}), 1e-14) << to_string(kinematics.type) << ", toward end " << toward_root;
+      EXPECT_LT(f.passed(joint, toward_root, {0, 2}), 1e-14) << to_string(kinematics.type) << ", toward end " << toward_root;
     }
   }
 }
@@ -384,9 +382,7 @@ TEST(TreePasses, FreeEndCarriesItsLoad) {
   const FreeEndBlock free_end(1);
   TreeFixture f(2);
   f.load(1);
-  auto state = f.state();
-  free_end.pass_wrench_to_root(1, state);
-  EXPECT_EQ(f.residual(free_end, {1}), 0.0);
+  EXPECT_EQ(f.passed(free_end, 1, {1}), 0.0);
 }
 
 TEST(TreePasses, FreeMotionAndSingularLinkMatricesAreLeftToTheFactorisingSolve) {

@@ -225,20 +225,19 @@ TEST(TreeSolve, TheCheckSeesAWrongOrNonFiniteSolution) {
   const auto order = detail::tree_order(topology);
   ASSERT_TRUE(order);
   const detail::Blocks blocks = detail::make_blocks(m, topology);
-  detail::EndWrenches external(topology.end_count(), 1);
-  for (std::size_t i = 0; i < m.loads.size(); ++i) external.add(topology.load_ends[i], 0, m.loads[i].wrench);
-  detail::RowMajorMatX x = detail::tree_solve(blocks, topology.link_count, *order, external, topology.unknowns(), 0);
-  const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external, 0);
+  const detail::EndWrenches external = detail::load_cases(m, topology);
+  detail::RowMajorMatX x = detail::tree_solve(blocks, topology.link_count, *order, external, topology.unknowns());
+  const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external);
   EXPECT_LT(right.relative_residual, 1e-15);
   // One deflection off by a hundredth of the largest unknown: above the default limit of the
   // relative residual, so the solve would be redone by factorising. (The ratio is normwise:
   // ‖A‖∞ here is the support's 8e6 N/m, so smaller errors hide below it, as in any solve.)
   const double largest = x.cwiseAbs().maxCoeff();
-  x(detail::deflection_column(5) + 2, 0) += 0.01 * largest;
-  EXPECT_GT(detail::check_tree_solution(blocks, topology, x, external, 0).relative_residual,
+  x(detail::deflection_column(5) + 2, detail::kLoadCase) += 0.01 * largest;
+  EXPECT_GT(detail::check_tree_solution(blocks, topology, x, external).relative_residual,
             SolveOptions{}.max_relative_residual);
-  x(detail::deflection_column(5) + 2, 0) = std::nan("");
-  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, external, 0).relative_residual, INFINITY);
+  x(detail::deflection_column(5) + 2, detail::kLoadCase) = std::nan("");
+  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, external).relative_residual, INFINITY);
   // The fingerprint follows the positions written, not the numbers.
   EXPECT_EQ(right.pattern, detail::pattern_fingerprint(blocks));
   Model moved = m;

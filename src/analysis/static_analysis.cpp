@@ -69,7 +69,6 @@ Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   impl_->topology = detail::build_topology(model, index);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
   impl_->tree = detail::tree_order(impl_->topology);
-  if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks)) impl_->pattern(impl_->recorded_blocks);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -111,6 +110,9 @@ struct Problem {
   std::vector<Vec6> external;  // per link end: sum of the model's loads there
   bool loaded = false;         // any nonzero load or preload
   bool blocks_are_the_reference = false;  // a one-shot solve's: its own pattern
+
+  // The blocks of the model the workspace was built from.
+  const detail::Blocks& reference_blocks() const { return blocks_are_the_reference ? blocks : ws.recorded_blocks; }
 
   // `topology_known`: the workspace was built from this very model.
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
@@ -307,16 +309,11 @@ void solve_regular(Problem& problem, Result& result) {
 // then decides.
 bool solve_on_tree(Problem& problem, Result& result) {
   const auto& t = problem.ws.topology;
-  const std::size_t effectors = problem.model.end_effectors.size();
-  detail::EndWrenches external(t.end_count(), 1 + 6 * static_cast<Index>(effectors));
-  for (std::size_t e = 0; e < problem.external.size(); ++e)
-    if (!problem.external[e].isZero(0)) external.add(static_cast<int>(e), 0, problem.external[e]);
-  for (std::size_t e = 0; e < effectors; ++e)
-    for (int c = 0; c < 6; ++c) external.add(t.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
-  const detail::RowMajorMatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns(), 0);
-  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, 0);
+  const detail::EndWrenches external = detail::load_cases(problem.model, t);
+  const detail::RowMajorMatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns());
+  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external);
   if (!problem.blocks_are_the_reference) {
-    if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.ws.recorded_blocks);
+    if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.reference_blocks());
     if (check.pattern != *problem.ws.tree_pattern) detail::throw_topology_changed();
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
@@ -527,7 +524,7 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
       solve_on_tree(problem, result))
     return result;
-  detail::Assembler& assembler = ws.pattern(problem.blocks_are_the_reference ? problem.blocks : ws.recorded_blocks);
+  detail::Assembler& assembler = ws.pattern(problem.reference_blocks());
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);
     if (!topology_known) {

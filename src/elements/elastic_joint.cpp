@@ -54,7 +54,7 @@ void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeState& st
   const SpringCompliance spring = spring_compliance(directions_, spring_, preload_);
   RowMajorMatX& delta = state.increment;
   delta.noalias() = spring.compliance * (state.wrench(end_1_) - state.external.at(end_1_));
-  delta.col(state.preload_column) -= spring.preload_motion;
+  delta.col(kLoadCase) -= spring.preload_motion;
   if (toward_root == end_1_) {
     state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);
   } else {

@@ -41,7 +41,7 @@ void TreeState::set_copy(Index target, Index source) {
   x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
 }
 
-void TreeState::set_value(Index target, const MatX& value) {  // NOLINT: value is 6 × k
+void TreeState::set_value(Index target, const MatX& value) {
   x.middleRows<6>(target) = value;
   x_low.middleRows<6>(target).setZero();
 }

@@ -31,9 +31,11 @@ class EquationWriter {
   }
 };
 
-// The state of a tree solve (solver/tree_solver.hpp): the unknowns x (n × k, the mixed
-// system's layout, one column per load case) and the external wrench at each link end per
-// column. A block asked to pass something writes only the rows the pass names.
+// The load cases of a tree solve (solver/tree_solver.hpp) are columns: kLoadCase holds the
+// model's loads and preloads, the others a unit wrench at an end effector each.
+inline constexpr Index kLoadCase = 0;
+
+// The external wrenches at the link ends, 6 × k per loaded end (k load cases).
 class EndWrenches {
  public:
   EndWrenches(int end_count, Index columns);
@@ -53,16 +55,18 @@ class EndWrenches {
 // adjacent, as the tree solve visits them end by end.
 using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// Values passed along a long chain are running sums: x holds each rounded to double and
-// x_low what the rounding left out, so that ten thousand links add no more error than one.
+// The state of a tree solve: the unknowns x (n × k, the mixed system's layout, one column per
+// load case) and the external wrenches. A block asked to pass something writes only the rows
+// the pass names. Values passed along a long chain are running sums: x holds each rounded to
+// double and x_low what the rounding left out, so that ten thousand links add no more error
+// than one.
 struct TreeState {
-  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, Index preload_column_)
-      : x(x_), x_low(x_low_), external(external_), preload_column(preload_column_), increment(6, x_.cols()) {}
+  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_)
+      : x(x_), x_low(x_low_), external(external_), increment(6, x_.cols()) {}
 
   RowMajorMatX& x;
   RowMajorMatX& x_low;
   const EndWrenches& external;
-  Index preload_column;  // the column that carries the preloads (with the model's loads)
   RowMajorMatX increment;  // 6 × k scratch of the passes, for set_sum
 
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }

@@ -54,7 +54,7 @@ void SupportBlock::set_root_deflection(TreeState& state) const {
     MatX reaction = MatX::Zero(6, state.x.cols());
     for (int end : ends_) reaction += state.wrench(end) - state.external.at(end);
     deflection.noalias() = -spring.compliance * reaction;
-    deflection.col(state.preload_column) += spring.preload_motion;
+    deflection.col(kLoadCase) += spring.preload_motion;
   }
   for (int end : ends_) state.set_value(deflection_column(end), deflection);
 }

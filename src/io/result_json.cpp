@@ -145,7 +145,7 @@ auto or_null(ResultWriter& out, const std::optional<T>& value, Write write) {
 }
 
 void write_result(ResultWriter& out, const Result& result) {
-  auto vec6 = [&](const auto& v) { out.vector(v); };
+  auto vector = [&](const auto& v) { out.vector(v); };
   auto mat6 = [&](const Mat6& m) { out.matrix(m); };
   out.object([&] {
     out.member("format", [&] { out.string(result_format); });
@@ -168,7 +168,7 @@ void write_result(ResultWriter& out, const Result& result) {
               out.member("link", [&] { out.string(e.link); });
               out.member("compliance", or_null(out, e.compliance, mat6));
               out.member("stiffness", or_null(out, e.stiffness, mat6));
-              out.member("deflection", or_null(out, e.deflection, vec6));
+              out.member("deflection", or_null(out, e.deflection, vector));
             });
           });
       });
@@ -181,8 +181,8 @@ void write_result(ResultWriter& out, const Result& result) {
               for (const auto& [name, end] : {std::pair{"from", &link.from}, std::pair{"to", &link.to}})
                 out.member(name, [&, end = end] {
                   out.object([&] {
-                    out.member("deflection", or_null(out, end->deflection, vec6));
-                    out.member("wrench", or_null(out, end->wrench, vec6));
+                    out.member("deflection", or_null(out, end->deflection, vector));
+                    out.member("wrench", or_null(out, end->wrench, vector));
                   });
                 });
             });
@@ -203,8 +203,8 @@ void write_result(ResultWriter& out, const Result& result) {
                              out.list(static_cast<Eigen::Index>(q.size()),
                                       [&](Eigen::Index k) { out.vector(q[static_cast<std::size_t>(k)]); });
                          }));
-              out.member("wrench", or_null(out, joint.wrench, vec6));
-              if (joint.actuated || joint.effort) out.member("effort", or_null(out, joint.effort, vec6));
+              out.member("wrench", or_null(out, joint.wrench, vector));
+              if (joint.actuated || joint.effort) out.member("effort", or_null(out, joint.effort, vector));
             });
           });
       });
@@ -212,7 +212,7 @@ void write_result(ResultWriter& out, const Result& result) {
     out.member("supports", [&] {
       out.object([&] {
         for (const SupportResult& s : result.supports)
-          out.named(s.name, [&] { out.object([&] { out.member("reaction", or_null(out, s.reaction, vec6)); }); });
+          out.named(s.name, [&] { out.object([&] { out.member("reaction", or_null(out, s.reaction, vector)); }); });
       });
     });
     out.member("report", [&] {

@@ -429,7 +429,6 @@ namespace {
 // of A updates k adjacent sums from k adjacent values, where k sparse products, one per
 // column, would each wait on their own read-modify-write chain.
 // Columns first .. first + x.cols() − 1 of B − A·X.
-using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 RowMajorMatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const SparseColumns& b, Index first) {
   const RowMajorMatX x_rows = x;
   RowMajorMatX r = RowMajorMatX::Zero(x.rows(), x.cols());

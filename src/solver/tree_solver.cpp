@@ -42,11 +42,20 @@ bool passes_tree(const Blocks& blocks) {
   return std::all_of(blocks.begin(), blocks.end(), [](const auto& block) { return block->passes_tree(); });
 }
 
+EndWrenches load_cases(const Model& model, const Topology& topology) {
+  EndWrenches cases(topology.end_count(), 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
+  for (std::size_t i = 0; i < model.loads.size(); ++i)
+    if (!model.loads[i].wrench.isZero(0)) cases.add(topology.load_ends[i], kLoadCase, model.loads[i].wrench);
+  for (std::size_t e = 0; e < topology.effector_ends.size(); ++e)
+    for (int c = 0; c < 6; ++c) cases.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
+  return cases;
+}
+
 RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
-                Index unknowns, Index preload_column) {
+                        Index unknowns) {
   RowMajorMatX x = RowMajorMatX::Zero(unknowns, external.columns());
   RowMajorMatX x_low = RowMajorMatX::Zero(unknowns, external.columns());
-  TreeState state(x, x_low, external, preload_column);
+  TreeState state(x, x_low, external);
   auto group_block = [&](int group) -> const ElementBlock& {
     return *blocks[static_cast<std::size_t>(link_count + group)];
   };
@@ -122,7 +131,7 @@ std::uint64_t pattern_fingerprint(const Blocks& blocks) {
 }
 
 TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external, Index preload_column) {
+                              const EndWrenches& external) {
   const Index columns = x.cols();
   BlockResidual block_residual(x);
   RowMajorMatX rhs;
@@ -142,7 +151,7 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
     bool any_rhs = !column.isZero(0);
     if (any_rhs) {
       rhs.setZero(rows, columns);
-      rhs.col(preload_column) = column;
+      rhs.col(kLoadCase) = column;
     }
     if (k >= static_cast<std::size_t>(topology.link_count))
       for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {

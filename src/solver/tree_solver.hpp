@@ -29,10 +29,14 @@ std::optional<TreeOrder> tree_order(const Topology& topology);
 // Whether every block can take part in a tree solve (no passive joint or support).
 bool passes_tree(const Blocks& blocks);
 
+// The load cases of a solve: the model's loads in kLoadCase, then a unit wrench in each of the 6
+// directions at every end effector.
+EndWrenches load_cases(const Model& model, const Topology& topology);
+
 // The unknowns (unknowns × external.columns(), the mixed system's layout) under the external
-// wrenches of each column, with the preloads added to column `preload_column`.
+// wrenches of each column, with the preloads added to kLoadCase.
 RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
-                Index unknowns, Index preload_column);
+                        Index unknowns);
 
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
@@ -46,6 +50,6 @@ struct TreeCheck {
 std::uint64_t pattern_fingerprint(const Blocks& blocks);
 
 TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external, Index preload_column);
+                              const EndWrenches& external);
 
 }  // namespace stiffmsa::detail
