@@ -45,9 +45,9 @@ struct SolveOptions {
 
 class Workspace {
  public:
-  // Builds the topology of a validated model: unknown and equation numbering, element blocks
-  // and, unless the model is solved as a tree, the sparsity pattern. Throws InputError on an
-  // invalid model.
+  // Builds the topology of a validated model: unknown and equation numbering and element
+  // blocks; the sparsity pattern follows when a factorising solve first needs it (a tree solve
+  // needs none). Throws InputError on an invalid model.
   explicit Workspace(const Model& model);
   ~Workspace();
   Workspace(Workspace&&) noexcept;
