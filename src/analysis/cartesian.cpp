@@ -30,15 +30,12 @@ Vec6 weighted_eigenvalues(const Mat6& compliance, double length) {
 }
 }  // namespace
 
-double compliance_spread(const Mat6& compliance, double length) {
+CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length) {
   const Vec6 values = weighted_eigenvalues(compliance, length);
-  return values(0) > 0 ? values(5) / values(0) : std::numeric_limits<double>::infinity();
-}
-
-std::optional<Mat6> stiffness_from_compliance(const Mat6& compliance, double length) {
-  const Vec6 values = weighted_eigenvalues(compliance, length);
-  if (!(values(5) > 0) || values(0) <= 1e-14 * values(5)) return std::nullopt;
-  return Mat6(compliance.fullPivLu().inverse());
+  CartesianStiffness result;
+  result.spread = values(0) > 0 ? values(5) / values(0) : std::numeric_limits<double>::infinity();
+  if (values(5) > 0 && values(0) > 1e-14 * values(5)) result.stiffness = Mat6(compliance.fullPivLu().inverse());
+  return result;
 }
 
 }  // namespace detail

@@ -163,16 +163,22 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
     result.links[l].from = {deflection_of(x, from), wrench_of(x, from)};
     result.links[l].to = {deflection_of(x, to), wrench_of(x, to)};
   }
-  for (const auto& group : t.groups) {
+  for (std::size_t g = 0; g < t.groups.size(); ++g) {
+    const detail::ConnectionGroup& group = t.groups[g];
     if (group.kind == detail::ConnectionGroup::Kind::joint) {
       const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
-      const auto directions = detail::free_directions(joint.connection.kinematics);
+      // The joint's block holds its directions, except a locked actuator's, which it holds rigidly:
+      // its effort is still along the joint's own free directions.
+      const bool locked = joint.connection.actuated && !joint.connection.stiffness;
+      const detail::FreeDirections directions =
+          locked ? detail::free_directions(joint.connection.kinematics)
+                 : *problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
       JointResult& r = result.joints[static_cast<std::size_t>(group.source)];
       const int first = group.ends.front();
       std::vector<VecX> q;
       for (std::size_t k = 1; k < group.ends.size(); ++k)
         q.push_back(directions.free * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
-      r.relative_deflection = q;
+      r.relative_deflection = std::move(q);
       r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
       if (joint.connection.actuated)
         r.effort = VecX(directions.gram().ldlt().solve(directions.free * *r.wrench));
@@ -231,27 +237,29 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
   return result;
 }
 
-void check_accuracy(const SolveOptions& options, Result& result) {
+// The parts streamed into one string; a stream is built only for a message that is given.
+template <class... Parts>
+std::string message(const Parts&... parts) {
   std::ostringstream text;
+  (text << ... << parts);
+  return text.str();
+}
+
+void check_accuracy(const SolveOptions& options, Result& result) {
   const double rcond = result.report.reciprocal_condition;
-  if (rcond > 0 && rcond * options.warn_condition < 1) {
-    text << "the system is ill-conditioned (condition estimate " << 1 / rcond
-         << "): likely a near-mechanism (joint axes almost aligned, a link almost along a joint's free "
-            "direction) or stiffness values many decades apart; check the digits of the results";
-    result.report.warnings.push_back(text.str());
-    text.str("");
-  }
-  if (result.report.relative_residual > options.max_relative_residual) {
-    text << "the relative residual " << result.report.relative_residual << " exceeds "
-         << options.max_relative_residual << "; results may be inaccurate";
-    result.report.failed_checks.push_back(text.str());
-  }
-  if (result.report.equilibrium_error > 1e-8) {
-    text.str("");
-    text << "loads and support reactions balance only to " << result.report.equilibrium_error
-         << " relative; results may be inaccurate";
-    result.report.failed_checks.push_back(text.str());
-  }
+  if (rcond > 0 && rcond * options.warn_condition < 1)
+    result.report.warnings.push_back(
+        message("the system is ill-conditioned (condition estimate ", 1 / rcond,
+                "): likely a near-mechanism (joint axes almost aligned, a link almost along a joint's free "
+                "direction) or stiffness values many decades apart; check the digits of the results"));
+  if (result.report.relative_residual > options.max_relative_residual)
+    result.report.failed_checks.push_back(message("the relative residual ", result.report.relative_residual,
+                                                  " exceeds ", options.max_relative_residual,
+                                                  "; results may be inaccurate"));
+  if (result.report.equilibrium_error > 1e-8)
+    result.report.failed_checks.push_back(message("loads and support reactions balance only to ",
+                                                  result.report.equilibrium_error,
+                                                  " relative; results may be inaccurate"));
   result.report.warnings.insert(result.report.warnings.end(), result.report.failed_checks.begin(),
                                 result.report.failed_checks.end());
 }
@@ -281,17 +289,17 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
     const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));
     auto& r = result.end_effectors[e];
     r.compliance = compliance;
-    r.stiffness = detail::stiffness_from_compliance(compliance, length);
+    const detail::CartesianStiffness cartesian = detail::cartesian_stiffness(compliance, length);
+    r.stiffness = cartesian.stiffness;
     if (!r.stiffness) {
       result.report.notes.push_back("end effector '" + r.name +
                                     "' is held rigidly in some direction (or is so nearly a mechanism that double "
                                     "precision cannot tell): its stiffness is unbounded (null)");
-    } else if (const double spread = detail::compliance_spread(compliance, length);
-               spread > problem.options.warn_condition) {
-      std::ostringstream text;
-      text << "end effector '" << r.name << "': its stiffness differs by a factor " << spread
-           << " between directions, a near-mechanism; its softest direction may have lost most digits";
-      result.report.warnings.push_back(text.str());
+    } else if (cartesian.spread > problem.options.warn_condition) {
+      result.report.warnings.push_back(message("end effector '", r.name, "': its stiffness differs by a factor ",
+                                               cartesian.spread,
+                                               " between directions, a near-mechanism; its softest direction may "
+                                               "have lost most digits"));
     }
   }
   result.report.equilibrium_error = equilibrium_error(problem, result);

@@ -22,6 +22,7 @@ class ConstraintJointBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
+  const FreeDirections* directions() const override { return &directions_; }
   // Rigid (and locked) joints only: a passive joint's free motion has no tree solution.
   bool passes_tree() const override { return p() == 0; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
@@ -47,6 +48,7 @@ class ElasticJointBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
+  const FreeDirections* directions() const override { return &directions_; }
   bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
   void pass_deflection_from_root(int toward_root, TreeState& state) const override;
@@ -54,7 +56,7 @@ class ElasticJointBlock final : public ElementBlock {
  private:
   int end_1_, end_2_;
   FreeDirections directions_;
-  MatX spring_;  // G·K·Λ_p: the same on every refill, so formed once
+  SmallMat spring_;  // G·K·Λ_p: the same on every refill, so formed once
   std::optional<VecX> preload_;
 };
 
@@ -70,6 +72,7 @@ class SupportBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
+  const FreeDirections* directions() const override { return &directions_; }
   // Rigid or elastic supports only: a passive support's free motion has no tree solution.
   bool passes_tree() const override { return directions_.free.rows() == 0 || spring_.has_value(); }
   void set_root_deflection(TreeState& state) const override;
@@ -77,7 +80,7 @@ class SupportBlock final : public ElementBlock {
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  std::optional<MatX> spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
+  std::optional<SmallMat> spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
   std::optional<VecX> preload_;
 };
 

@@ -9,8 +9,8 @@ ConstraintJointBlock::ConstraintJointBlock(std::vector<int> ends, FreeDirections
     : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {}
 
 void ConstraintJointBlock::write_equations(Index row, EquationWriter& out) const {
-  const MatX& lr = directions_.constrained;
-  const MatX& lp = directions_.free;
+  const auto& lr = directions_.constrained;
+  const auto& lp = directions_.free;
   const bool rigid = p() == 0;  // Λ_r = I: only the diagonal is structurally nonzero
   auto write_constrained = [&](Index at, Index column, double sign) {
     if (rigid)
@@ -44,7 +44,7 @@ void ConstraintJointBlock::add_external_wrench(Index row, int end_id, const Vec6
 void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
   if (!preload_) return;
   const Index passive = row + r() * static_cast<Index>(ends_.size());
-  const VecX projected = directions_.gram() * *preload_;
+  const SmallVec projected = directions_.gram() * *preload_;
   rhs.segment(passive, p()) += projected;
   rhs.segment(passive + p(), p()) -= projected;
 }

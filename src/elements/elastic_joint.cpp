@@ -14,8 +14,8 @@ ElasticJointBlock::ElasticJointBlock(int end_1, int end_2, FreeDirections direct
       preload_(std::move(preload)) {}
 
 void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
-  const MatX& lr = directions_.constrained;
-  const MatX& lp = directions_.free;
+  const auto& lr = directions_.constrained;
+  const auto& lp = directions_.free;
   out.add_identity(row, wrench_column(end_1_), 6);
   out.add_identity(row, wrench_column(end_2_), 6);
   row += 6;

@@ -12,22 +12,34 @@
 namespace stiffmsa::detail {
 
 using Index = Eigen::Index;
+struct FreeDirections;
 
 inline Index deflection_column(int end_id) { return 12 * static_cast<Index>(end_id); }
 inline Index wrench_column(int end_id) { return 12 * static_cast<Index>(end_id) + 6; }
 
+// A block of coefficients as an element writes it: at most 12×6 (a CAD stiffness link's half
+// of K12), held on the stack so that writing a pose allocates nothing.
+using CoefficientBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 6>;
+
+// Receives a block's coefficients. Writers that only need positions and values one at a time
+// implement add(); writers that work on whole blocks (the tree solve's residual: one small
+// product per block instead of a call per coefficient) override add_coefficients and
+// add_identity too. Either way the positions arrive in the same order.
 class EquationWriter {
  public:
   virtual ~EquationWriter() = default;
   virtual void add(Index row, Index column, double value) = 0;
-
-  template <class Derived>
-  void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block) {
+  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block) {
     for (Index i = 0; i < block.rows(); ++i)
       for (Index j = 0; j < block.cols(); ++j) add(row + i, column + j, block(i, j));
   }
-  void add_identity(Index row, Index column, Index size, double scale = 1.0) {
+  virtual void add_identity(Index row, Index column, Index size, double scale = 1.0) {
     for (Index i = 0; i < size; ++i) add(row + i, column + i, scale);
+  }
+
+  template <class Derived>
+  void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block) {
+    add_coefficients(row, column, CoefficientBlock(block));
   }
 };
 
@@ -89,6 +101,9 @@ class ElementBlock {
                                    VecX& rhs) const;
   // Right-hand side of the block's preload, if any.
   virtual void add_preload(Index /*first_row*/, VecX& /*rhs*/) const {}
+  // A joint's or support's free and constrained directions in this pose (the results read them
+  // back rather than recomputing them); null for other blocks.
+  virtual const FreeDirections* directions() const { return nullptr; }
 
   // The tree solve: where links and connections form a tree with the one support at its root,
   // every wrench follows from equilibrium, passed from the leaves to the root, and every

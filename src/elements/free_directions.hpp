@@ -4,12 +4,18 @@
 
 namespace stiffmsa::detail {
 
+// Up to 6 rows of 6: held on the stack, as every joint of every pose makes them.
+using DirectionRows = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6>;
+// p×p and p×6 products of them.
+using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+
 struct FreeDirections {
-  MatX free;         // Λ_p, p×6, rows in the documented order (custom rows as given)
-  MatX constrained;  // Λ_r, (6−p)×6, orthonormal rows spanning the complement of Λ_p's rows
+  DirectionRows free;         // Λ_p, p×6, rows in the documented order (custom rows as given)
+  DirectionRows constrained;  // Λ_r, (6−p)×6, orthonormal rows spanning the complement of Λ_p's rows
   // Λ_p·Λ_pᵀ: maps a generalised force along q to its projection Λ_p·w (identity for the
   // built-in types, whose rows are orthonormal).
-  MatX gram() const { return free * free.transpose(); }
+  SmallMat gram() const { return free * free.transpose(); }
 };
 
 // A spring along the free directions (an elastic joint or support) as a compliance: the motion
@@ -20,7 +26,7 @@ struct SpringCompliance {
   Mat6 compliance;
   Vec6 preload_motion;
 };
-SpringCompliance spring_compliance(const FreeDirections& directions, const MatX& spring,
+SpringCompliance spring_compliance(const FreeDirections& directions, const SmallMat& spring,
                                    const std::optional<VecX>& preload);
 
 // Throws InputError (no location) when the kinematics are degenerate; validate() reports the

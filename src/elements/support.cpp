@@ -13,8 +13,8 @@ SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
 }
 
 void SupportBlock::write_equations(Index row, EquationWriter& out) const {
-  const MatX& lr = directions_.constrained;
-  const MatX& lp = directions_.free;
+  const auto& lr = directions_.constrained;
+  const auto& lp = directions_.free;
   const Index r = lr.rows(), p = lp.rows();
   const int first = ends_.front();
   for (std::size_t k = 1; k < ends_.size(); ++k) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <limits>
 
 #include "solver/sparse_solver.hpp"
 
@@ -78,19 +80,47 @@ RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& o
 
 namespace {
 
-// largest = max(largest, value), except that a NaN on either side sticks: std::max would drop a
-// NaN coefficient, residual or unknown, and the check pass them.
-void raise_to(double& largest, double value) {
-  if (!(value <= largest) && !std::isnan(largest)) largest = value;
-}
+// The largest |entry| of each column over the rows added so far, +inf once any entry is not
+// finite (a maximum alone would drop a NaN coefficient, residual or unknown, and the check pass
+// them).
+class ColumnMaxima {
+ public:
+  explicit ColumnMaxima(Index columns) : largest_(VecX::Zero(columns)) {}
+  // `rows` rows of the columns, stored by rows one after the other. Plain loops: the blocks are
+  // a few rows of a few columns, where Eigen's dynamic-size expressions cost more than the work.
+  void add(const double* values, Index rows) {
+    const Index columns = largest_.size();
+    double* const largest = largest_.data();
+    bool finite = true;  // a local, which the stores into `largest` cannot alias
+    for (Index i = 0; i < rows; ++i, values += columns)
+      for (Index c = 0; c < columns; ++c) {
+        const double magnitude = std::abs(values[c]);
+        finite &= magnitude <= std::numeric_limits<double>::max();  // false for inf and NaN
+        largest[c] = std::max(largest[c], magnitude);
+      }
+    finite_ = finite_ && finite;
+  }
+  double operator()(Index column) const { return finite_ ? largest_(column) : INFINITY; }
 
-// FNV-1a over the written positions.
+ private:
+  VecX largest_;
+  bool finite_ = true;
+};
+
+// FNV-1a over the written positions, a block of them at a time: (row, column, rows, columns)
+// for a dense block, (row, column, size, −1) for a scaled identity, (row, column) for a
+// coefficient written alone. Every writer of the tree solve hashes so, so that a pose's blocks
+// and the reference's give the same fingerprint exactly when they write the same positions.
 class PatternHash : public EquationWriter {
  public:
-  void add(Index row, Index column, double) override { record(row, column); }
-  void record(Index row, Index column) {
-    for (const auto value : {static_cast<std::uint64_t>(row), static_cast<std::uint64_t>(column)}) {
-      hash ^= value;
+  void add(Index row, Index column, double) override { record({row, column}); }
+  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
+    record({row, column, block.rows(), block.cols()});
+  }
+  void add_identity(Index row, Index column, Index size, double) override { record({row, column, size, -1}); }
+  void record(std::initializer_list<Index> values) {
+    for (const Index value : values) {
+      hash ^= static_cast<std::uint64_t>(value);
       hash *= 0x100000001b3ULL;
     }
   }
@@ -98,28 +128,55 @@ class PatternHash : public EquationWriter {
 };
 
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
-// the count of its nonzero coefficients. Rows are stored by rows, so that a coefficient updates
-// the k adjacent sums of its row.
+// the count of its nonzero coefficients. Both are stored by rows, so that a coefficient updates
+// the k adjacent sums of its row. The buffers keep the largest block's size: a pose allocates
+// them once.
 class BlockResidual final : public PatternHash {
  public:
   explicit BlockResidual(const RowMajorMatX& x) : x_(x) {}
   void start(Index rows) {
-    residual.setZero(rows, x_.cols());
-    row_sums.setZero(rows);
+    if (residual_.rows() < rows) {
+      residual_.resize(rows, x_.cols());
+      row_sums_.resize(rows);
+    }
+    rows_ = rows;
+    residual_.topRows(rows).setZero();
+    row_sums_.head(rows).setZero();
   }
+  auto residual() { return residual_.topRows(rows_); }
+  auto row_sums() const { return row_sums_.head(rows_); }
+
   void add(Index row, Index column, double value) override {
-    record(row, column);
-    if (value == 0) return;
-    ++nonzeros;
-    row_sums(row) += std::abs(value);
-    residual.row(row).noalias() -= value * x_.row(column);
+    PatternHash::add(row, column, value);
+    subtract(row, column, value);
   }
-  RowMajorMatX residual;
-  VecX row_sums;
+  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
+    PatternHash::add_coefficients(row, column, block);
+    for (Index i = 0; i < block.rows(); ++i)
+      for (Index j = 0; j < block.cols(); ++j) subtract(row + i, column + j, block(i, j));
+  }
+  void add_identity(Index row, Index column, Index size, double scale) override {
+    PatternHash::add_identity(row, column, size, scale);
+    for (Index i = 0; i < size; ++i) subtract(row + i, column + i, scale);
+  }
   long nonzeros = 0;
 
  private:
+  // Row `row` of the residual −= value · row `column` of x: adjacent values, as both are
+  // stored by rows.
+  void subtract(Index row, Index column, double value) {
+    if (value == 0) return;
+    ++nonzeros;
+    row_sums_(row) += std::abs(value);
+    const Index columns = x_.cols();
+    double* const out = residual_.data() + row * columns;
+    const double* const in = x_.data() + column * columns;
+    for (Index c = 0; c < columns; ++c) out[c] -= value * in[c];
+  }
   const RowMajorMatX& x_;
+  RowMajorMatX residual_;
+  VecX row_sums_;
+  Index rows_ = 0;
 };
 
 }  // namespace
@@ -136,14 +193,13 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
   BlockResidual block_residual(x);
   RowMajorMatX rhs;
   VecX column;
-  double a_norm = 0;
-  VecX residual_norm = VecX::Zero(columns), rhs_norm = VecX::Zero(columns);
+  ColumnMaxima a_norm(1), residual_norm(columns), rhs_norm(columns), x_norm(columns);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
     const ElementBlock& block = *blocks[k];
     const Index rows = block.equation_count();
     block_residual.start(rows);
     block.write_equations(0, block_residual);
-    for (Index i = 0; i < rows; ++i) raise_to(a_norm, block_residual.row_sums(i));
+    a_norm.add(block_residual.row_sums().data(), rows);
     // The block's right-hand side: the loads at the link ends it holds (links hold none;
     // connection group g is block link_count + g) and its preload.
     column.setZero(rows);
@@ -164,27 +220,23 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
           rhs.col(c) += column;
         }
       }
-    RowMajorMatX& residual = block_residual.residual;
+    auto residual = block_residual.residual();
     if (any_rhs) {
       residual += rhs;
-      for (Index i = 0; i < rows; ++i)
-        for (Index c = 0; c < columns; ++c) raise_to(rhs_norm(c), std::abs(rhs(i, c)));
+      rhs_norm.add(rhs.data(), rows);
     }
-    for (Index i = 0; i < rows; ++i)
-      for (Index c = 0; c < columns; ++c) raise_to(residual_norm(c), std::abs(residual(i, c)));
+    residual_norm.add(residual.data(), rows);
   }
   TreeCheck check;
   check.nonzeros = block_residual.nonzeros;
   check.pattern = block_residual.hash;
-  // One pass over x by rows, as it is stored.
-  VecX x_norm = VecX::Zero(columns);
-  for (Index i = 0; i < x.rows(); ++i)
-    for (Index c = 0; c < columns; ++c) raise_to(x_norm(c), std::abs(x(i, c)));
+  x_norm.add(x.data(), x.rows());
   for (Index c = 0; c < columns; ++c) {
-    const bool finite = std::isfinite(a_norm) && std::isfinite(x_norm(c)) && std::isfinite(rhs_norm(c)) &&
+    const bool finite = std::isfinite(a_norm(0)) && std::isfinite(x_norm(c)) && std::isfinite(rhs_norm(c)) &&
                         std::isfinite(residual_norm(c));
-    raise_to(check.relative_residual,
-             finite ? normwise_backward_error(residual_norm(c), a_norm, x_norm(c), rhs_norm(c)) : INFINITY);
+    const double error =
+        finite ? normwise_backward_error(residual_norm(c), a_norm(0), x_norm(c), rhs_norm(c)) : INFINITY;
+    if (!(error <= check.relative_residual)) check.relative_residual = error;
   }
   return check;
 }
