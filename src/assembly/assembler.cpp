@@ -20,11 +20,11 @@ namespace {
 // The first pass over the blocks' writes: how many land in each column, and whether any
 // lands outside the system. Knowing the counts, the second pass can put every write straight
 // into its column (a counting sort without a record of all columns), in memory of exact size.
-class ColumnCounter final : public EquationWriter {
+class ColumnCounter final : public CoefficientWriter<ColumnCounter> {
  public:
   explicit ColumnCounter(Index unknowns)
       : column_start(static_cast<std::size_t>(unknowns) + 1, 0), unknowns_(unknowns) {}
-  void add(Index row, Index column, double) override {
+  void put(Index row, Index column, double) {
     if (row < 0 || row >= unknowns_ || column < 0 || column >= unknowns_) {
       outside = true;
       return;
@@ -49,11 +49,11 @@ struct Position {
 
 // The second pass: every write into its column's range of `by_column`. The blocks write the
 // same positions in the same order on every pass (element_block.hpp), so the ranges fit.
-class ColumnSorter final : public EquationWriter {
+class ColumnSorter final : public CoefficientWriter<ColumnSorter> {
  public:
   ColumnSorter(std::vector<int>& next_in_column, std::vector<Position>& by_column)
       : next_(next_in_column), by_column_(by_column) {}
-  void add(Index row, Index column, double) override {
+  void put(Index row, Index column, double) {
     by_column_[static_cast<std::size_t>(next_[static_cast<std::size_t>(column)]++)] = {static_cast<int>(row),
                                                                                        written_++};
   }
@@ -66,12 +66,12 @@ class ColumnSorter final : public EquationWriter {
 
 // Checks every write against the recorded sequence: write k must land in slot slots[k], the
 // one position (row, column) of the pattern that the k-th write of the recording went to.
-class ValueWriter final : public EquationWriter {
+class ValueWriter final : public CoefficientWriter<ValueWriter> {
  public:
   ValueWriter(const std::vector<int>& slots, const std::vector<int>& outer, const std::vector<int>& inner,
               double* values)
       : slots_(slots), outer_(outer), inner_(inner), values_(values) {}
-  void add(Index row, Index column, double value) override {
+  void put(Index row, Index column, double value) {
     if (next_ >= slots_.size() || column < 0 || column + 1 >= static_cast<Index>(outer_.size()))
       throw_topology_changed();
     const int slot = slots_[next_++];

@@ -21,10 +21,9 @@ inline Index wrench_column(int end_id) { return 12 * static_cast<Index>(end_id) 
 // of K12), held on the stack so that writing a pose allocates nothing.
 using CoefficientBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 6>;
 
-// Receives a block's coefficients. Writers that only need positions and values one at a time
-// implement add(); writers that work on whole blocks (the tree solve's residual: one small
-// product per block instead of a call per coefficient) override add_coefficients and
-// add_identity too. Either way the positions arrive in the same order.
+// Receives a block's coefficients. A writer may implement add() alone; the library's writers
+// take whole blocks (CoefficientWriter below), so that a coefficient costs no virtual call.
+// Either way the positions arrive in the same order.
 class EquationWriter {
  public:
   virtual ~EquationWriter() = default;
@@ -41,6 +40,24 @@ class EquationWriter {
   void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block) {
     add_coefficients(row, column, CoefficientBlock(block));
   }
+};
+
+// A writer that takes every coefficient through Derived::put, inlined into the loops over a
+// block: one virtual call per block the element writes, not per coefficient.
+template <class Derived>
+class CoefficientWriter : public EquationWriter {
+ public:
+  void add(Index row, Index column, double value) override { self().put(row, column, value); }
+  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
+    for (Index i = 0; i < block.rows(); ++i)
+      for (Index j = 0; j < block.cols(); ++j) self().put(row + i, column + j, block(i, j));
+  }
+  void add_identity(Index row, Index column, Index size, double scale) override {
+    for (Index i = 0; i < size; ++i) self().put(row + i, column + i, scale);
+  }
+
+ private:
+  Derived& self() { return static_cast<Derived&>(*this); }
 };
 
 // The load cases of a tree solve (solver/tree_solver.hpp) are columns: kLoadCase holds the

@@ -109,15 +109,9 @@ class ColumnMaxima {
 
 // FNV-1a over the written positions, a block of them at a time: (row, column, rows, columns)
 // for a dense block, (row, column, size, −1) for a scaled identity, (row, column) for a
-// coefficient written alone. Every writer of the tree solve hashes so, so that a pose's blocks
+// coefficient written alone. Both writers of the tree solve hash so, so that a pose's blocks
 // and the reference's give the same fingerprint exactly when they write the same positions.
-class PatternHash : public EquationWriter {
- public:
-  void add(Index row, Index column, double) override { record({row, column}); }
-  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
-    record({row, column, block.rows(), block.cols()});
-  }
-  void add_identity(Index row, Index column, Index size, double) override { record({row, column, size, -1}); }
+struct PositionHash {
   void record(std::initializer_list<Index> values) {
     for (const Index value : values) {
       hash ^= static_cast<std::uint64_t>(value);
@@ -127,11 +121,20 @@ class PatternHash : public EquationWriter {
   std::uint64_t hash = 0xcbf29ce484222325ULL;
 };
 
+class PatternHash final : public EquationWriter, public PositionHash {
+ public:
+  void add(Index row, Index column, double) override { record({row, column}); }
+  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
+    record({row, column, block.rows(), block.cols()});
+  }
+  void add_identity(Index row, Index column, Index size, double) override { record({row, column, size, -1}); }
+};
+
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
 // the count of its nonzero coefficients. Both are stored by rows, so that a coefficient updates
 // the k adjacent sums of its row. The buffers keep the largest block's size: a pose allocates
 // them once.
-class BlockResidual final : public PatternHash {
+class BlockResidual final : public CoefficientWriter<BlockResidual>, public PositionHash {
  public:
   explicit BlockResidual(const RowMajorMatX& x) : x_(x) {}
   void start(Index rows) {
@@ -147,24 +150,20 @@ class BlockResidual final : public PatternHash {
   auto row_sums() const { return row_sums_.head(rows_); }
 
   void add(Index row, Index column, double value) override {
-    PatternHash::add(row, column, value);
-    subtract(row, column, value);
+    record({row, column});
+    put(row, column, value);
   }
   void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
-    PatternHash::add_coefficients(row, column, block);
-    for (Index i = 0; i < block.rows(); ++i)
-      for (Index j = 0; j < block.cols(); ++j) subtract(row + i, column + j, block(i, j));
+    record({row, column, block.rows(), block.cols()});
+    CoefficientWriter::add_coefficients(row, column, block);
   }
   void add_identity(Index row, Index column, Index size, double scale) override {
-    PatternHash::add_identity(row, column, size, scale);
-    for (Index i = 0; i < size; ++i) subtract(row + i, column + i, scale);
+    record({row, column, size, -1});
+    CoefficientWriter::add_identity(row, column, size, scale);
   }
-  long nonzeros = 0;
-
- private:
   // Row `row` of the residual −= value · row `column` of x: adjacent values, as both are
   // stored by rows.
-  void subtract(Index row, Index column, double value) {
+  void put(Index row, Index column, double value) {
     if (value == 0) return;
     ++nonzeros;
     row_sums_(row) += std::abs(value);
@@ -173,6 +172,9 @@ class BlockResidual final : public PatternHash {
     const double* const in = x_.data() + column * columns;
     for (Index c = 0; c < columns; ++c) out[c] -= value * in[c];
   }
+  long nonzeros = 0;
+
+ private:
   const RowMajorMatX& x_;
   RowMajorMatX residual_;
   VecX row_sums_;
