@@ -17,10 +17,10 @@ using namespace stiffmsa::detail;
 namespace {
 
 // Writes a block's equations into a dense matrix over the unknowns of `ends` link ends.
-class DenseWriter final : public EquationWriter {
+class DenseWriter final : public CoefficientWriter<DenseWriter> {
  public:
   DenseWriter(Index rows, int ends) : matrix(MatX::Zero(rows, 12 * ends)) {}
-  void add(Index row, Index column, double value) override { matrix(row, column) += value; }
+  void put(Index row, Index column, double value) { matrix(row, column) += value; }
   MatX matrix;
 };
 

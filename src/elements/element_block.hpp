@@ -21,20 +21,15 @@ inline Index wrench_column(int end_id) { return 12 * static_cast<Index>(end_id) 
 // of K12), held on the stack so that writing a pose allocates nothing.
 using CoefficientBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 6>;
 
-// Receives a block's coefficients. A writer may implement add() alone; the library's writers
-// take whole blocks (CoefficientWriter below), so that a coefficient costs no virtual call.
-// Either way the positions arrive in the same order.
+// Receives a block's coefficients, a dense block or a scaled identity at a time, so that a
+// writer pays one virtual call per block the element writes, not per coefficient. Every call
+// sequence of an element depends only on the topology (see above).
 class EquationWriter {
  public:
   virtual ~EquationWriter() = default;
   virtual void add(Index row, Index column, double value) = 0;
-  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block) {
-    for (Index i = 0; i < block.rows(); ++i)
-      for (Index j = 0; j < block.cols(); ++j) add(row + i, column + j, block(i, j));
-  }
-  virtual void add_identity(Index row, Index column, Index size, double scale = 1.0) {
-    for (Index i = 0; i < size; ++i) add(row + i, column + i, scale);
-  }
+  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block) = 0;
+  virtual void add_identity(Index row, Index column, Index size, double scale = 1.0) = 0;
 
   template <class Derived>
   void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block) {
@@ -42,8 +37,8 @@ class EquationWriter {
   }
 };
 
-// A writer that takes every coefficient through Derived::put, inlined into the loops over a
-// block: one virtual call per block the element writes, not per coefficient.
+// A writer that takes every coefficient, in the order written, through Derived::put, inlined
+// into the loops over a block.
 template <class Derived>
 class CoefficientWriter : public EquationWriter {
  public:
