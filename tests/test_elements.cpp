@@ -174,22 +174,22 @@ TEST(StiffnessLinkBlock, WritesEquationOneAsPrinted) {
 
 TEST(FreeDirections, RowsFollowTheDocumentedOrderAndTheComplementIsOrthonormal) {
   const FreeDirections cylindrical = free_directions(Kinematics::cylindrical(Vec3(0, 0, 2)));
-  ASSERT_EQ(cylindrical.free.rows(), 2);
-  EXPECT_EQ(Vec6(cylindrical.free.row(0).transpose()), (Vec6() << 0, 0, 1, 0, 0, 0).finished());
-  EXPECT_EQ(Vec6(cylindrical.free.row(1).transpose()), (Vec6() << 0, 0, 0, 0, 0, 1).finished());
+  ASSERT_EQ(cylindrical.free().rows(), 2);
+  EXPECT_EQ(Vec6(cylindrical.free().row(0).transpose()), (Vec6() << 0, 0, 1, 0, 0, 0).finished());
+  EXPECT_EQ(Vec6(cylindrical.free().row(1).transpose()), (Vec6() << 0, 0, 0, 0, 0, 1).finished());
 
   // Planar with normal z: g = x (first on a tie), t1 = z × x = y, t2 = z × y = −x.
   const FreeDirections planar = free_directions(Kinematics::planar(Vec3(0, 0, 5)));
-  EXPECT_LT((planar.free.row(0).transpose() - (Vec6() << 0, 1, 0, 0, 0, 0).finished()).norm(), 1e-15);
-  EXPECT_LT((planar.free.row(1).transpose() - (Vec6() << -1, 0, 0, 0, 0, 0).finished()).norm(), 1e-15);
-  EXPECT_LT((planar.free.row(2).transpose() - (Vec6() << 0, 0, 0, 0, 0, 1).finished()).norm(), 1e-15);
+  EXPECT_LT((planar.free().row(0).transpose() - (Vec6() << 0, 1, 0, 0, 0, 0).finished()).norm(), 1e-15);
+  EXPECT_LT((planar.free().row(1).transpose() - (Vec6() << -1, 0, 0, 0, 0, 0).finished()).norm(), 1e-15);
+  EXPECT_LT((planar.free().row(2).transpose() - (Vec6() << 0, 0, 0, 0, 0, 1).finished()).norm(), 1e-15);
 
   for (const Kinematics& k : {Kinematics::rigid(), Kinematics::revolute(Vec3(1, 2, 3)), Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)),
                               Kinematics::spherical(), Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()})}) {
     const FreeDirections d = free_directions(k);
-    EXPECT_EQ(d.free.rows() + d.constrained.rows(), 6);
-    EXPECT_LT((d.constrained * d.constrained.transpose() - MatX::Identity(d.constrained.rows(), d.constrained.rows())).norm(), 1e-14);
-    if (d.free.rows() > 0) EXPECT_LT((d.constrained * d.free.transpose()).norm(), 1e-14);
+    EXPECT_EQ(d.free().rows() + d.constrained().rows(), 6);
+    EXPECT_LT((d.constrained() * d.constrained().transpose() - MatX::Identity(d.constrained().rows(), d.constrained().rows())).norm(), 1e-14);
+    if (d.free().rows() > 0) EXPECT_LT((d.constrained() * d.free().transpose()).norm(), 1e-14);
   }
   EXPECT_THROW(free_directions(Kinematics::revolute(Vec3::Zero())), InputError);
   EXPECT_THROW(free_directions(Kinematics::custom({Vec6::Ones(), 2 * Vec6::Ones()})), InputError);

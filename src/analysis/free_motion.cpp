@@ -46,8 +46,8 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
     if (group.kind != ConnectionGroup::Kind::joint) continue;
     const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
     const auto directions = free_directions(joint.connection.kinematics);
-    if (directions.free.rows() == 0 || joint.connection.stiffness || joint.connection.actuated) continue;
-    const MatX projector = directions.free.transpose() * directions.gram().inverse() * directions.free;
+    if (directions.free().rows() == 0 || joint.connection.stiffness || joint.connection.actuated) continue;
+    const MatX projector = directions.free().transpose() * directions.gram().inverse() * directions.free();
     for (std::size_t k = 1; k < group.ends.size(); ++k) {
       const Vec6 relative = projector * (deflection(group.ends[k]) - deflection(group.ends.front()));
       if (weighted_norm(relative, length) > significant) {

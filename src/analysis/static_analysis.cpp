@@ -177,11 +177,11 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
       const int first = group.ends.front();
       std::vector<VecX> q;
       for (std::size_t k = 1; k < group.ends.size(); ++k)
-        q.push_back(directions.free * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
+        q.push_back(directions.free() * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
       r.relative_deflection = std::move(q);
       r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
       if (joint.connection.actuated)
-        r.effort = VecX(directions.gram().ldlt().solve(directions.free * *r.wrench));
+        r.effort = VecX(directions.gram().ldlt().solve(directions.free() * *r.wrench));
     } else if (group.kind == detail::ConnectionGroup::Kind::support) {
       Vec6 reaction = Vec6::Zero();
       for (int end : group.ends) reaction += wrench_of(x, end) - problem.external[static_cast<std::size_t>(end)];

@@ -29,8 +29,8 @@ class ConstraintJointBlock final : public ElementBlock {
   void pass_deflection_from_root(int toward_root, TreeState& state) const override;
 
  private:
-  Index r() const { return directions_.constrained.rows(); }
-  Index p() const { return directions_.free.rows(); }
+  Index r() const { return directions_.constrained().rows(); }
+  Index p() const { return directions_.free().rows(); }
   std::vector<int> ends_;
   FreeDirections directions_;
   std::optional<VecX> preload_;
@@ -74,7 +74,7 @@ class SupportBlock final : public ElementBlock {
   void add_preload(Index first_row, VecX& rhs) const override;
   const FreeDirections* directions() const override { return &directions_; }
   // Rigid or elastic supports only: a passive support's free motion has no tree solution.
-  bool passes_tree() const override { return directions_.free.rows() == 0 || spring_.has_value(); }
+  bool passes_tree() const override { return directions_.free().rows() == 0 || spring_.has_value(); }
   void set_root_deflection(TreeState& state) const override;
 
  private:

@@ -9,8 +9,8 @@ ConstraintJointBlock::ConstraintJointBlock(std::vector<int> ends, FreeDirections
     : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {}
 
 void ConstraintJointBlock::write_equations(Index row, EquationWriter& out) const {
-  const auto& lr = directions_.constrained;
-  const auto& lp = directions_.free;
+  const auto& lr = directions_.constrained();
+  const auto& lp = directions_.free();
   const bool rigid = p() == 0;  // Λ_r = I: only the diagonal is structurally nonzero
   auto write_constrained = [&](Index at, Index column, double sign) {
     if (rigid)
@@ -35,10 +35,10 @@ void ConstraintJointBlock::add_external_wrench(Index row, int end_id, const Vec6
                                                VecX& rhs) const {
   const Index m = static_cast<Index>(ends_.size());
   const Index equilibrium = row + r() * (m - 1);
-  rhs.segment(equilibrium, r()) += directions_.constrained * wrench;
+  rhs.segment(equilibrium, r()) += directions_.constrained() * wrench;
   for (Index k = 0; k < m; ++k)
     if (ends_[static_cast<std::size_t>(k)] == end_id)
-      rhs.segment(equilibrium + r() + k * p(), p()) += directions_.free * wrench;
+      rhs.segment(equilibrium + r() + k * p(), p()) += directions_.free() * wrench;
 }
 
 void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {

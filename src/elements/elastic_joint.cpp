@@ -10,12 +10,12 @@ ElasticJointBlock::ElasticJointBlock(int end_1, int end_2, FreeDirections direct
       end_2_(end_2),
       directions_(std::move(directions)),
       // The spring resists q = Λ_p·(Δt_2 − Δt_1): it pulls end 1 along +q.
-      spring_(directions_.gram() * stiffness * directions_.free),
+      spring_(directions_.gram() * stiffness * directions_.free()),
       preload_(std::move(preload)) {}
 
 void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
-  const auto& lr = directions_.constrained;
-  const auto& lp = directions_.free;
+  const auto& lr = directions_.constrained();
+  const auto& lp = directions_.free();
   out.add_identity(row, wrench_column(end_1_), 6);
   out.add_identity(row, wrench_column(end_2_), 6);
   row += 6;
@@ -31,15 +31,15 @@ void ElasticJointBlock::add_external_wrench(Index row, int end_id, const Vec6& w
                                             VecX& rhs) const {
   rhs.segment<6>(row) += wrench;
   if (end_id == end_1_) {
-    const Index spring_row = row + 6 + directions_.constrained.rows();
-    rhs.segment(spring_row, directions_.free.rows()) += directions_.free * wrench;
+    const Index spring_row = row + 6 + directions_.constrained().rows();
+    rhs.segment(spring_row, directions_.free().rows()) += directions_.free() * wrench;
   }
 }
 
 void ElasticJointBlock::add_preload(Index row, VecX& rhs) const {
   if (!preload_) return;
-  const Index spring_row = row + 6 + directions_.constrained.rows();
-  rhs.segment(spring_row, directions_.free.rows()) += directions_.gram() * *preload_;
+  const Index spring_row = row + 6 + directions_.constrained().rows();
+  rhs.segment(spring_row, directions_.free().rows()) += directions_.gram() * *preload_;
 }
 
 // W_1 + W_2 = W_ext,1 + W_ext,2 solved for the end toward the root.

@@ -46,12 +46,12 @@ void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
 }
 
 FreeDirections free_directions(const Kinematics& k) {
-  FreeDirections d;
+  DirectionRows free;
   // Written straight into Λ_p: this runs for every joint of every pose.
   const auto set_rows = [&](std::initializer_list<Vec6> rows) {  // at most 3 rows here
-    d.free.resize(static_cast<Index>(rows.size()), 6);
+    free.resize(static_cast<Index>(rows.size()), 6);
     Index i = 0;
-    for (const Vec6& row : rows) d.free.row(i++) = row.transpose();
+    for (const Vec6& row : rows) free.row(i++) = row.transpose();
   };
   switch (k.type) {
     case JointType::rigid: set_rows({}); break;
@@ -76,54 +76,54 @@ FreeDirections free_directions(const Kinematics& k) {
     }
     case JointType::custom:
       if (k.free_rows.size() > 6) throw InputError({}, "free", "at most 6 free directions can be given");
-      d.free.resize(static_cast<Index>(k.free_rows.size()), 6);
-      for (std::size_t i = 0; i < k.free_rows.size(); ++i) d.free.row(static_cast<Index>(i)) = k.free_rows[i].transpose();
+      free.resize(static_cast<Index>(k.free_rows.size()), 6);
+      for (std::size_t i = 0; i < k.free_rows.size(); ++i) free.row(static_cast<Index>(i)) = k.free_rows[i].transpose();
       break;
   }
-  const Index p = d.free.rows();
-  if (p == 0) {
-    d.constrained = Mat6::Identity();
-    return d;
-  }
+  FreeDirections d;  // rigid: Λ_r = I
+  const Index p = free.rows();
+  if (p == 0) return d;
   // Independence: the built-in types are orthonormal by construction except a universal
   // joint, whose two unit axes u, v have singular values √(1 ± |u·v|); their ratio is
   // ‖u × v‖/(1 + |u·v|), written so that nearly parallel axes do not cancel (closed form: this
   // runs for every joint of every pose). Custom rows get an SVD.
   double smallest_over_largest = 1;
   if (k.type == JointType::universal) {
-    const Vec3 u = d.free.row(0).tail<3>().transpose(), v = d.free.row(1).tail<3>().transpose();
+    const Vec3 u = free.row(0).tail<3>().transpose(), v = free.row(1).tail<3>().transpose();
     smallest_over_largest = u.cross(v).norm() / (1 + std::abs(u.dot(v)));
   } else if (k.type == JointType::custom) {
-    const Eigen::JacobiSVD<DirectionRows> svd(d.free);
+    const Eigen::JacobiSVD<DirectionRows> svd(free);
     const auto& s = svd.singularValues();
     smallest_over_largest = s(0) > 0 ? s(p - 1) / s(0) : 0.0;
   }
   if (!(smallest_over_largest > 1e-9))
     throw InputError({}, "free", "the free directions are linearly dependent");
   // The last 6−p columns of a full QR of Λ_pᵀ span the orthogonal complement of its rows.
-  const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> qr(d.free.transpose());
+  const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> qr(free.transpose());
   const Mat6 q = qr.householderQ();
-  d.constrained = q.rightCols(6 - p).transpose();
+  d.p = p;
+  d.rows.topRows(p) = free;
+  d.rows.bottomRows(6 - p) = q.rightCols(6 - p).transpose();
   return d;
 }
 
 SpringCompliance spring_compliance(const FreeDirections& directions, const SmallMat& spring,
                                    const std::optional<VecX>& preload) {
   SpringCompliance result{Mat6::Zero(), Vec6::Zero()};
-  if (directions.free.rows() == 0) return result;
+  if (directions.p == 0) return result;
   // Λ_r spans the orthogonal complement of Λ_p's rows, so Λ_r·δ = 0 makes δ = Λ_pᵀ·q, and
   // G·K·Λ_p·Λ_pᵀ·q = G·K·G·q: a p×p symmetric positive definite system instead of M's 6×6.
-  const SmallMat gkg = spring * directions.free.transpose();
-  if (directions.free.rows() == 1) {  // a revolute or prismatic spring: G·K·G is a number
-    const auto row = directions.free.row(0);
+  const SmallMat gkg = spring * directions.free().transpose();
+  if (directions.free().rows() == 1) {  // a revolute or prismatic spring: G·K·G is a number
+    const auto row = directions.free().row(0);
     result.compliance.noalias() = row.transpose() * (row / gkg(0, 0));
     if (preload) result.preload_motion = row.transpose() * (directions.gram()(0, 0) * (*preload)(0) / gkg(0, 0));
     return result;
   }
   const Eigen::LLT<SmallMat> llt(gkg);
-  const SmallMat q = llt.solve(SmallMat(directions.free));
-  result.compliance.noalias() = directions.free.transpose() * q;
-  if (preload) result.preload_motion.noalias() = directions.free.transpose() * llt.solve(directions.gram() * *preload);
+  const SmallMat q = llt.solve(SmallMat(directions.free()));
+  result.compliance.noalias() = directions.free().transpose() * q;
+  if (preload) result.preload_motion.noalias() = directions.free().transpose() * llt.solve(directions.gram() * *preload);
   return result;
 }
 

@@ -10,12 +10,17 @@ using DirectionRows = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6>;
 using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
+// Λ_p (p×6, rows in the documented order, custom rows as given) above Λ_r ((6−p)×6,
+// orthonormal rows spanning the complement of Λ_p's rows): always 6 rows in all, held in one
+// 6×6 matrix, which a rigid connection of a long chain holds as cheaply as a passive joint.
 struct FreeDirections {
-  DirectionRows free;         // Λ_p, p×6, rows in the documented order (custom rows as given)
-  DirectionRows constrained;  // Λ_r, (6−p)×6, orthonormal rows spanning the complement of Λ_p's rows
+  Mat6 rows = Mat6::Identity();
+  Eigen::Index p = 0;
+  auto free() const { return rows.topRows(p); }
+  auto constrained() const { return rows.bottomRows(6 - p); }
   // Λ_p·Λ_pᵀ: maps a generalised force along q to its projection Λ_p·w (identity for the
   // built-in types, whose rows are orthonormal).
-  SmallMat gram() const { return free * free.transpose(); }
+  SmallMat gram() const { return free() * free().transpose(); }
 };
 
 // A spring along the free directions (an elastic joint or support) as a compliance: the motion

@@ -9,12 +9,12 @@ SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
     : ends_(std::move(ends)),
       directions_(std::move(directions)),
       preload_(std::move(preload)) {
-  if (stiffness) spring_ = directions_.gram() * *stiffness * directions_.free;
+  if (stiffness) spring_ = directions_.gram() * *stiffness * directions_.free();
 }
 
 void SupportBlock::write_equations(Index row, EquationWriter& out) const {
-  const auto& lr = directions_.constrained;
-  const auto& lp = directions_.free;
+  const auto& lr = directions_.constrained();
+  const auto& lp = directions_.free();
   const Index r = lr.rows(), p = lp.rows();
   const int first = ends_.front();
   for (std::size_t k = 1; k < ends_.size(); ++k) {
@@ -33,14 +33,14 @@ void SupportBlock::write_equations(Index row, EquationWriter& out) const {
 }
 
 void SupportBlock::add_external_wrench(Index row, int, const Vec6& wrench, VecX& rhs) const {
-  const Index p = directions_.free.rows();
+  const Index p = directions_.free().rows();
   const Index held = row + 6 * static_cast<Index>(ends_.size()) - p;
-  rhs.segment(held, p) += directions_.free * wrench;
+  rhs.segment(held, p) += directions_.free() * wrench;
 }
 
 void SupportBlock::add_preload(Index row, VecX& rhs) const {
   if (!preload_) return;
-  const Index p = directions_.free.rows();
+  const Index p = directions_.free().rows();
   const Index held = row + 6 * static_cast<Index>(ends_.size()) - p;
   rhs.segment(held, p) += directions_.gram() * *preload_;
 }
@@ -49,7 +49,7 @@ void SupportBlock::add_preload(Index row, VecX& rhs) const {
 // G·K·Λ_p·Δt = G·w_0 − Λ_p·R, with R = Σ(W_k − W_ext,k) the reaction.
 void SupportBlock::set_root_deflection(TreeState& state) const {
   MatX deflection = MatX::Zero(6, state.x.cols());
-  if (directions_.free.rows() > 0) {
+  if (directions_.free().rows() > 0) {
     const SpringCompliance spring = spring_compliance(directions_, *spring_, preload_);
     MatX reaction = MatX::Zero(6, state.x.cols());
     for (int end : ends_) reaction += state.wrench(end) - state.external.at(end);
