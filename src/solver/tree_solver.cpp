@@ -80,16 +80,24 @@ RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& o
 
 namespace {
 
+// The number of load cases, known at compile time where the check is instantiated for it:
+// the loops over a row's k adjacent values are then unrolled and vectorised.
+template <int Columns>
+Index width(Index runtime) {
+  return Columns == Eigen::Dynamic ? runtime : Columns;
+}
+
 // The largest |entry| of each column over the rows added so far, +inf once any entry is not
 // finite (a maximum alone would drop a NaN coefficient, residual or unknown, and the check pass
 // them).
+template <int Columns>
 class ColumnMaxima {
  public:
   explicit ColumnMaxima(Index columns) : largest_(VecX::Zero(columns)) {}
   // `rows` rows of the columns, stored by rows one after the other. Plain loops: the blocks are
   // a few rows of a few columns, where Eigen's dynamic-size expressions cost more than the work.
   void add(const double* values, Index rows) {
-    const Index columns = largest_.size();
+    const Index columns = width<Columns>(largest_.size());
     double* const largest = largest_.data();
     bool finite = true;  // a local, which the stores into `largest` cannot alias
     for (Index i = 0; i < rows; ++i, values += columns)
@@ -134,7 +142,8 @@ class PatternHash final : public EquationWriter, public PositionHash {
 // the count of its nonzero coefficients. Both are stored by rows, so that a coefficient updates
 // the k adjacent sums of its row. The buffers keep the largest block's size: a pose allocates
 // them once.
-class BlockResidual final : public CoefficientWriter<BlockResidual>, public PositionHash {
+template <int Columns>
+class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, public PositionHash {
  public:
   explicit BlockResidual(const RowMajorMatX& x) : x_(x) {}
   void start(Index rows) {
@@ -155,11 +164,11 @@ class BlockResidual final : public CoefficientWriter<BlockResidual>, public Posi
   }
   void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
     record({row, column, block.rows(), block.cols()});
-    CoefficientWriter::add_coefficients(row, column, block);
+    CoefficientWriter<BlockResidual>::add_coefficients(row, column, block);
   }
   void add_identity(Index row, Index column, Index size, double scale) override {
     record({row, column, size, -1});
-    CoefficientWriter::add_identity(row, column, size, scale);
+    CoefficientWriter<BlockResidual>::add_identity(row, column, size, scale);
   }
   // Row `row` of the residual −= value · row `column` of x: adjacent values, as both are
   // stored by rows.
@@ -167,7 +176,7 @@ class BlockResidual final : public CoefficientWriter<BlockResidual>, public Posi
     if (value == 0) return;
     ++nonzeros;
     row_sums_(row) += std::abs(value);
-    const Index columns = x_.cols();
+    const Index columns = width<Columns>(x_.cols());
     double* const out = residual_.data() + row * columns;
     const double* const in = x_.data() + column * columns;
     for (Index c = 0; c < columns; ++c) out[c] -= value * in[c];
@@ -181,21 +190,15 @@ class BlockResidual final : public CoefficientWriter<BlockResidual>, public Posi
   Index rows_ = 0;
 };
 
-}  // namespace
-
-std::uint64_t pattern_fingerprint(const Blocks& blocks) {
-  PatternHash hash;
-  for (const auto& block : blocks) block->write_equations(0, hash);
-  return hash.hash;
-}
-
-TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external) {
+template <int Columns>
+TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
+                       const EndWrenches& external) {
   const Index columns = x.cols();
-  BlockResidual block_residual(x);
+  BlockResidual<Columns> block_residual(x);
   RowMajorMatX rhs;
   VecX column;
-  ColumnMaxima a_norm(1), residual_norm(columns), rhs_norm(columns), x_norm(columns);
+  ColumnMaxima<1> a_norm(1);
+  ColumnMaxima<Columns> residual_norm(columns), rhs_norm(columns), x_norm(columns);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
     const ElementBlock& block = *blocks[k];
     const Index rows = block.equation_count();
@@ -241,6 +244,21 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
     if (!(error <= check.relative_residual)) check.relative_residual = error;
   }
   return check;
+}
+
+}  // namespace
+
+std::uint64_t pattern_fingerprint(const Blocks& blocks) {
+  PatternHash hash;
+  for (const auto& block : blocks) block->write_equations(0, hash);
+  return hash.hash;
+}
+
+TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
+                              const EndWrenches& external) {
+  // One end effector, 1 + 6 load cases, is the common case.
+  if (x.cols() == 7) return check_blocks<7>(blocks, topology, x, external);
+  return check_blocks<Eigen::Dynamic>(blocks, topology, x, external);
 }
 
 }  // namespace stiffmsa::detail
