@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -219,13 +220,25 @@ TEST(TreeSolve, ChoosingAFactorisingSolverSkipsTheTree) {
   EXPECT_EQ(solve(m, options).report.solver, "sparse_lu");
 }
 
-TEST(TreeSolve, TheCheckSeesAWrongOrNonFiniteSolution) {
-  const Model m = branched_arm();
+// The check is compiled for 7 load cases (one end effector) and for any count: both are
+// asked, with the arm's two end effectors (13 load cases) and with one.
+class TreeCheck : public ::testing::TestWithParam<int> {
+ protected:
+  Model arm() const {
+    Model m = branched_arm();
+    m.end_effectors.resize(static_cast<std::size_t>(GetParam()));
+    return m;
+  }
+};
+
+TEST_P(TreeCheck, SeesAWrongOrNonFiniteSolution) {
+  const Model m = arm();
   const detail::Topology topology = detail::build_topology(m);
   const auto order = detail::tree_order(topology);
   ASSERT_TRUE(order);
   const detail::Blocks blocks = detail::make_blocks(m, topology);
   const detail::EndWrenches external = detail::load_cases(m, topology);
+  ASSERT_EQ(external.columns(), 1 + 6 * GetParam());
   detail::RowMajorMatX x = detail::tree_solve(blocks, topology.link_count, *order, external, topology.unknowns());
   const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external);
   EXPECT_LT(right.relative_residual, 1e-15);
@@ -233,11 +246,30 @@ TEST(TreeSolve, TheCheckSeesAWrongOrNonFiniteSolution) {
   // relative residual, so the solve would be redone by factorising. (The ratio is normwise:
   // ‖A‖∞ here is the support's 8e6 N/m, so smaller errors hide below it, as in any solve.)
   const double largest = x.cwiseAbs().maxCoeff();
-  x(detail::deflection_column(5) + 2, detail::kLoadCase) += 0.01 * largest;
+  const detail::Index row = detail::deflection_column(5) + 2;
+  x(row, detail::kLoadCase) += 0.01 * largest;
   EXPECT_GT(detail::check_tree_solution(blocks, topology, x, external).relative_residual,
             SolveOptions{}.max_relative_residual);
-  x(detail::deflection_column(5) + 2, detail::kLoadCase) = std::nan("");
-  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, external).relative_residual, INFINITY);
+  // A value that is not finite fails it, in any column, whether or not a coefficient is zero.
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double bad : {std::nan(""), inf, -inf}) {
+    detail::RowMajorMatX wrong = x;
+    wrong(row, external.columns() - 1) = bad;
+    EXPECT_EQ(detail::check_tree_solution(blocks, topology, wrong, external).relative_residual, INFINITY) << bad;
+  }
+  // So does a coefficient or a right-hand side that is not finite.
+  Model nan_spring = m;
+  nan_spring.joints[1].connection.stiffness = MatX::Constant(1, 1, std::nan(""));
+  EXPECT_EQ(detail::check_tree_solution(detail::make_blocks(nan_spring, topology), topology, x, external).relative_residual,
+            INFINITY);
+  Model nan_preload = m;
+  nan_preload.joints[1].connection.preload = VecX::Constant(1, std::nan(""));
+  EXPECT_EQ(detail::check_tree_solution(detail::make_blocks(nan_preload, topology), topology, x, external).relative_residual,
+            INFINITY);
+  Model inf_load = m;
+  inf_load.loads[2].wrench(2) = -INFINITY;
+  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, detail::load_cases(inf_load, topology)).relative_residual,
+            INFINITY);
   // The fingerprint follows the positions written, not the numbers.
   EXPECT_EQ(right.pattern, detail::pattern_fingerprint(blocks));
   Model moved = m;
@@ -247,3 +279,6 @@ TEST(TreeSolve, TheCheckSeesAWrongOrNonFiniteSolution) {
   rigid_elbow.joints[1].connection = Connection{};
   EXPECT_NE(detail::pattern_fingerprint(detail::make_blocks(rigid_elbow, topology)), right.pattern);
 }
+
+INSTANTIATE_TEST_SUITE_P(EndEffectors, TreeCheck, ::testing::Values(1, 2),
+                         [](const auto& info) { return std::to_string(info.param) + "_end_effectors"; });

@@ -170,9 +170,9 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
       // The joint's block holds its directions, except a locked actuator's, which it holds rigidly:
       // its effort is still along the joint's own free directions.
       const bool locked = joint.connection.actuated && !joint.connection.stiffness;
+      const detail::FreeDirections* held = problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
       const detail::FreeDirections directions =
-          locked ? detail::free_directions(joint.connection.kinematics)
-                 : *problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
+          locked || !held ? detail::free_directions(joint.connection.kinematics) : *held;
       JointResult& r = result.joints[static_cast<std::size_t>(group.source)];
       const int first = group.ends.front();
       std::vector<VecX> q;

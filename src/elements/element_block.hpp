@@ -27,14 +27,17 @@ using CoefficientBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0
 class EquationWriter {
  public:
   virtual ~EquationWriter() = default;
-  virtual void add(Index row, Index column, double value) = 0;
   virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block) = 0;
-  virtual void add_identity(Index row, Index column, Index size, double scale = 1.0) = 0;
+  virtual void add_identity(Index row, Index column, Index size, double scale) = 0;
 
   template <class Derived>
   void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block) {
+    static_assert(Derived::MaxRowsAtCompileTime != Eigen::Dynamic && Derived::MaxRowsAtCompileTime <= 12 &&
+                      Derived::MaxColsAtCompileTime != Eigen::Dynamic && Derived::MaxColsAtCompileTime <= 6,
+                  "an element writes blocks of at most 12x6 coefficients");
     add_coefficients(row, column, CoefficientBlock(block));
   }
+  void add_identity(Index row, Index column, Index size) { add_identity(row, column, size, 1.0); }
 };
 
 // A writer that takes every coefficient, in the order written, through Derived::put, inlined
@@ -42,7 +45,7 @@ class EquationWriter {
 template <class Derived>
 class CoefficientWriter : public EquationWriter {
  public:
-  void add(Index row, Index column, double value) override { self().put(row, column, value); }
+  using EquationWriter::add_identity;
   void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
     for (Index i = 0; i < block.rows(); ++i)
       for (Index j = 0; j < block.cols(); ++j) self().put(row + i, column + j, block(i, j));

@@ -47,7 +47,7 @@ void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
 
 FreeDirections free_directions(const Kinematics& k) {
   DirectionRows free;
-  // Written straight into Λ_p: this runs for every joint of every pose.
+  // Λ_p on the stack: this runs for every joint of every pose.
   const auto set_rows = [&](std::initializer_list<Vec6> rows) {  // at most 3 rows here
     free.resize(static_cast<Index>(rows.size()), 6);
     Index i = 0;
@@ -114,7 +114,7 @@ SpringCompliance spring_compliance(const FreeDirections& directions, const Small
   // Λ_r spans the orthogonal complement of Λ_p's rows, so Λ_r·δ = 0 makes δ = Λ_pᵀ·q, and
   // G·K·Λ_p·Λ_pᵀ·q = G·K·G·q: a p×p symmetric positive definite system instead of M's 6×6.
   const SmallMat gkg = spring * directions.free().transpose();
-  if (directions.free().rows() == 1) {  // a revolute or prismatic spring: G·K·G is a number
+  if (directions.p == 1) {  // a revolute or prismatic spring: G·K·G is a number
     const auto row = directions.free().row(0);
     result.compliance.noalias() = row.transpose() * (row / gkg(0, 0));
     if (preload) result.preload_motion = row.transpose() * (directions.gram()(0, 0) * (*preload)(0) / gkg(0, 0));

@@ -116,31 +116,37 @@ class ColumnMaxima {
 };
 
 // FNV-1a over the written positions, a block of them at a time: (row, column, rows, columns)
-// for a dense block, (row, column, size, −1) for a scaled identity, (row, column) for a
-// coefficient written alone. Both writers of the tree solve hash so, so that a pose's blocks
-// and the reference's give the same fingerprint exactly when they write the same positions.
-struct PositionHash {
+// for a dense block, (row, column, size, −1) for a scaled identity. Both writers of the tree
+// solve hash through it, so that a pose's blocks and the reference's give the same fingerprint
+// exactly when they write the same positions.
+class PositionHash {
+ public:
+  void block(Index row, Index column, const CoefficientBlock& coefficients) {
+    record({row, column, coefficients.rows(), coefficients.cols()});
+  }
+  void identity(Index row, Index column, Index size) { record({row, column, size, -1}); }
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+
+ private:
   void record(std::initializer_list<Index> values) {
     for (const Index value : values) {
       hash ^= static_cast<std::uint64_t>(value);
       hash *= 0x100000001b3ULL;
     }
   }
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
 };
 
 class PatternHash final : public EquationWriter, public PositionHash {
  public:
-  void add(Index row, Index column, double) override { record({row, column}); }
-  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
-    record({row, column, block.rows(), block.cols()});
+  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients) override {
+    block(row, column, coefficients);
   }
-  void add_identity(Index row, Index column, Index size, double) override { record({row, column, size, -1}); }
+  void add_identity(Index row, Index column, Index size, double) override { identity(row, column, size); }
 };
 
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
-// the count of its nonzero coefficients. Both are stored by rows, so that a coefficient updates
-// the k adjacent sums of its row. The buffers keep the largest block's size: a pose allocates
+// the count of its nonzero coefficients. The residual and x are stored by rows, so that a
+// coefficient updates the k adjacent sums of its row. The buffers keep the largest block's size: a pose allocates
 // them once.
 template <int Columns>
 class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, public PositionHash {
@@ -158,21 +164,18 @@ class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, pu
   auto residual() { return residual_.topRows(rows_); }
   auto row_sums() const { return row_sums_.head(rows_); }
 
-  void add(Index row, Index column, double value) override {
-    record({row, column});
-    put(row, column, value);
-  }
-  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
-    record({row, column, block.rows(), block.cols()});
-    CoefficientWriter<BlockResidual>::add_coefficients(row, column, block);
+  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients) override {
+    block(row, column, coefficients);
+    CoefficientWriter<BlockResidual>::add_coefficients(row, column, coefficients);
   }
   void add_identity(Index row, Index column, Index size, double scale) override {
-    record({row, column, size, -1});
+    identity(row, column, size);
     CoefficientWriter<BlockResidual>::add_identity(row, column, size, scale);
   }
-  // Row `row` of the residual −= value · row `column` of x: adjacent values, as both are
-  // stored by rows.
+  // Row `row` of the residual −= value · row `column` of x: adjacent values, as the residual
+  // and x are both stored by rows.
   void put(Index row, Index column, double value) {
+    eigen_assert(row >= 0 && row < rows_ && column >= 0 && column < x_.rows());
     if (value == 0) return;
     ++nonzeros;
     row_sums_(row) += std::abs(value);
