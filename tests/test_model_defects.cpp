@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "model/link_ends.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/validate.hpp"
 
@@ -822,3 +823,13 @@ supports: {S: {type: rigid, at: O}}
 
 }  // namespace
 }  // namespace stiffmsa
+
+TEST(NameTable, FindsTheFirstBearerOfEveryNameAndGrowsPastItsReservation) {
+  std::vector<std::string> names;
+  for (int i = 0; i < 1000; ++i) names.push_back("n" + std::to_string(i % 700));  // the last 300 repeat
+  stiffmsa::detail::NameTable table(10);  // reserved for far fewer names: it must grow
+  for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(table.add(names[i]), static_cast<int>(i % 700));
+  for (int i = 0; i < 700; ++i) EXPECT_EQ(table.find("n" + std::to_string(i)), i);
+  EXPECT_EQ(table.find("n700"), -1);
+  EXPECT_EQ(table.find(""), -1);
+}

@@ -1,6 +1,7 @@
 #pragma once
 // Which link end sits at a named point: the one rule that loads, end effectors, joints,
 // supports and the topology all use.
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -20,22 +21,52 @@ struct LinkEndRef {
 };
 
 // Names to the position of the first entity that bears them, the position being the order in
-// which the names were added. Views the names, which must outlive it.
+// which the names were added. Views the names, which must outlive it. An open-addressing table
+// in one array (linear probing, at most half full): a model's index is built for every solve,
+// and a node per name would be an allocation per name.
 class NameTable {
  public:
-  explicit NameTable(std::size_t names) { positions_.reserve(names); }
+  explicit NameTable(std::size_t names) : slots_(capacity_for(names)) {}
   // Adds `name` as the next position; returns the position of its first bearer.
   int add(std::string_view name) {
-    return positions_.try_emplace(name, static_cast<int>(added_++)).first->second;
+    if (2 * (used_ + 1) > slots_.size()) grow();
+    Slot& slot = slots_[index_of(name, slots_)];
+    if (slot.position < 0) {
+      slot = {name, static_cast<int>(added_)};
+      ++used_;
+    }
+    ++added_;
+    return slot.position;
   }
   int find(std::string_view name) const {  // −1 when absent
-    const auto it = positions_.find(name);
-    return it == positions_.end() ? -1 : it->second;
+    return slots_[index_of(name, slots_)].position;
   }
 
  private:
-  std::unordered_map<std::string_view, int> positions_;
-  std::size_t added_ = 0;
+  struct Slot {
+    std::string_view name;
+    int position = -1;
+  };
+  static std::size_t capacity_for(std::size_t names) {
+    std::size_t capacity = 8;
+    while (capacity < 2 * names) capacity *= 2;
+    return capacity;
+  }
+  // The slot that holds `name`, or the empty slot where it would go.
+  static std::size_t index_of(std::string_view name, const std::vector<Slot>& slots) {
+    const std::size_t mask = slots.size() - 1;
+    for (std::size_t i = std::hash<std::string_view>{}(name) & mask;; i = (i + 1) & mask)
+      if (slots[i].position < 0 || slots[i].name == name) return i;
+  }
+  void grow() {
+    std::vector<Slot> larger(2 * slots_.size());
+    for (const Slot& slot : slots_)
+      if (slot.position >= 0) larger[index_of(slot.name, larger)] = slot;
+    slots_ = std::move(larger);
+  }
+  std::vector<Slot> slots_;
+  std::size_t used_ = 0;   // distinct names
+  std::size_t added_ = 0;  // names added, repeats included
 };
 
 // Name lookups of a model built once, for work that would otherwise scan the model per item
