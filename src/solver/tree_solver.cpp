@@ -146,17 +146,14 @@ class PatternHash final : public EquationWriter, public PositionHash {
 
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
 // the count of its nonzero coefficients. The residual and x are stored by rows, so that a
-// coefficient updates the k adjacent sums of its row. The buffers keep the largest block's size: a pose allocates
-// them once.
+// coefficient updates the k adjacent sums of its row. The buffers have the largest block's
+// rows, so that a check allocates them once.
 template <int Columns>
 class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, public PositionHash {
  public:
-  explicit BlockResidual(const RowMajorMatX& x) : x_(x) {}
+  BlockResidual(const RowMajorMatX& x, Index most_rows)
+      : x_(x), residual_(most_rows, x.cols()), row_sums_(most_rows) {}
   void start(Index rows) {
-    if (residual_.rows() < rows) {
-      residual_.resize(rows, x_.cols());
-      row_sums_.resize(rows);
-    }
     rows_ = rows;
     residual_.topRows(rows).setZero();
     row_sums_.head(rows).setZero();
@@ -197,9 +194,13 @@ template <int Columns>
 TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                        const EndWrenches& external) {
   const Index columns = x.cols();
-  BlockResidual<Columns> block_residual(x);
-  RowMajorMatX rhs;
-  VecX column;
+  Index most_rows = 0;
+  for (const auto& block : blocks) most_rows = std::max(most_rows, block->equation_count());
+  BlockResidual<Columns> block_residual(x, most_rows);
+  // A block's right-hand side, in buffers of the largest block's rows: a block writes only its
+  // own rows, from row 0.
+  VecX column = VecX::Zero(most_rows);
+  RowMajorMatX rhs(most_rows, columns);
   ColumnMaxima<1> a_norm(1);
   ColumnMaxima<Columns> residual_norm(columns), rhs_norm(columns), x_norm(columns);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
@@ -208,30 +209,32 @@ TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const Row
     block_residual.start(rows);
     block.write_equations(0, block_residual);
     a_norm.add(block_residual.row_sums().data(), rows);
-    // The block's right-hand side: the loads at the link ends it holds (links hold none;
-    // connection group g is block link_count + g) and its preload.
-    column.setZero(rows);
+    // The loads at the link ends the block holds (links hold none; connection group g is block
+    // link_count + g) and its preload.
+    auto block_column = column.head(rows);
+    auto block_rhs = rhs.topRows(rows);
+    block_column.setZero();
     block.add_preload(0, column);
-    bool any_rhs = !column.isZero(0);
+    bool any_rhs = !block_column.isZero(0);
     if (any_rhs) {
-      rhs.setZero(rows, columns);
-      rhs.col(kLoadCase) = column;
+      block_rhs.setZero();
+      block_rhs.col(kLoadCase) = block_column;
     }
     if (k >= static_cast<std::size_t>(topology.link_count))
       for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {
         if (!external.any_at(end)) continue;
-        if (!any_rhs) rhs.setZero(rows, columns);
+        if (!any_rhs) block_rhs.setZero();
         any_rhs = true;
         for (Index c = 0; c < columns; ++c) {
-          column.setZero();
+          block_column.setZero();
           block.add_external_wrench(0, end, external.at(end).col(c), column);
-          rhs.col(c) += column;
+          block_rhs.col(c) += block_column;
         }
       }
     auto residual = block_residual.residual();
     if (any_rhs) {
-      residual += rhs;
-      rhs_norm.add(rhs.data(), rows);
+      residual += block_rhs;
+      rhs_norm.add(block_rhs.data(), rows);
     }
     residual_norm.add(residual.data(), rows);
   }
