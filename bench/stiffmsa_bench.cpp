@@ -365,11 +365,18 @@ void pipeline(benchmark::State& state, const Robot& robot, SolverKind kind) {
 
 // ---- the tree solve (serial robots) ----------------------------------------------------------
 
+detail::RowMajorMatX solve_tree(const Robot& robot, const detail::TreeOrder& order, const detail::Blocks& blocks,
+                                const detail::EndWrenches& external) {
+  std::optional<detail::TreeSolution> solution =
+      detail::tree_solve(blocks, robot.topology, order, external, 1 / SolveOptions{}.warn_condition);
+  if (!solution) throw std::runtime_error("bench: the tree solve declined a pose");
+  return std::move(solution->x);
+}
+
 Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Model& pose) {
   const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
   const detail::EndWrenches external = detail::load_cases(pose, robot.topology);
-  const detail::RowMajorMatX x =
-      detail::tree_solve(blocks, robot.topology.link_count, order, external, robot.topology.unknowns());
+  const detail::RowMajorMatX x = solve_tree(robot, order, blocks, external);
   if (!(detail::check_tree_solution(blocks, robot.topology, x, external).relative_residual < 1e-14))
     throw std::runtime_error("bench: a tree solve failed its check");
   const Mat6 c = x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
@@ -396,8 +403,7 @@ void stage_tree_solve(benchmark::State& state, const Robot& robot, const detail:
   for (const Model& pose : robot.poses) loads.push_back(detail::load_cases(pose, robot.topology));
   std::size_t p = 0;
   for (auto _ : state) {
-    detail::RowMajorMatX x = detail::tree_solve(robot.blocks[p], robot.topology.link_count, order, loads[p],
-                                                robot.topology.unknowns());
+    detail::RowMajorMatX x = solve_tree(robot, order, robot.blocks[p], loads[p]);
     benchmark::DoNotOptimize(x);
     p = (p + 1) % robot.pose_count();
   }
@@ -408,8 +414,7 @@ void stage_tree_check(benchmark::State& state, const Robot& robot, const detail:
   std::vector<detail::RowMajorMatX> solutions;
   for (std::size_t p = 0; p < robot.pose_count(); ++p) {
     loads.push_back(detail::load_cases(robot.poses[p], robot.topology));
-    solutions.push_back(detail::tree_solve(robot.blocks[p], robot.topology.link_count, order, loads.back(),
-                                           robot.topology.unknowns()));
+    solutions.push_back(solve_tree(robot, order, robot.blocks[p], loads.back()));
   }
   std::size_t p = 0;
   for (auto _ : state) {

@@ -296,8 +296,17 @@ struct TreeFixture {
   void load(int end) {
     for (Index c = 0; c < kColumns; ++c) external.add(end, c, Vec6::Random() * 100.0);
   }
-  // max |equations·x − rhs| over the block's rows, relative to the largest term.
-  double residual(const ElementBlock& block, const std::vector<int>& held) const {
+  // Cut unknowns: random values for each load case, which the passes must take as given.
+  void cut(Index count) {
+    cut_values = RowMajorMatX::Random(count, kColumns);
+  }
+  TreeState cut_state() {
+    TreeState s = state();
+    s.cut_values = &cut_values;
+    return s;
+  }
+  // max |equations·x − rhs| over the block's rows but `skipped`, relative to the largest term.
+  double residual(const ElementBlock& block, const std::vector<int>& held, const std::vector<Index>& skipped = {}) const {
     const MatX a = equations_of(block, ends);
     const MatX solution = x + low;
     MatX rhs = MatX::Zero(block.equation_count(), kColumns);
@@ -308,12 +317,15 @@ struct TreeFixture {
       rhs.col(c) = column;
     }
     const double scale = (a.cwiseAbs() * solution.cwiseAbs()).maxCoeff() + rhs.cwiseAbs().maxCoeff();
-    const double largest = (a * solution - rhs).cwiseAbs().maxCoeff();
+    MatX error = a * solution - rhs;
+    for (const Index row : skipped) error.row(row).setZero();
+    const double largest = error.cwiseAbs().maxCoeff();
     return scale > 0 ? largest / scale : largest;  // a rigid support's rows over zero deflections
   }
   int ends;
   RowMajorMatX x, low;
   EndWrenches external;
+  RowMajorMatX cut_values;
 };
 
 Mat6 sample_compliance() {
@@ -385,8 +397,123 @@ TEST(TreePasses, FreeEndCarriesItsLoad) {
   EXPECT_EQ(f.passed(free_end, 1, {1}), 0.0);
 }
 
-TEST(TreePasses, FreeMotionAndSingularLinkMatricesAreLeftToTheFactorisingSolve) {
-  EXPECT_FALSE(ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3(0, 0, 1))), std::nullopt).passes_tree());
-  EXPECT_FALSE(SupportBlock({0}, free_directions(Kinematics::spherical()), std::nullopt, std::nullopt).passes_tree());
+TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
+  struct Case {
+    Kinematics kinematics;
+    std::vector<int> ends;
+    std::optional<VecX> preload;
+  };
+  const std::vector<Case> cases = {
+      {Kinematics::revolute(Vec3(1, 2, 3)), {0, 2}, VecX::Constant(1, 12.5)},
+      {Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)), {0, 2, 4}, std::nullopt},
+      {Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()}), {0, 2}, VecX::Constant(1, -3.0)},
+      {Kinematics::spherical(), {0, 2}, VecX::Constant(3, 4.0)}};
+  for (const Case& c : cases) {
+    const ConstraintJointBlock joint(c.ends, free_directions(c.kinematics), c.preload);
+    const Index p = free_directions(c.kinematics).p;
+    ASSERT_TRUE(joint.passes_tree());
+    for (int toward_root : c.ends) {
+      EXPECT_EQ(joint.cut_unknowns(toward_root), p * static_cast<Index>(c.ends.size() - 1));
+      std::vector<Index> rows;
+      joint.add_cut_rows(toward_root, rows);
+      ASSERT_EQ(static_cast<Index>(rows.size()), joint.cut_unknowns(toward_root));
+      const FreeDirections directions = free_directions(c.kinematics);
+      TreeFixture f(5);
+      for (int end : c.ends) f.load(end);
+      f.cut(joint.cut_unknowns(toward_root));
+      // Random wrenches beyond the root break the cut rows: the passes do not hold them.
+      RowMajorMatX random_start = f.x;
+      {
+        auto state = f.cut_state();
+        joint.pass_wrench_to_root(toward_root, state);
+        joint.pass_deflection_from_root(toward_root, state);
+        EXPECT_GT(f.residual(joint, c.ends), 1e-6) << to_string(c.kinematics.type);
+      }
+      // Where the wrenches beyond the root hold their cut rows (Λ_p·W_k = Λ_p·W_ext,k, + G·w_0
+      // on the first end and − on the second), the passes hold every other row.
+      f.x = random_start;
+      f.low.setZero();
+      const MatX gram_inverse = directions.gram().inverse();
+      for (std::size_t i = 0; i < c.ends.size(); ++i) {
+        const int end = c.ends[i];
+        if (end == toward_root) continue;
+        for (Index column = 0; column < TreeFixture::kColumns; ++column) {
+          VecX target = directions.free() * f.external.at(end).col(column);
+          if (column == kLoadCase && c.preload && i < 2) target += (i == 0 ? 1.0 : -1.0) * directions.gram() * *c.preload;
+          auto w = f.x.block<6, 1>(wrench_column(end), column);
+          const VecX correction = directions.free().transpose() * (gram_inverse * (target - directions.free() * w));
+          w += correction;
+        }
+      }
+      auto state = f.cut_state();
+      joint.pass_wrench_to_root(toward_root, state);
+      joint.pass_deflection_from_root(toward_root, state);
+      EXPECT_LT(f.residual(joint, c.ends), 1e-15) << to_string(c.kinematics.type) << ", toward end " << toward_root;
+      // The free motions are the given ones: Δt_k − Δt_root = Λ_pᵀ·q_k.
+      const RowMajorMatX solution = f.x + f.low;
+      Index motion = 0;
+      for (int end : c.ends) {
+        if (end == toward_root) continue;
+        const MatX relative = solution.middleRows<6>(deflection_column(end)) - solution.middleRows<6>(deflection_column(toward_root));
+        EXPECT_LT((relative - directions.free().transpose() * f.cut_values.middleRows(motion, p)).cwiseAbs().maxCoeff(), 1e-15);
+        motion += p;
+      }
+    }
+  }
+}
+
+TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
+  Eigen::Matrix3d k;
+  k << 5e6, 1e5, 0, 1e5, 4e6, 2e5, 0, 2e5, 6e6;
+  const SupportBlock elastic({0, 2}, free_directions(Kinematics::spherical()), MatX(k), VecX::Constant(3, -40.0));
+  const SupportBlock rigid({0, 2, 4}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt);
+  const SupportBlock passive({0, 2}, free_directions(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 0))), std::nullopt,
+                             std::nullopt);
+  for (const SupportBlock* support : {&elastic, &rigid, &passive}) {
+    const std::vector<int> ends = support == &rigid ? std::vector<int>{0, 2, 4} : std::vector<int>{0, 2};
+    for (int toward_root : ends) {
+      ASSERT_EQ(support->cut_unknowns(toward_root), 6);
+      std::vector<Index> rows;
+      support->add_cut_rows(toward_root, rows);
+      ASSERT_EQ(rows.size(), 6u);
+      TreeFixture f(5);
+      for (int end : ends) f.load(end);
+      f.cut(6);
+      auto state = f.cut_state();
+      support->pass_wrench_to_root(toward_root, state);
+      support->pass_deflection_from_root(toward_root, state);
+      EXPECT_LT(f.residual(*support, ends, rows), 1e-15) << "toward end " << toward_root;
+      // The reaction is the given one: Σ(W_k − W_ext,k) = R.
+      const RowMajorMatX solution = f.x + f.low;
+      MatX reaction = MatX::Zero(6, TreeFixture::kColumns);
+      for (int end : ends) reaction += solution.middleRows<6>(wrench_column(end)) - f.external.at(end);
+      EXPECT_LT((reaction - f.cut_values).cwiseAbs().maxCoeff(), 1e-13);
+    }
+  }
+}
+
+TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
+  const SupportBlock passive({0, 2}, free_directions(Kinematics::revolute(Vec3(0, 1, 1))), std::nullopt, std::nullopt);
+  ASSERT_EQ(passive.cut_unknowns(-1), 1);
+  std::vector<Index> rows;
+  passive.add_cut_rows(-1, rows);
+  ASSERT_EQ(rows, std::vector<Index>{11});  // Λ_p·Σ W_k = Λ_p·Σ W_ext,k, its last row
+  TreeFixture f(3);
+  f.load(2);
+  f.cut(1);
+  auto state = f.cut_state();
+  passive.set_root_deflection(state);
+  EXPECT_LT(f.residual(passive, {0, 2}, rows), 1e-15);
+  const Vec6 axis = free_directions(Kinematics::revolute(Vec3(0, 1, 1))).free().transpose();
+  EXPECT_LT((f.x.middleRows<6>(deflection_column(2)) - axis * f.cut_values).cwiseAbs().maxCoeff(), 1e-15);
+  // Rigid and elastic roots take none.
+  EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt).cut_unknowns(-1), 0);
+  EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())), MatX::Constant(1, 1, 5e3), std::nullopt)
+                .cut_unknowns(-1),
+            0);
+}
+
+TEST(TreePasses, SingularLinkMatricesAreLeftToTheFactorisingSolve) {
   EXPECT_FALSE(StiffnessLinkBlock(0, 1, Mat12::Identity()).passes_tree());
+  EXPECT_EQ(ConstraintJointBlock({0, 2}, free_directions(Kinematics::rigid()), std::nullopt).cut_unknowns(0), 0);
 }

@@ -130,20 +130,22 @@ Model branched_arm() {
 }  // namespace
 
 TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
-  std::set<std::string> solved_on_tree;
+  std::set<std::string> solved_on_tree, cut;
   for (const char* file : {"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml", "planar-3rpr.yaml",
                            "gough-stewart-6ups.yaml", "tripteron.yaml"}) {
     const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
     const Result automatic = solve(m);
-    if (automatic.report.solver != "tree") continue;
-    solved_on_tree.insert(file);
+    if (automatic.report.solver == "tree") solved_on_tree.insert(file);
+    if (automatic.report.solver == "tree_with_cuts") cut.insert(file);
     SolveOptions factorising;
     factorising.solver = factorising_solver();
     SCOPED_TRACE(file);
     expect_same_results(automatic, solve(m, factorising), 1e-13);
   }
-  // The serial ones; the parallel robots close loops through their legs.
+  // The serial ones as they are; the parallel robots' legs meet at the platform and close their
+  // loops through the ground, with passive joints: cut at their second supports and free motions.
   EXPECT_EQ(solved_on_tree, (std::set<std::string>{"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml"}));
+  EXPECT_EQ(cut, (std::set<std::string>{"planar-3rpr.yaml", "gough-stewart-6ups.yaml", "tripteron.yaml"}));
 }
 
 TEST(TreeSolve, BranchedArmWithEveryKindOfTreeElementMatchesTheFactorisedSolve) {
@@ -162,12 +164,55 @@ TEST(TreeSolve, BranchedArmWithEveryKindOfTreeElementMatchesTheFactorisedSolve) 
   expect_same_results(pose, solve(moved, factorising), 1e-13);
 }
 
-TEST(TreeSolve, TakesOnlyTreesOnOneSupportWithoutFreeMotion) {
-  Model two_supports = branched_arm();
-  two_supports.add_support("prop", "stub", {}, Connection{});
-  EXPECT_FALSE(detail::tree_order(detail::build_topology(two_supports)));
-  EXPECT_NE(solve(two_supports).report.solver, "tree");
+// A beam on `supports` rigid supports, with a free node in each span.
+Model propped_beam(int supports) {
+  Model m;
+  for (int i = 0; i <= 2 * (supports - 1); ++i) {
+    const std::string point = "P" + std::to_string(i);
+    m.add_point(point, Vec3(0.25 * i, 0.05 * (i % 3), 0));
+    if (i > 0) m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), point, kSteel, Section::tube(0.06, 0.004));
+    if (i % 2 == 0) m.add_support("S" + std::to_string(i / 2), point, {}, Connection{});
+  }
+  m.add_load("P1", "L1", (Vec6() << 0, 30, -400, 5, 0, 0).finished());
+  m.add_end_effector("mid", "P1", "L1");
+  return m;
+}
 
+TEST(TreeSolve, CutsLoopsThroughTheGroundAndFreeMotionsThere) {
+  SolveOptions factorising;
+  factorising.solver = factorising_solver();
+  // A prop under the stub closes a loop through the ground; a preloaded passive hinge in the
+  // bracket, on that loop, is held by it.
+  Model propped = branched_arm();
+  propped.add_support("prop", "stub", {}, Connection{});
+  propped.add_point("mid_bracket", Vec3(0.075, -0.14, 0.625));
+  propped.links[5].to = "mid_bracket";  // the bracket, now hub - mid_bracket
+  propped.add_beam("bracket_outer", "mid_bracket", "stub", kSteel, Section::rect(0.03, 0.05));
+  propped.loads[2].link = "bracket_outer";
+  propped.add_joint("hinge", "mid_bracket", {"bracket", "bracket_outer"},
+                    Connection{Kinematics::revolute(Vec3(0, 0, 1)), std::nullopt, VecX::Constant(1, 20.0), false});
+  ASSERT_TRUE(detail::tree_order(detail::build_topology(propped)));
+  const Result cut = solve(propped);
+  EXPECT_EQ(cut.report.solver, "tree_with_cuts");
+  expect_same_results(cut, solve(propped, factorising), 1e-13);
+
+  // A beam on several supports: 6 cut unknowns each beyond the first.
+  const Model beam = propped_beam(5);
+  const Result on_beam = solve(beam);
+  EXPECT_EQ(on_beam.report.solver, "tree_with_cuts");
+  expect_same_results(on_beam, solve(beam, factorising), 1e-13);
+  // As many as are cut: the cut system's condition grows with the span count (redundant
+  // reactions of a long cantilever), the check still passes.
+  const Result on_most = solve(propped_beam(1 + detail::kMostCutUnknowns / 6));
+  EXPECT_EQ(on_most.report.solver, "tree_with_cuts");
+  EXPECT_LT(on_most.report.relative_residual, 1e-15);
+  EXPECT_LT(on_most.report.equilibrium_error, 1e-13);
+  // Beyond kMostCutUnknowns, the sparse factorisation is cheaper than the dense cut system.
+  EXPECT_NE(solve(propped_beam(2 + detail::kMostCutUnknowns / 6)).report.solver, "tree_with_cuts");
+}
+
+TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
+  // A loop through links alone is no tree.
   Model loop = branched_arm();
   loop.add_beam("tie", "tip_a", "stub", kSteel, Section::circle(0.01));
   loop.loads[0].link = "fore_a";
@@ -175,14 +220,31 @@ TEST(TreeSolve, TakesOnlyTreesOnOneSupportWithoutFreeMotion) {
   loop.end_effectors[0].link = "fore_a";
   EXPECT_FALSE(detail::tree_order(detail::build_topology(loop)));
   EXPECT_NE(solve(loop).report.solver, "tree");
+  EXPECT_NE(solve(loop).report.solver, "tree_with_cuts");
 
-  // A passive joint on a tree is a free motion: the factorising solve finds and names it.
+  // A passive joint on one support is a free motion: its cut system is singular, and the
+  // factorising solve finds and names it.
   Model passive = branched_arm();
   passive.joints[1].connection = Connection{Kinematics::revolute(Vec3(0, 1, 0.2)), std::nullopt, std::nullopt, false};
   passive.loads.clear();
   passive.supports[0].connection.preload.reset();
-  EXPECT_TRUE(detail::tree_order(detail::build_topology(passive)));
-  EXPECT_NE(solve(passive).report.solver, "tree");
+  ASSERT_TRUE(detail::tree_order(detail::build_topology(passive)));
+  const Result mechanism = solve(passive);
+  EXPECT_NE(mechanism.report.solver, "tree");
+  EXPECT_NE(mechanism.report.solver, "tree_with_cuts");
+  EXPECT_FALSE(mechanism.end_effectors[0].compliance);
+  EXPECT_FALSE(mechanism.report.notes.empty());
+
+  // The tripteron with rigid legs holds the platform's rotations rigidly twice over: its
+  // internal moments are undetermined, which the factorising solve reports.
+  Model rigid_legs = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml");
+  for (Link& link : rigid_legs.links) link.kind = LinkKind(RigidLink{});
+  const Result overconstrained = solve(rigid_legs);
+  EXPECT_NE(overconstrained.report.solver, "tree_with_cuts");
+  SolveOptions factorising;
+  factorising.solver = factorising_solver();
+  const Result factorised = solve(rigid_legs, factorising);
+  EXPECT_EQ(overconstrained.report.notes, factorised.report.notes);
 }
 
 TEST(TreeSolve, TheOrderVisitsEveryGroupAfterTheOneTowardTheSupport) {
@@ -239,7 +301,10 @@ TEST_P(TreeCheck, SeesAWrongOrNonFiniteSolution) {
   const detail::Blocks blocks = detail::make_blocks(m, topology);
   const detail::EndWrenches external = detail::load_cases(m, topology);
   ASSERT_EQ(external.columns(), 1 + 6 * GetParam());
-  detail::RowMajorMatX x = detail::tree_solve(blocks, topology.link_count, *order, external, topology.unknowns());
+  const auto solution = detail::tree_solve(blocks, topology, *order, external, 1e-12);
+  ASSERT_TRUE(solution);
+  ASSERT_EQ(solution->cut_unknowns, 0);
+  detail::RowMajorMatX x = solution->x;
   const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external);
   EXPECT_LT(right.relative_residual, 1e-15);
   // One deflection off by a hundredth of the largest unknown: above the default limit of the

@@ -318,7 +318,10 @@ void solve_regular(Problem& problem, Result& result) {
 bool solve_on_tree(Problem& problem, Result& result) {
   const auto& t = problem.ws.topology;
   const detail::EndWrenches external = detail::load_cases(problem.model, t);
-  const detail::RowMajorMatX x = detail::tree_solve(problem.blocks, t.link_count, *problem.ws.tree, external, t.unknowns());
+  const std::optional<detail::TreeSolution> solution =
+      detail::tree_solve(problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition);
+  if (!solution) return false;
+  const detail::RowMajorMatX& x = solution->x;
   const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external);
   if (!problem.blocks_are_the_reference) {
     if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.reference_blocks());
@@ -326,7 +329,7 @@ bool solve_on_tree(Problem& problem, Result& result) {
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
   result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
-  result.report.solver = "tree";
+  result.report.solver = solution->cut_unknowns == 0 ? "tree" : "tree_with_cuts";
   fill_loads_and_compliance(problem, x, check.relative_residual, result);
   check_accuracy(problem.options, result);
   return true;

@@ -23,10 +23,13 @@ class ConstraintJointBlock final : public ElementBlock {
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   const FreeDirections* directions() const override { return &directions_; }
-  // Rigid (and locked) joints only: a passive joint's free motion has no tree solution.
-  bool passes_tree() const override { return p() == 0; }
+  // A passive joint is cut: each end beyond the root's takes its free motion q_k (p unknowns)
+  // as given, and leaves its Λ_p·W_k rows.
+  bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
   void pass_deflection_from_root(int toward_root, TreeState& state) const override;
+  Index cut_unknowns(int toward_root) const override;
+  void add_cut_rows(int toward_root, std::vector<Index>& rows) const override;
 
  private:
   Index r() const { return directions_.constrained().rows(); }
@@ -73,11 +76,19 @@ class SupportBlock final : public ElementBlock {
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   const FreeDirections* directions() const override { return &directions_; }
-  // Rigid or elastic supports only: a passive support's free motion has no tree solution.
-  bool passes_tree() const override { return directions_.free().rows() == 0 || spring_.has_value(); }
+  // Every support passes. At the root, a passive one is cut: its free motion (p unknowns) is
+  // taken as given and its Λ_p rows are left. Any other support closes a loop through the
+  // ground and is cut there: its ends are joined as one and its reaction R = Σ(W_k − W_ext,k)
+  // (6 unknowns) is taken as given, leaving its last 6 rows, which hold it to the ground.
+  bool passes_tree() const override { return true; }
   void set_root_deflection(TreeState& state) const override;
+  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
+  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
+  Index cut_unknowns(int toward_root) const override;
+  void add_cut_rows(int toward_root, std::vector<Index>& rows) const override;
 
  private:
+  bool passive() const { return directions_.free().rows() > 0 && !spring_; }
   std::vector<int> ends_;
   FreeDirections directions_;
   std::optional<SmallMat> spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once

@@ -49,30 +49,38 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
   rhs.segment(passive + p(), p()) -= projected;
 }
 
-// Σ W_k = Σ W_ext,k (Λ_r = I) solved for the end toward the root, as a running sum through
-// the first of the other ends.
+// Σ W_k = Σ W_ext,k, all six components: a rigid joint's equilibrium, and a passive joint's
+// with its free components' rows (Λ_p·W_k = Λ_p·W_ext,k) left to the cut, but their sum.
 void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
-  int through = -1;
-  RowMajorMatX& increment = state.increment;
-  increment.setZero();
-  for (int end : ends_) {
-    increment += state.external.at(end);
-    if (end == toward_root) continue;
-    if (through < 0)
-      through = end;
-    else
-      increment -= state.wrench(end) + state.x_low.middleRows<6>(wrench_column(end));
-  }
-  if (through < 0)  // a joint of one end (validation refuses those): the loads alone
-    state.set_value(wrench_column(toward_root), increment);
-  else
-    state.set_sum(wrench_column(toward_root), wrench_column(through), -1.0);
+  state.increment.setZero();
+  state.set_joined_wrench(ends_, toward_root);
 }
 
-// Δt_1 = Δt_k (Λ_r = I).
+// Δt_k = Δt_1 where rigid; a passive joint adds each other end's free motion Λ_pᵀ·q_k, its cut
+// unknowns (Λ_r·Λ_pᵀ = 0: the rows of Λ_r are the orthogonal complement of Λ_p's).
 void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
-  for (int end : ends_)
-    if (end != toward_root) state.set_copy(deflection_column(end), deflection_column(toward_root));
+  Index motion = 0;
+  for (int end : ends_) {
+    if (end == toward_root) continue;
+    if (p() == 0) {
+      state.set_copy(deflection_column(end), deflection_column(toward_root));
+      continue;
+    }
+    state.increment.noalias() = directions_.free().transpose() * state.cut(motion, p());
+    state.set_sum(deflection_column(end), deflection_column(toward_root), 1.0);
+    motion += p();
+  }
+}
+
+Index ConstraintJointBlock::cut_unknowns(int) const { return p() * (static_cast<Index>(ends_.size()) - 1); }
+
+// The free components' rows of the ends beyond the root's: Λ_p·W_k = Λ_p·W_ext,k (+ preload).
+void ConstraintJointBlock::add_cut_rows(int toward_root, std::vector<Index>& rows) const {
+  const Index m = static_cast<Index>(ends_.size());
+  for (Index k = 0; k < m; ++k) {
+    if (ends_[static_cast<std::size_t>(k)] == toward_root) continue;
+    for (Index i = 0; i < p(); ++i) rows.push_back(r() * m + k * p() + i);
+  }
 }
 
 }  // namespace stiffmsa::detail

@@ -46,6 +46,22 @@ void TreeState::set_value(Index target, const MatX& value) {
   x_low.middleRows<6>(target).setZero();
 }
 
+void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root) {
+  int through = -1;
+  for (int end : ends) {
+    increment += external.at(end);
+    if (end == toward_root) continue;
+    if (through < 0)
+      through = end;
+    else
+      increment -= wrench(end) + x_low.middleRows<6>(wrench_column(end));
+  }
+  if (through < 0)  // one end: no running sum to carry
+    set_value(wrench_column(toward_root), increment);
+  else
+    set_sum(wrench_column(toward_root), wrench_column(through), -1.0);
+}
+
 EndWrenches::EndWrenches(int end_count, Index columns)
     : slot_(static_cast<std::size_t>(end_count), -1), zero_(MatX::Zero(6, columns)) {}
 
@@ -56,6 +72,17 @@ void EndWrenches::add(int end, Index column, const Vec6& wrench) {
     values_.push_back(zero_);
   }
   values_[static_cast<std::size_t>(slot)].col(column) += wrench;
+}
+
+EndWrenches EndWrenches::widened(Index columns) const {
+  EndWrenches wide(static_cast<int>(slot_.size()), columns);
+  wide.slot_ = slot_;
+  wide.values_.reserve(values_.size());
+  for (const MatX& value : values_) {
+    wide.values_.push_back(wide.zero_);
+    wide.values_.back().leftCols(value.cols()) = value;
+  }
+  return wide;
 }
 
 const MatX& EndWrenches::at(int end) const {

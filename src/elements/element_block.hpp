@@ -71,6 +71,8 @@ class EndWrenches {
   void add(int end, Index column, const Vec6& wrench);
   // 6 × k: the wrenches at `end`, zero where none is applied.
   const MatX& at(int end) const;
+  // The same wrenches with zero columns appended up to `columns`.
+  EndWrenches widened(Index columns) const;
 
  private:
   std::vector<int> slot_;  // per link end: index into values_, or −1
@@ -96,6 +98,12 @@ struct TreeState {
   const EndWrenches& external;
   RowMajorMatX increment;  // 6 × k scratch of the passes, for set_sum
 
+  // The values of the current block's cut unknowns (see ElementBlock::cut_unknowns), one row
+  // per unknown and a column per load case; set by the solve before it calls a cut block.
+  const RowMajorMatX* cut_values = nullptr;
+  Index cut_first = 0;
+  auto cut(Index first, Index count) const { return cut_values->middleRows(cut_first + first, count); }
+
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
   auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }
   // The rows of `target` (a deflection or wrench column) become sign·(rows of `source`) +
@@ -103,6 +111,10 @@ struct TreeState {
   void set_sum(Index target, Index source, double sign);
   void set_copy(Index target, Index source);  // both parts
   void set_value(Index target, const MatX& value);  // low part zero
+  // W at `toward_root` of link ends joined as one (a joint, or a support that is not the root)
+  // from Σ W_k = Σ W_ext,k + `increment`, the caller's part (zero, or a support's reaction),
+  // as a running sum through the first of the other ends.
+  void set_joined_wrench(const std::vector<int>& ends, int toward_root);
 };
 
 class ElementBlock {
@@ -124,8 +136,17 @@ class ElementBlock {
   // every wrench follows from equilibrium, passed from the leaves to the root, and every
   // deflection from the support's, passed back out, each block solving its own equations for
   // the ends it hands on. `toward_root` is the block's link end on the path to the support.
-  // Whether the block's equations can be solved so (a passive joint's cannot: free motion).
+  // Whether the block's equations can be solved so, with the block cut where it must be.
   virtual bool passes_tree() const { return false; }
+  // A cut: where the passes cannot solve all of a block's equations — a passive joint's free
+  // motion, a second support that closes a loop through the ground, a passive support at the
+  // root — they take as given as many unknowns of the block's own (a free motion, a reaction),
+  // read from TreeState::cut, and leave as many of its equations, its cut rows, to a small
+  // dense system that the solve forms and solves first (solver/tree_solver.hpp).
+  // The number of cut unknowns in the block's place (`toward_root` = −1 at the root).
+  virtual Index cut_unknowns(int /*toward_root*/) const { return 0; }
+  // Appends the block's cut rows there, counted from its first row, as many as its unknowns.
+  virtual void add_cut_rows(int /*toward_root*/, std::vector<Index>& /*rows*/) const {}
   // Sets W at `toward_root` from W at the block's other ends and the external wrenches.
   virtual void pass_wrench_to_root(int toward_root, TreeState& state) const;
   // Sets Δt at the block's other ends from Δt at `toward_root` and the wrenches.

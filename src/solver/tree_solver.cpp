@@ -5,6 +5,8 @@
 #include <initializer_list>
 #include <limits>
 
+#include <Eigen/LU>
+
 #include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
@@ -12,11 +14,9 @@ namespace stiffmsa::detail {
 std::optional<TreeOrder> tree_order(const Topology& topology) {
   const auto group_count = static_cast<int>(topology.groups.size());
   TreeOrder order;
-  for (int g = 0; g < group_count; ++g) {
-    if (topology.groups[static_cast<std::size_t>(g)].kind != ConnectionGroup::Kind::support) continue;
-    if (order.root >= 0) return std::nullopt;  // two supports close a loop through the ground
-    order.root = g;
-  }
+  // Other supports close loops through the ground: they are cut (ElementBlock::cut_unknowns).
+  for (int g = 0; g < group_count && order.root < 0; ++g)
+    if (topology.groups[static_cast<std::size_t>(g)].kind == ConnectionGroup::Kind::support) order.root = g;
   if (order.root < 0 || group_count != topology.link_count + 1) return std::nullopt;
   std::vector<char> reached(static_cast<std::size_t>(group_count), 0);
   order.groups.reserve(static_cast<std::size_t>(group_count));
@@ -51,31 +51,6 @@ EndWrenches load_cases(const Model& model, const Topology& topology) {
   for (std::size_t e = 0; e < topology.effector_ends.size(); ++e)
     for (int c = 0; c < 6; ++c) cases.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
   return cases;
-}
-
-RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
-                        Index unknowns) {
-  RowMajorMatX x = RowMajorMatX::Zero(unknowns, external.columns());
-  RowMajorMatX x_low = RowMajorMatX::Zero(unknowns, external.columns());
-  TreeState state(x, x_low, external);
-  auto group_block = [&](int group) -> const ElementBlock& {
-    return *blocks[static_cast<std::size_t>(link_count + group)];
-  };
-  auto link_block = [&](int end) -> const ElementBlock& { return *blocks[static_cast<std::size_t>(end / 2)]; };
-  // Leaves first: a group's other ends got their wrenches from the links beyond them.
-  for (std::size_t k = order.groups.size(); k-- > 1;) {
-    const int end = order.toward_root[k];
-    group_block(order.groups[k]).pass_wrench_to_root(end, state);
-    link_block(end).pass_wrench_to_root(end ^ 1, state);
-  }
-  group_block(order.root).set_root_deflection(state);
-  for (std::size_t k = 1; k < order.groups.size(); ++k) {
-    const int end = order.toward_root[k];
-    link_block(end).pass_deflection_from_root(end ^ 1, state);
-    group_block(order.groups[k]).pass_deflection_from_root(end, state);
-  }
-  x += x_low;
-  return x;
 }
 
 namespace {
@@ -190,6 +165,37 @@ class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, pu
   Index rows_ = 0;
 };
 
+// The right-hand side of block `k` (its rows × the load cases, from row 0 of `rhs`): the loads
+// at the link ends it holds (links hold none; connection group g is block link_count + g) and
+// its preload. False, with `rhs` untouched, where it is zero. `column` is scratch of the
+// block's rows at least.
+bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology, const EndWrenches& external,
+               VecX& column, RowMajorMatX& rhs) {
+  const ElementBlock& block = *blocks[k];
+  const Index rows = block.equation_count();
+  auto block_column = column.head(rows);
+  auto block_rhs = rhs.topRows(rows);
+  block_column.setZero();
+  block.add_preload(0, column);
+  bool any_rhs = !block_column.isZero(0);
+  if (any_rhs) {
+    block_rhs.setZero();
+    block_rhs.col(kLoadCase) = block_column;
+  }
+  if (k >= static_cast<std::size_t>(topology.link_count))
+    for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {
+      if (!external.any_at(end)) continue;
+      if (!any_rhs) block_rhs.setZero();
+      any_rhs = true;
+      for (Index c = 0; c < external.columns(); ++c) {
+        block_column.setZero();
+        block.add_external_wrench(0, end, external.at(end).col(c), column);
+        block_rhs.col(c) += block_column;
+      }
+    }
+  return any_rhs;
+}
+
 template <int Columns>
 TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                        const EndWrenches& external) {
@@ -209,32 +215,10 @@ TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const Row
     block_residual.start(rows);
     block.write_equations(0, block_residual);
     a_norm.add(block_residual.row_sums().data(), rows);
-    // The loads at the link ends the block holds (links hold none; connection group g is block
-    // link_count + g) and its preload.
-    auto block_column = column.head(rows);
-    auto block_rhs = rhs.topRows(rows);
-    block_column.setZero();
-    block.add_preload(0, column);
-    bool any_rhs = !block_column.isZero(0);
-    if (any_rhs) {
-      block_rhs.setZero();
-      block_rhs.col(kLoadCase) = block_column;
-    }
-    if (k >= static_cast<std::size_t>(topology.link_count))
-      for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {
-        if (!external.any_at(end)) continue;
-        if (!any_rhs) block_rhs.setZero();
-        any_rhs = true;
-        for (Index c = 0; c < columns; ++c) {
-          block_column.setZero();
-          block.add_external_wrench(0, end, external.at(end).col(c), column);
-          block_rhs.col(c) += block_column;
-        }
-      }
     auto residual = block_residual.residual();
-    if (any_rhs) {
-      residual += block_rhs;
-      rhs_norm.add(block_rhs.data(), rows);
+    if (block_rhs(blocks, k, topology, external, column, rhs)) {
+      residual += rhs.topRows(rows);
+      rhs_norm.add(rhs.data(), rows);
     }
     residual_norm.add(residual.data(), rows);
   }
@@ -265,6 +249,127 @@ TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, co
   // One end effector, 1 + 6 load cases, is the common case.
   if (x.cols() == 7) return check_blocks<7>(blocks, topology, x, external);
   return check_blocks<Eigen::Dynamic>(blocks, topology, x, external);
+}
+
+namespace {
+
+// Where each cut block's unknowns start, per entry of the order (blocks not cut have none).
+struct CutLayout {
+  std::vector<Index> first;
+  Index unknowns = 0;
+};
+
+CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& order) {
+  CutLayout layout;
+  layout.first.reserve(order.groups.size());
+  for (std::size_t k = 0; k < order.groups.size(); ++k) {
+    layout.first.push_back(layout.unknowns);
+    layout.unknowns +=
+        blocks[static_cast<std::size_t>(link_count + order.groups[k])]->cut_unknowns(order.toward_root[k]);
+  }
+  return layout;
+}
+
+// The two passes, with the cut unknowns' values of each column (null where nothing is cut).
+RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
+                        const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns) {
+  RowMajorMatX x = RowMajorMatX::Zero(unknowns, external.columns());
+  RowMajorMatX x_low = RowMajorMatX::Zero(unknowns, external.columns());
+  TreeState state(x, x_low, external);
+  state.cut_values = cut_values;
+  auto group_block = [&](std::size_t k) -> const ElementBlock& {
+    state.cut_first = layout.first[k];
+    return *blocks[static_cast<std::size_t>(link_count + order.groups[k])];
+  };
+  auto link_block = [&](int end) -> const ElementBlock& { return *blocks[static_cast<std::size_t>(end / 2)]; };
+  // Leaves first: a group's other ends got their wrenches from the links beyond them.
+  for (std::size_t k = order.groups.size(); k-- > 1;) {
+    const int end = order.toward_root[k];
+    group_block(k).pass_wrench_to_root(end, state);
+    link_block(end).pass_wrench_to_root(end ^ 1, state);
+  }
+  group_block(0).set_root_deflection(state);
+  for (std::size_t k = 1; k < order.groups.size(); ++k) {
+    const int end = order.toward_root[k];
+    link_block(end).pass_deflection_from_root(end ^ 1, state);
+    group_block(k).pass_deflection_from_root(end, state);
+  }
+  x += x_low;
+  return x;
+}
+
+// b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows).
+RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
+                           const RowMajorMatX& x, const EndWrenches& external, Index m) {
+  Index most_rows = 0;
+  for (const auto& block : blocks) most_rows = std::max(most_rows, block->equation_count());
+  BlockResidual<Eigen::Dynamic> block_residual(x, most_rows);
+  VecX column(most_rows);
+  RowMajorMatX rhs(most_rows, x.cols());
+  RowMajorMatX values(m, x.cols());
+  std::vector<Index> rows;
+  Index next = 0;
+  for (std::size_t k = 0; k < order.groups.size(); ++k) {
+    const std::size_t b = static_cast<std::size_t>(topology.link_count + order.groups[k]);
+    const ElementBlock& block = *blocks[b];
+    rows.clear();
+    block.add_cut_rows(order.toward_root[k], rows);
+    if (rows.empty()) continue;
+    block_residual.start(block.equation_count());
+    block.write_equations(0, block_residual);
+    auto residual = block_residual.residual();
+    if (block_rhs(blocks, b, topology, external, column, rhs)) residual += rhs.topRows(block.equation_count());
+    for (const Index row : rows) values.row(next++) = residual.row(row);
+  }
+  eigen_assert(next == m);
+  return values;
+}
+
+}  // namespace
+
+std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
+                                       const EndWrenches& external, double least_rcond) {
+  const int link_count = topology.link_count;
+  const Index unknowns = topology.unknowns();
+  const CutLayout layout = cut_layout(blocks, link_count, order);
+  const Index m = layout.unknowns;
+  if (m == 0) return TreeSolution{run_passes(blocks, link_count, order, layout, nullptr, external, unknowns), 0};
+  if (m > kMostCutUnknowns) return std::nullopt;
+
+  // First run: the load cases with the cut unknowns at zero, then each cut unknown at 1 alone.
+  const Index k = external.columns();
+  const EndWrenches widened = external.widened(k + m);
+  RowMajorMatX unit_values = RowMajorMatX::Zero(m, k + m);
+  unit_values.rightCols(m).setIdentity();
+  const RowMajorMatX x = run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns);
+
+  // The cut rows' residuals b − A·x: affine in the cut unknowns z, T_load + T_cut·z.
+  const RowMajorMatX t = cut_residuals(blocks, topology, order, x, widened, m);
+
+  // T_cut·z = −T_load, equilibrated (rows, then columns, to a largest entry of 1) so that the
+  // condition estimate does not depend on units: reactions in N beside motions in rad.
+  MatX a = t.rightCols(m);
+  VecX row_scale(m), column_scale(m);
+  for (Index i = 0; i < m; ++i) {
+    const double largest = a.row(i).cwiseAbs().maxCoeff();
+    if (!(largest > 0) || !std::isfinite(largest)) return std::nullopt;
+    row_scale(i) = 1 / largest;
+  }
+  a = row_scale.asDiagonal() * a;
+  for (Index j = 0; j < m; ++j) {
+    const double largest = a.col(j).cwiseAbs().maxCoeff();
+    if (!(largest > 0)) return std::nullopt;
+    column_scale(j) = 1 / largest;
+  }
+  a = a * column_scale.asDiagonal();
+  const Eigen::PartialPivLU<MatX> lu(a);
+  if (!(lu.rcond() >= least_rcond)) return std::nullopt;
+  const MatX z = column_scale.asDiagonal() * lu.solve(-(row_scale.asDiagonal() * t.leftCols(k)));
+  if (!z.allFinite()) return std::nullopt;
+
+  // Second run: the load cases with the cut unknowns solved.
+  const RowMajorMatX cut_values = z;
+  return TreeSolution{run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns), m};
 }
 
 }  // namespace stiffmsa::detail

@@ -1,13 +1,24 @@
 #pragma once
-// The tree solve: where the links and connection groups of a model form a tree whose root is
-// its one support (a serial robot, a chain, a branched arm), the mixed system is solved
-// without factorising it. Every wrench follows from equilibrium, passed from the leaves to
-// the support, and every deflection from the support's, passed back out; each element block
-// solves its own equations for the link ends it hands on (ElementBlock::pass_*). It costs a
-// few 6×6 products per link end and load case, and sums the transported compliances the way a
-// hand-condensed serial model does, carrying every running sum exactly (TwoSum), so it loses no
-// digits on long chains. Its solution is checked against every block's equations, without
-// assembling them (check_tree_solution).
+// The tree solve: where the links and connection groups of a model form a tree (a serial
+// robot, a chain, a branched arm; a parallel robot whose legs meet at its platform and close
+// their loops through the ground), the mixed system is solved without factorising it. Every
+// wrench follows from equilibrium, passed from the leaves to the root support, and every
+// deflection from the root's, passed back out; each element block solves its own equations
+// for the link ends it hands on (ElementBlock::pass_*). It costs a few 6×6 products per link
+// end and load case, and sums the transported compliances the way a hand-condensed serial model
+// does, carrying every running sum exactly (TwoSum), so it loses no digits on long chains.
+//
+// Where the passes cannot solve a block alone (a passive joint's free motion, a second support,
+// a passive support at the root), the block is cut (ElementBlock::cut_unknowns): the passes take
+// its free motion or reaction as given and leave as many of its equations. A first run of the
+// passes, with each cut unknown set to 1 in a column of its own besides the load cases, gives
+// these equations' residuals as an affine function of the cut unknowns: a small dense system,
+// solved by an LU with partial pivoting. A second run with the cut unknowns solved gives the
+// solution. This is the force method of hand calculation, with the loop closures and the free
+// motions as redundants, on the paper's equations.
+//
+// Every solution is checked against every block's equations, without assembling them
+// (check_tree_solution).
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -17,16 +28,21 @@
 namespace stiffmsa::detail {
 
 struct TreeOrder {
-  int root = -1;                 // the support's connection group
+  int root = -1;                 // the first support's connection group
   std::vector<int> groups;       // breadth first from the root, the root first
   std::vector<int> toward_root;  // per entry of `groups`: its link end on the path to the root (−1 at the root)
 };
 
 // The order of a tree solve; nullopt where the links and connection groups do not form a tree
-// or where there is not exactly one support.
+// (a loop not through the ground, or parts not connected) or where there is no support.
 std::optional<TreeOrder> tree_order(const Topology& topology);
 
-// Whether every block can take part in a tree solve (no passive joint or support).
+// A dense cut system larger than this is left to the factorising solve, whose sparse LU then
+// costs less than the dense one.
+inline constexpr Index kMostCutUnknowns = 96;
+
+// Whether every block can take part in a tree solve, cut where it must be (a stiffness-only
+// CAD link cannot).
 bool passes_tree(const Blocks& blocks);
 
 // The load cases of a solve: the model's loads in kLoadCase, then a unit wrench in each of the 6
@@ -34,9 +50,16 @@ bool passes_tree(const Blocks& blocks);
 EndWrenches load_cases(const Model& model, const Topology& topology);
 
 // The unknowns (unknowns × external.columns(), the mixed system's layout) under the external
-// wrenches of each column, with the preloads added to kLoadCase.
-RowMajorMatX tree_solve(const Blocks& blocks, int link_count, const TreeOrder& order, const EndWrenches& external,
-                        Index unknowns);
+// wrenches of each column, with the preloads added to kLoadCase, and the number of cut unknowns
+// solved for. Nullopt, for the factorising solve to decide, where there are more than
+// kMostCutUnknowns cut unknowns or their system's equilibrated reciprocal condition estimate is
+// below `least_rcond` (a mechanism, a structure held rigidly twice over, or nearly so).
+struct TreeSolution {
+  RowMajorMatX x;
+  Index cut_unknowns = 0;
+};
+std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
+                                       const EndWrenches& external, double least_rcond);
 
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
