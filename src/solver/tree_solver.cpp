@@ -273,8 +273,9 @@ CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& orde
 // The two passes, with the cut unknowns' values of each column (null where nothing is cut).
 RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
                         const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns) {
-  RowMajorMatX x = RowMajorMatX::Zero(unknowns, external.columns());
-  RowMajorMatX x_low = RowMajorMatX::Zero(unknowns, external.columns());
+  // Not zeroed: the passes set every link end's rows, both parts.
+  RowMajorMatX x(unknowns, external.columns());
+  RowMajorMatX x_low(unknowns, external.columns());
   TreeState state(x, x_low, external);
   state.cut_values = cut_values;
   auto group_block = [&](std::size_t k) -> const ElementBlock& {
@@ -298,15 +299,42 @@ RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& o
   return x;
 }
 
+// −A·x on chosen rows of a block, each added into a row of `out`: the cut rows alone, so that
+// the other rows' coefficients cost a comparison each.
+class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
+ public:
+  CutRowResidual(const RowMajorMatX& x, RowMajorMatX& out, Index most_rows)
+      : x_(x), out_(out), target_(static_cast<std::size_t>(most_rows), -1) {}
+  // The block's cut rows go to rows first_out, first_out + 1, … of `out`; its other rows nowhere.
+  void start(const std::vector<Index>& rows, Index first_out) {
+    std::fill(target_.begin(), target_.end(), -1);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      target_[static_cast<std::size_t>(rows[i])] = first_out + static_cast<Index>(i);
+  }
+  void put(Index row, Index column, double value) {
+    const Index target = target_[static_cast<std::size_t>(row)];
+    if (target < 0 || value == 0) return;
+    const Index columns = x_.cols();
+    double* const out = out_.data() + target * columns;
+    const double* const in = x_.data() + column * columns;
+    for (Index c = 0; c < columns; ++c) out[c] -= value * in[c];
+  }
+
+ private:
+  const RowMajorMatX& x_;
+  RowMajorMatX& out_;
+  std::vector<Index> target_;
+};
+
 // b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows).
 RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
                            const RowMajorMatX& x, const EndWrenches& external, Index m) {
   Index most_rows = 0;
   for (const auto& block : blocks) most_rows = std::max(most_rows, block->equation_count());
-  BlockResidual<Eigen::Dynamic> block_residual(x, most_rows);
+  RowMajorMatX values = RowMajorMatX::Zero(m, x.cols());
+  CutRowResidual residual(x, values, most_rows);
   VecX column(most_rows);
   RowMajorMatX rhs(most_rows, x.cols());
-  RowMajorMatX values(m, x.cols());
   std::vector<Index> rows;
   Index next = 0;
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
@@ -315,11 +343,11 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
     rows.clear();
     block.add_cut_rows(order.toward_root[k], rows);
     if (rows.empty()) continue;
-    block_residual.start(block.equation_count());
-    block.write_equations(0, block_residual);
-    auto residual = block_residual.residual();
-    if (block_rhs(blocks, b, topology, external, column, rhs)) residual += rhs.topRows(block.equation_count());
-    for (const Index row : rows) values.row(next++) = residual.row(row);
+    residual.start(rows, next);
+    block.write_equations(0, residual);
+    if (block_rhs(blocks, b, topology, external, column, rhs))
+      for (const Index row : rows) values.row(next + (&row - rows.data())) += rhs.row(row);
+    next += static_cast<Index>(rows.size());
   }
   eigen_assert(next == m);
   return values;
