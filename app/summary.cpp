@@ -191,6 +191,8 @@ void print_report(std::ostream& out, const SolveReport& report) {
       << "  reciprocal condition: ";
   if (report.solver == "tree")
     out << "not estimated (the tree solve factorises nothing)";
+  else if (report.solver == "tree_with_cuts")
+    out << "not estimated (the tree solve with cuts factorises no sparse system)";
   else
     out << scientific(report.reciprocal_condition, 0, 2);
   if (report.reciprocal_condition > 0) {

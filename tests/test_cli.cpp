@@ -478,3 +478,19 @@ TEST_F(Cli, SolveTakesParameterValues) {
   EXPECT_TRUE(contains(unreachable.err, "tripteron-parametric.yaml:42:11: derived.y_side")) << unreachable.err;
   EXPECT_FALSE(contains(unreachable.err, "points.elbow_y")) << unreachable.err;
 }
+
+TEST_F(Cli, SummaryNamesTheSolverAndWhyNoConditionIsEstimated) {
+  const CliRun serial = run("solve " + example_path("industrial-6axis.yaml"));
+  ASSERT_EQ(serial.exit_code, exit_success) << serial.err;
+  EXPECT_TRUE(contains(serial.out, "(solver tree)")) << serial.out;
+  EXPECT_TRUE(contains(serial.out, "reciprocal condition: not estimated (the tree solve factorises nothing)")) << serial.out;
+  const CliRun parallel = run("solve " + example_path("tripteron.yaml"));
+  ASSERT_EQ(parallel.exit_code, exit_success) << parallel.err;
+  EXPECT_TRUE(contains(parallel.out, "(solver tree_with_cuts)")) << parallel.out;
+  EXPECT_TRUE(contains(parallel.out, "reciprocal condition: not estimated (the tree solve with cuts factorises no sparse system)"))
+      << parallel.out;
+  const CliRun forced = run("solve " + example_path("tripteron.yaml") + " --solver sparse_lu");
+  ASSERT_EQ(forced.exit_code, exit_success) << forced.err;
+  EXPECT_TRUE(contains(forced.out, "(solver sparse_lu)")) << forced.out;
+  EXPECT_TRUE(contains(forced.out, "(condition number about")) << forced.out;
+}

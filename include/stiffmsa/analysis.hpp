@@ -11,7 +11,10 @@
 namespace stiffmsa {
 
 // `automatic` solves a model whose links and connections form a tree on its one support (serial
-// robots, chains) without factorising (docs/theory.md §7.1); others it factorises with KLU, or
+// robots, chains) without factorising (docs/theory.md §7.1), and one that is a tree with several
+// supports or passive joints (parallel robots whose legs meet at the platform) through a small
+// dense system for its cut reactions and free motions (§7.2), where that system is regular and
+// at most 96 unknowns; others it factorises with KLU, or
 // with Eigen's SparseLU where KLU's ordering predicts heavy fill, as on building frames. The
 // others force that factorisation. The result's report names what was used.
 enum class SolverKind { automatic, sparse_lu, umfpack, klu };
@@ -19,8 +22,9 @@ const char* to_string(SolverKind s);
 std::optional<SolverKind> solver_kind_from_string(const std::string& s);
 bool solver_available(SolverKind s);
 
-// A tree solve (solver "tree") factorises nothing: singular_rcond, refinement_steps and the
-// condition warning of warn_condition apply only to factorised systems; its solution is
+// A tree solve (solver "tree" or "tree_with_cuts") factorises no sparse system: singular_rcond,
+// refinement_steps and the condition warning of warn_condition apply only to factorised
+// systems (a cut system whose condition exceeds warn_condition is left to them); its solution is
 // checked against max_relative_residual, and the end effectors' stiffness spread against
 // warn_condition, like any other.
 struct SolveOptions {
