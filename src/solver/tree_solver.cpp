@@ -346,7 +346,7 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
     residual.start(rows, next);
     block.write_equations(0, residual);
     if (block_rhs(blocks, b, topology, external, column, rhs))
-      for (const Index row : rows) values.row(next + (&row - rows.data())) += rhs.row(row);
+      for (std::size_t i = 0; i < rows.size(); ++i) values.row(next + static_cast<Index>(i)) += rhs.row(rows[i]);
     next += static_cast<Index>(rows.size());
   }
   eigen_assert(next == m);
