@@ -14,7 +14,7 @@ namespace stiffmsa {
 // robots, chains) without factorising (docs/theory.md §7.1), and one that is a tree with several
 // supports or passive joints (parallel robots whose legs meet at the platform) through a small
 // dense system for its cut reactions and free motions (§7.2), where that system is regular and
-// at most 96 unknowns; others it factorises with KLU, or
+// at most 32 unknowns; others it factorises with KLU, or
 // with Eigen's SparseLU where KLU's ordering predicts heavy fill, as on building frames. The
 // others force that factorisation. The result's report names what was used.
 enum class SolverKind { automatic, sparse_lu, umfpack, klu };

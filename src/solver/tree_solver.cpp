@@ -356,13 +356,14 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
 }  // namespace
 
 std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                                       const EndWrenches& external, double least_rcond) {
+                                       const EndWrenches& external, double least_rcond,
+                                       Index most_cut_unknowns) {
   const int link_count = topology.link_count;
   const Index unknowns = topology.unknowns();
   const CutLayout layout = cut_layout(blocks, link_count, order);
   const Index m = layout.unknowns;
   if (m == 0) return TreeSolution{run_passes(blocks, link_count, order, layout, nullptr, external, unknowns), 0};
-  if (m > kMostCutUnknowns) return std::nullopt;
+  if (m > most_cut_unknowns) return std::nullopt;
 
   // First run: the load cases with the cut unknowns at zero, then each cut unknown at 1 alone.
   const Index k = external.columns();

@@ -37,9 +37,12 @@ struct TreeOrder {
 // (a loop not through the ground, or parts not connected) or where there is no support.
 std::optional<TreeOrder> tree_order(const Topology& topology);
 
-// A dense cut system larger than this is left to the factorising solve, whose sparse LU then
-// costs less than the dense one.
-inline constexpr Index kMostCutUnknowns = 96;
+// A model with more cut unknowns than this is left to the factorising solve. The passes cost
+// about as much per column as a sparse LU's solve does, and the cut solve runs them over
+// 2k + m columns (k load cases, m cut unknowns) where the LU solves k after one factorisation:
+// measured on one core, the tripteron (m = 21) takes ~0.5× KLU's time, the Gough–Stewart
+// platform (m = 50) ~1.8× (bench/README.md).
+inline constexpr Index kMostCutUnknowns = 32;
 
 // Whether every block can take part in a tree solve, cut where it must be (a stiffness-only
 // CAD link cannot).
@@ -52,14 +55,15 @@ EndWrenches load_cases(const Model& model, const Topology& topology);
 // The unknowns (unknowns × external.columns(), the mixed system's layout) under the external
 // wrenches of each column, with the preloads added to kLoadCase, and the number of cut unknowns
 // solved for. Nullopt, for the factorising solve to decide, where there are more than
-// kMostCutUnknowns cut unknowns or their system's equilibrated reciprocal condition estimate is
-// below `least_rcond` (a mechanism, a structure held rigidly twice over, or nearly so).
+// `most_cut_unknowns` cut unknowns or their system's equilibrated reciprocal condition estimate
+// is below `least_rcond` (a mechanism, a structure held rigidly twice over, or nearly so).
 struct TreeSolution {
   RowMajorMatX x;
   Index cut_unknowns = 0;
 };
 std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                                       const EndWrenches& external, double least_rcond);
+                                       const EndWrenches& external, double least_rcond,
+                                       Index most_cut_unknowns = kMostCutUnknowns);
 
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
