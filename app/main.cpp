@@ -99,8 +99,9 @@ const CLI::Validator at_least_one(
 void add_solver_option(CLI::App& command, std::string& solver) {
   command
       .add_option("--solver", solver,
-                  "auto (tree-shaped models without factorising, else klu, or sparse_lu where klu would fill "
-                  "in), or a sparse LU: sparse_lu, umfpack, klu")
+                  "auto (tree-shaped models without factorising, parallel robots among them through a small "
+                  "dense system for their cuts; else klu, or sparse_lu where klu would fill in), or a sparse LU: "
+                  "sparse_lu, umfpack, klu")
       ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
       ->capture_default_str();
 }

@@ -43,7 +43,7 @@ for round in $(seq "$rounds"); do
   for side in "${order[@]}"; do
     dir="${build_of[$side]}"
     read -r -a solvers <<<"${solvers_on[$side]}"
-    filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$|^6axis[a-z_]*/pipeline/tree\$|^6axis/vjm_floor\$"
+    filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$|^(6axis[a-z_]*|tripteron)/pipeline/tree\$|^6axis/vjm_floor\$"
     "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_format=json 2>/dev/null |
       python3 -c "import json, sys
 scale = {'ns': 1e-3, 'us': 1.0, 'ms': 1e3, 's': 1e6}

@@ -14,8 +14,9 @@
 //   <robot>/part:...              pieces of those two stages, to find where the time goes
 //   <robot>/pipeline/S            the internal stages back to back, per pose: make_blocks,
 //                                 fill, right-hand sides, factorize, solve, K = C⁻¹
-//   <robot>/pipeline/tree         serial robots (a tree on one support): make_blocks, the tree
-//                                 solve, its block-by-block check, K = C⁻¹ (what `auto` does)
+//   <robot>/pipeline/tree         robots `auto` solves on the tree (the serial ones; the
+//                                 tripteron with cuts): make_blocks, the tree solve, its
+//                                 block-by-block check, K = C⁻¹ (what `auto` does)
 //   <robot>/stage:tree_solve      detail::tree_solve of the 1 + 6 load cases
 //   <robot>/stage:tree_check      detail::check_tree_solution: residual of every block
 //   <robot>/dense_lu              the same pipeline with Eigen::PartialPivLU on the assembled
@@ -124,7 +125,7 @@ struct Robot {
   std::vector<MatX> rhs;                // per pose
   std::vector<Mat6> compliance;         // per pose, from the public solve: the reference
   double length = 1;                    // detail::characteristic_length
-  std::optional<detail::TreeOrder> tree;  // serial robots
+  std::optional<detail::TreeOrder> tree;  // where `auto` takes the tree solve
 
   Robot(std::string robot_name, std::vector<Model> robot_poses)
       : name(std::move(robot_name)), poses(std::move(robot_poses)) {
@@ -142,7 +143,13 @@ struct Robot {
         throw std::runtime_error("bench: a pose of " + name + " is not a healthy regular solve");
       compliance.push_back(*result.end_effectors.front().compliance);
     }
-    if (auto order = detail::tree_order(topology); order && detail::passes_tree(blocks.front())) tree = std::move(order);
+    // The robots `auto` solves on the tree, with or without cuts (not the Gough–Stewart platform:
+    // more cut unknowns than the cut solve takes).
+    if (auto order = detail::tree_order(topology);
+        order && detail::passes_tree(blocks.front()) &&
+        detail::tree_solve(blocks.front(), topology, *order, detail::load_cases(poses.front(), topology),
+                           1 / SolveOptions{}.warn_condition))
+      tree = std::move(order);
   }
   std::size_t pose_count() const { return poses.size(); }
 };
@@ -363,7 +370,7 @@ void pipeline(benchmark::State& state, const Robot& robot, SolverKind kind) {
   count_allocations(state, before);
 }
 
-// ---- the tree solve (serial robots) ----------------------------------------------------------
+// ---- the tree solve (serial robots; the tripteron with cuts) ----------------------------------------------------------
 
 detail::RowMajorMatX solve_tree(const Robot& robot, const detail::TreeOrder& order, const detail::Blocks& blocks,
                                 const detail::EndWrenches& external) {

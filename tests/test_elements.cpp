@@ -286,8 +286,14 @@ struct TreeFixture {
       : ends(end_count), x(RowMajorMatX::Random(12 * end_count, kColumns)), low(RowMajorMatX::Zero(12 * end_count, kColumns)),
         external(end_count, kColumns) {}
   TreeState state() { return TreeState(x, low, external); }
-  // Both passes of `block` toward `toward_root`, then the residual of its rows.
+  // Both passes of `block` toward `toward_root`, then the residual of its rows. What they hand
+  // on starts as NaN in both parts (the solve does not zero its unknowns): W at `toward_root`,
+  // and Δt at the link's other end (no `held` ends) or at the group's other ends.
   double passed(const ElementBlock& block, int toward_root, const std::vector<int>& held) {
+    poison(wrench_column(toward_root));
+    if (held.empty()) poison(deflection_column(toward_root ^ 1));
+    for (int end : held)
+      if (end != toward_root) poison(deflection_column(end));
     auto s = state();
     block.pass_wrench_to_root(toward_root, s);
     block.pass_deflection_from_root(toward_root, s);
@@ -295,6 +301,10 @@ struct TreeFixture {
   }
   void load(int end) {
     for (Index c = 0; c < kColumns; ++c) external.add(end, c, Vec6::Random() * 100.0);
+  }
+  void poison(Index first_row) {
+    x.middleRows<6>(first_row).setConstant(std::nan(""));
+    low.middleRows<6>(first_row).setConstant(std::nan(""));
   }
   // Cut unknowns: random values for each load case, which the passes must take as given.
   void cut(Index count) {
@@ -407,7 +417,8 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
       {Kinematics::revolute(Vec3(1, 2, 3)), {0, 2}, VecX::Constant(1, 12.5)},
       {Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)), {0, 2, 4}, std::nullopt},
       {Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()}), {0, 2}, VecX::Constant(1, -3.0)},
-      {Kinematics::spherical(), {0, 2}, VecX::Constant(3, 4.0)}};
+      {Kinematics::spherical(), {0, 2}, VecX::Constant(3, 4.0)},
+      {Kinematics::spherical(), {0, 2, 4}, VecX::Constant(3, -6.0)}};
   for (const Case& c : cases) {
     const ConstraintJointBlock joint(c.ends, free_directions(c.kinematics), c.preload);
     const Index p = free_directions(c.kinematics).p;
@@ -430,9 +441,13 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
         EXPECT_GT(f.residual(joint, c.ends), 1e-6) << to_string(c.kinematics.type);
       }
       // Where the wrenches beyond the root hold their cut rows (Λ_p·W_k = Λ_p·W_ext,k, + G·w_0
-      // on the first end and − on the second), the passes hold every other row.
+      // on the first end and − on the second), the passes hold every other row. What they hand
+      // on starts as NaN.
       f.x = random_start;
       f.low.setZero();
+      f.poison(wrench_column(toward_root));
+      for (int end : c.ends)
+        if (end != toward_root) f.poison(deflection_column(end));
       const MatX gram_inverse = directions.gram().inverse();
       for (std::size_t i = 0; i < c.ends.size(); ++i) {
         const int end = c.ends[i];
@@ -460,6 +475,19 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
       }
     }
   }
+  // The cut rows in the block's layout: r·(m − 1) compatibility rows, r equilibrium rows, then
+  // p rows per end; those of the ends beyond the root's.
+  std::vector<Index> rows;
+  ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt).add_cut_rows(0, rows);
+  EXPECT_EQ(rows, std::vector<Index>{11});
+  rows.clear();
+  ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt).add_cut_rows(2, rows);
+  EXPECT_EQ(rows, std::vector<Index>{10});
+  rows.clear();
+  const ConstraintJointBlock universal({0, 2, 4}, free_directions(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())),
+                                       std::nullopt);
+  universal.add_cut_rows(2, rows);
+  EXPECT_EQ(rows, (std::vector<Index>{12, 13, 16, 17}));
 }
 
 TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
@@ -479,6 +507,9 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
       TreeFixture f(5);
       for (int end : ends) f.load(end);
       f.cut(6);
+      f.poison(wrench_column(toward_root));
+      for (int end : ends)
+        if (end != toward_root) f.poison(deflection_column(end));
       auto state = f.cut_state();
       support->pass_wrench_to_root(toward_root, state);
       support->pass_deflection_from_root(toward_root, state);
@@ -501,6 +532,8 @@ TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
   TreeFixture f(3);
   f.load(2);
   f.cut(1);
+  f.poison(deflection_column(0));
+  f.poison(deflection_column(2));
   auto state = f.cut_state();
   passive.set_root_deflection(state);
   EXPECT_LT(f.residual(passive, {0, 2}, rows), 1e-15);

@@ -92,7 +92,8 @@ TEST(Equilibration, PowersOfTwoBringEveryRowAndColumnToAMaximumNearOne) {
 
 TEST(AutomaticSolver, TakesTheTreeSolveForAChainOrAParallelRobotAndSparseLuForABuildingFrame) {
   EXPECT_EQ(solve(chain(50)).report.solver, "tree");
-  // Its legs meet at the platform: a tree cut at two screws and nine passive hinges.
+  // Its legs meet at the platform: a tree cut at the reactions of supports screw_y and screw_z
+  // and at its nine passive hinges.
   EXPECT_EQ(solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")).report.solver,
             "tree_with_cuts");
   if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "built without SuiteSparse";

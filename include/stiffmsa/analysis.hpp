@@ -24,7 +24,8 @@ bool solver_available(SolverKind s);
 
 // A tree solve (solver "tree" or "tree_with_cuts") factorises no sparse system: singular_rcond,
 // refinement_steps and the condition warning of warn_condition apply only to factorised
-// systems (a cut system whose condition exceeds warn_condition is left to them); its solution is
+// systems (a cut system whose condition exceeds warn_condition is left to them, but a
+// well-conditioned cut system says nothing of the whole system's condition); its solution is
 // checked against max_relative_residual, and the end effectors' stiffness spread against
 // warn_condition, like any other.
 struct SolveOptions {

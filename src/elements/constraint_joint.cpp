@@ -52,8 +52,7 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
 // Σ W_k = Σ W_ext,k, all six components: a rigid joint's equilibrium, and a passive joint's
 // with its free components' rows (Λ_p·W_k = Λ_p·W_ext,k) left to the cut, but their sum.
 void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
-  state.increment.setZero();
-  state.set_joined_wrench(ends_, toward_root);
+  state.set_joined_wrench(ends_, toward_root, false);
 }
 
 // Δt_k = Δt_1 where rigid; a passive joint adds each other end's free motion Λ_pᵀ·q_k, its cut

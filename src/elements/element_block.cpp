@@ -46,7 +46,11 @@ void TreeState::set_value(Index target, const MatX& value) {
   x_low.middleRows<6>(target).setZero();
 }
 
-void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root) {
+void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root, bool with_reaction) {
+  if (with_reaction)
+    increment = cut(0, 6);
+  else
+    increment.setZero();
   int through = -1;
   for (int end : ends) {
     increment += external.at(end);

@@ -112,9 +112,9 @@ struct TreeState {
   void set_copy(Index target, Index source);  // both parts
   void set_value(Index target, const MatX& value);  // low part zero
   // W at `toward_root` of link ends joined as one (a joint, or a support that is not the root)
-  // from Σ W_k = Σ W_ext,k + `increment`, the caller's part (zero, or a support's reaction),
-  // as a running sum through the first of the other ends.
-  void set_joined_wrench(const std::vector<int>& ends, int toward_root);
+  // from Σ W_k = Σ W_ext,k + R, as a running sum through the first of the other ends. R is a
+  // support's reaction, its cut unknowns (`with_reaction`), else zero.
+  void set_joined_wrench(const std::vector<int>& ends, int toward_root, bool with_reaction);
 };
 
 class ElementBlock {
@@ -132,10 +132,11 @@ class ElementBlock {
   // back rather than recomputing them); null for other blocks.
   virtual const FreeDirections* directions() const { return nullptr; }
 
-  // The tree solve: where links and connections form a tree with the one support at its root,
-  // every wrench follows from equilibrium, passed from the leaves to the root, and every
-  // deflection from the support's, passed back out, each block solving its own equations for
-  // the ends it hands on. `toward_root` is the block's link end on the path to the support.
+  // The tree solve: where links and connections form a tree with a support at its root, every
+  // wrench follows from equilibrium, passed from the leaves to the root, and every deflection
+  // from the support's, passed back out, each block solving its own equations for the ends it
+  // hands on (with cuts where it cannot, see cut_unknowns). `toward_root` is the block's link
+  // end on the path to the support.
   // Whether the block's equations can be solved so, with the block cut where it must be.
   virtual bool passes_tree() const { return false; }
   // A cut: where the passes cannot solve all of a block's equations — a passive joint's free

@@ -64,8 +64,7 @@ void SupportBlock::set_root_deflection(TreeState& state) const {
 
 // Σ W_k = Σ W_ext,k + R, the reaction R being the cut unknowns.
 void SupportBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
-  state.increment = state.cut(0, 6);
-  state.set_joined_wrench(ends_, toward_root);
+  state.set_joined_wrench(ends_, toward_root, true);
 }
 
 void SupportBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {

@@ -278,7 +278,8 @@ RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& o
   RowMajorMatX x_low(unknowns, external.columns());
   TreeState state(x, x_low, external);
   state.cut_values = cut_values;
-  auto group_block = [&](std::size_t k) -> const ElementBlock& {
+  // The group at entry k of the order, its cut unknowns made the current ones.
+  auto enter_group = [&](std::size_t k) -> const ElementBlock& {
     state.cut_first = layout.first[k];
     return *blocks[static_cast<std::size_t>(link_count + order.groups[k])];
   };
@@ -286,14 +287,14 @@ RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& o
   // Leaves first: a group's other ends got their wrenches from the links beyond them.
   for (std::size_t k = order.groups.size(); k-- > 1;) {
     const int end = order.toward_root[k];
-    group_block(k).pass_wrench_to_root(end, state);
+    enter_group(k).pass_wrench_to_root(end, state);
     link_block(end).pass_wrench_to_root(end ^ 1, state);
   }
-  group_block(0).set_root_deflection(state);
+  enter_group(0).set_root_deflection(state);
   for (std::size_t k = 1; k < order.groups.size(); ++k) {
     const int end = order.toward_root[k];
     link_block(end).pass_deflection_from_root(end ^ 1, state);
-    group_block(k).pass_deflection_from_root(end, state);
+    enter_group(k).pass_deflection_from_root(end, state);
   }
   x += x_low;
   return x;
@@ -377,11 +378,12 @@ std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& top
 
   // T_cut·z = −T_load, equilibrated (rows, then columns, to a largest entry of 1) so that the
   // condition estimate does not depend on units: reactions in N beside motions in rad.
+  if (!t.allFinite()) return std::nullopt;
   MatX a = t.rightCols(m);
   VecX row_scale(m), column_scale(m);
   for (Index i = 0; i < m; ++i) {
     const double largest = a.row(i).cwiseAbs().maxCoeff();
-    if (!(largest > 0) || !std::isfinite(largest)) return std::nullopt;
+    if (!(largest > 0)) return std::nullopt;
     row_scale(i) = 1 / largest;
   }
   a = row_scale.asDiagonal() * a;
