@@ -216,6 +216,30 @@ TEST(Truss, TwoHingedBarsGiveAxialStiffnessOnly) {
 }
 
 // A platform on legs: K_platform = Σ D_iᵀ·K_leg,i·D_i, legs clamped cantilevers.
+// A beam clamped at both ends, loaded at midspan: the second support closes a loop through the
+// ground, which the tree solve cuts at its reaction (docs/theory.md §7.2). By symmetry each
+// half is a beam clamped at its far end whose midspan end neither turns under a force nor moves
+// under a moment: C = diag(L/(4EA), L³/(192EI), L³/(192EI), L/(4GJ), L/(16EI), L/(16EI)).
+// The chain tolerances (1e-9 at 200 links, 1e-7 at 10 000) hold with digits to spare.
+TEST(ClampedClampedBeam, MidspanComplianceMatchesTheClosedFormThroughTheCutReaction) {
+  const double L = 4.0, D = 0.08;
+  const double pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64, J = 2 * I;
+  Vec6 diagonal;
+  diagonal << L / (4 * kE * A), std::pow(L, 3) / (192 * kE * I), std::pow(L, 3) / (192 * kE * I), L / (4 * kG * J),
+      L / (16 * kE * I), L / (16 * kE * I);
+  const Mat6 expected = diagonal.asDiagonal();
+  for (const int segments : {200, 10000}) {
+    Model m = cantilever(segments, L, Section::circle(D));
+    m.add_support("far", "P" + std::to_string(segments), {}, rigid());
+    m.end_effectors.clear();
+    m.add_end_effector("mid", "P" + std::to_string(segments / 2), "L" + std::to_string(segments / 2));
+    const Result r = solve(m);
+    EXPECT_EQ(r.report.solver, "tree_with_cuts") << segments;
+    expect_healthy(r);
+    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-12) << segments;
+  }
+}
+
 TEST(Parallel, PlatformStiffnessIsTheSumOfTransportedLegStiffnesses) {
   const Vec3 centre(0, 0, 1.0);
   const std::vector<Vec3> feet = {{0.5, 0, 0}, {-0.25, 0.43, 0}, {-0.25, -0.43, 0}};
