@@ -40,8 +40,8 @@ std::optional<TreeOrder> tree_order(const Topology& topology);
 // A model with more cut unknowns than this is left to the factorising solve. The passes cost
 // about as much per column as a sparse LU's solve does, and the cut solve runs them over
 // 2k + m columns (k load cases, m cut unknowns) where the LU solves k after one factorisation:
-// measured on one core, the tripteron (m = 21) takes ~0.5× KLU's time, the Gough–Stewart
-// platform (m = 50) ~1.8× (bench/README.md).
+// measured on one core, the tripteron (m = 21) takes ~0.4× KLU's time, the Gough–Stewart
+// platform (m = 50) ~1.8× (bench/README.md, round 5).
 inline constexpr Index kMostCutUnknowns = 32;
 
 // Whether every block can take part in a tree solve, cut where it must be (a stiffness-only
