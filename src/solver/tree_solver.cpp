@@ -165,6 +165,13 @@ class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, pu
   Index rows_ = 0;
 };
 
+// The rows of the largest block: the size of the buffers that hold one block's rows at a time.
+Index most_equation_rows(const Blocks& blocks) {
+  Index most = 0;
+  for (const auto& block : blocks) most = std::max(most, block->equation_count());
+  return most;
+}
+
 // The right-hand side of block `k` (its rows × the load cases, from row 0 of `rhs`): the loads
 // at the link ends it holds (links hold none; connection group g is block link_count + g) and
 // its preload. False, with `rhs` untouched, where it is zero. `column` is scratch of the
@@ -200,8 +207,7 @@ template <int Columns>
 TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                        const EndWrenches& external) {
   const Index columns = x.cols();
-  Index most_rows = 0;
-  for (const auto& block : blocks) most_rows = std::max(most_rows, block->equation_count());
+  const Index most_rows = most_equation_rows(blocks);
   BlockResidual<Columns> block_residual(x, most_rows);
   // A block's right-hand side, in buffers of the largest block's rows: a block writes only its
   // own rows, from row 0.
@@ -330,8 +336,7 @@ class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
 // b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows).
 RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
                            const RowMajorMatX& x, const EndWrenches& external, Index m) {
-  Index most_rows = 0;
-  for (const auto& block : blocks) most_rows = std::max(most_rows, block->equation_count());
+  const Index most_rows = most_equation_rows(blocks);
   RowMajorMatX values = RowMajorMatX::Zero(m, x.cols());
   CutRowResidual residual(x, values, most_rows);
   VecX column(most_rows);
