@@ -112,7 +112,7 @@ struct Cartesian {
 };
 Cartesian cartesian(const MatX& x, const detail::Topology& topology, double length) {
   const Mat6 c = x.block<6, 6>(detail::deflection_column(topology.effector_ends.front()), 1);
-  return {c, detail::cartesian_stiffness(c, length).stiffness};
+  return {c, detail::cartesian_stiffness(c, length, SolveOptions{}.warn_condition).stiffness};
 }
 
 struct Robot {
@@ -387,7 +387,7 @@ Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Mo
   if (!(detail::check_tree_solution(blocks, robot.topology, x, external).relative_residual < 1e-14))
     throw std::runtime_error("bench: a tree solve failed its check");
   const Mat6 c = x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
-  return {c, detail::cartesian_stiffness(c, robot.length).stiffness};
+  return {c, detail::cartesian_stiffness(c, robot.length, SolveOptions{}.warn_condition).stiffness};
 }
 
 void tree_pipeline(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {

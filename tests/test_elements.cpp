@@ -184,8 +184,11 @@ TEST(FreeDirections, RowsFollowTheDocumentedOrderAndTheComplementIsOrthonormal) 
   EXPECT_LT((planar.free().row(1).transpose() - (Vec6() << -1, 0, 0, 0, 0, 0).finished()).norm(), 1e-15);
   EXPECT_LT((planar.free().row(2).transpose() - (Vec6() << 0, 0, 0, 0, 0, 1).finished()).norm(), 1e-15);
 
-  for (const Kinematics& k : {Kinematics::rigid(), Kinematics::revolute(Vec3(1, 2, 3)), Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)),
-                              Kinematics::spherical(), Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()})}) {
+  for (const Kinematics& k :
+       {Kinematics::rigid(), Kinematics::revolute(Vec3(1, 2, 3)), Kinematics::prismatic(Vec3(-3, 0.5, 2)),
+        Kinematics::cylindrical(Vec3(0.2, -1, 0.7)), Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)),
+        Kinematics::universal(Vec3(1, 2, 0.5), Vec3(-0.3, 0.1, 2)), Kinematics::spherical(),
+        Kinematics::planar(Vec3(1, -2, 2)), Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()})}) {
     const FreeDirections d = free_directions(k);
     EXPECT_EQ(d.free().rows() + d.constrained().rows(), 6);
     EXPECT_LT((d.constrained() * d.constrained().transpose() - MatX::Identity(d.constrained().rows(), d.constrained().rows())).norm(), 1e-14);
@@ -196,13 +199,17 @@ TEST(FreeDirections, RowsFollowTheDocumentedOrderAndTheComplementIsOrthonormal) 
 }
 
 // A universal joint's axes are independent down to an angle of 2e-9 rad (singular-value ratio
-// ≈ θ/2 against 1e-9); 1 − cos θ would cancel to zero long before.
+// ≈ θ/2 against 1e-9); 1 − cos θ would cancel to zero long before. The constrained rows stay
+// orthogonal to both axes down to that angle.
 TEST(FreeDirections, UniversalAxesAtTinyAnglesAreToldApartWithoutCancellation) {
   const Vec3 a = Vec3(1, 2, 3).normalized();
   const Vec3 across = a.cross(Vec3::UnitX()).normalized();
   for (double angle : {1e-1, 1e-5, 1e-8, 3e-9}) {
     const Vec3 b = std::cos(angle) * a + std::sin(angle) * across;
-    EXPECT_NO_THROW(free_directions(Kinematics::universal(a, b))) << angle;
+    const FreeDirections d = free_directions(Kinematics::universal(a, b));
+    // Λ_r stays orthogonal to both axes however close they are.
+    EXPECT_LT((d.constrained() * d.free().transpose()).cwiseAbs().maxCoeff(), 1e-15) << angle;
+    EXPECT_LT((d.constrained() * d.constrained().transpose() - Mat6::Identity().topLeftCorner(4, 4)).norm(), 1e-15) << angle;
   }
   EXPECT_THROW(free_directions(Kinematics::universal(a, a)), InputError);
   EXPECT_THROW(free_directions(Kinematics::universal(a, std::cos(1e-9) * a + std::sin(1e-9) * across)), InputError);

@@ -1,10 +1,13 @@
 // The solver layer on its own: equilibration, the automatic choice of backend, and when
-// iterative refinement runs.
+// iterative refinement runs; the end effector's stiffness from its compliance.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
+#include <Eigen/QR>
+
+#include "analysis/cartesian.hpp"
 #include "solver/sparse_solver.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -206,4 +209,43 @@ TEST(KluPivotReuse, ReusedPivotsMustPassThresholdPivotingAtOneTenth) {
   // A multiplier of 5 passes.
   ASSERT_TRUE(lu->factorize(two_by_two(1, 0, 5, 1)));
   EXPECT_TRUE(lu->reused_pivot_order());
+}
+
+// K = C⁻¹ from the end effector's compliance: by Cholesky where tr(C_w)·tr(C_w⁻¹) shows the
+// spread below the threshold (the bound is at least the spread), else by the eigenvalues.
+TEST(CartesianStiffness, TheCholeskyBoundAndTheEigenvaluesGiveTheSameInverse) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  Mat6 m;
+  for (Eigen::Index i = 0; i < 36; ++i) m(i) = uniform(random);
+  const Eigen::HouseholderQR<Mat6> qr(m);
+  const Mat6 q = qr.householderQ();
+  Vec6 values;
+  values << 1e-9, 3e-9, 2e-8, 5e-8, 1e-7, 4e-7;  // spread 400 in the weighted compliance
+  const double length = 0.8;
+  Vec6 weights;
+  weights << 1, 1, 1, length, length, length;
+  const Mat6 weighted = q * values.asDiagonal() * q.transpose();
+  const Mat6 compliance = weights.cwiseInverse().asDiagonal() * weighted * weights.cwiseInverse().asDiagonal();
+  const double spread = values(5) / values(0);
+
+  const detail::CartesianStiffness bounded = detail::cartesian_stiffness(compliance, length, 1e12);
+  ASSERT_TRUE(bounded.stiffness);
+  EXPECT_GE(bounded.spread, spread * (1 - 1e-12));
+  EXPECT_LE(bounded.spread, 36 * spread);
+  EXPECT_LT((*bounded.stiffness * compliance - Mat6::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+
+  // A threshold below the bound takes the eigenvalues: the exact spread, the same inverse.
+  const detail::CartesianStiffness exact = detail::cartesian_stiffness(compliance, length, spread);
+  ASSERT_TRUE(exact.stiffness);
+  EXPECT_NEAR(exact.spread / spread, 1.0, 1e-9);
+  EXPECT_LT((*exact.stiffness - *bounded.stiffness).cwiseAbs().maxCoeff(), 1e-9 * bounded.stiffness->cwiseAbs().maxCoeff());
+
+  // A direction held rigidly: no stiffness, an infinite spread, whatever the threshold.
+  values(0) = 0;
+  const Mat6 held = weights.cwiseInverse().asDiagonal() * (q * values.asDiagonal() * q.transpose()) *
+                    weights.cwiseInverse().asDiagonal();
+  const detail::CartesianStiffness rigid = detail::cartesian_stiffness(held, length, 1e12);
+  EXPECT_FALSE(rigid.stiffness);
+  EXPECT_GT(rigid.spread, 1e14);
 }

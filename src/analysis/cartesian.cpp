@@ -1,5 +1,6 @@
 #include "analysis/cartesian.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
@@ -22,19 +23,31 @@ double characteristic_length(const Model& model) {
 }
 
 namespace {
-Vec6 weighted_eigenvalues(const Mat6& compliance, double length) {
+// Beyond this spread the smallest eigenvalue is at rounding level of the largest.
+constexpr double kRigidSpread = 1e14;
+}  // namespace
+
+CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, double spread_threshold) {
   Vec6 weights;
   weights << 1, 1, 1, length, length, length;
   const Mat6 weighted = weights.asDiagonal() * compliance * weights.asDiagonal();
-  return Eigen::SelfAdjointEigenSolver<Mat6>(0.5 * (weighted + weighted.transpose()), Eigen::EigenvaluesOnly).eigenvalues();
-}
-}  // namespace
-
-CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length) {
-  const Vec6 values = weighted_eigenvalues(compliance, length);
+  const Mat6 symmetric = 0.5 * (weighted + weighted.transpose());
   CartesianStiffness result;
+  // The common case, a well-conditioned compliance, without an eigen-decomposition: for a
+  // symmetric positive definite C_w, λ_max ≤ tr(C_w) and 1/λ_min ≤ tr(C_w⁻¹).
+  const Eigen::LLT<Mat6> cholesky(symmetric);
+  if (cholesky.info() == Eigen::Success) {
+    const Mat6 inverse = cholesky.solve(Mat6::Identity());
+    const double bound = symmetric.trace() * inverse.trace();
+    if (bound <= std::min(spread_threshold, kRigidSpread)) {
+      result.spread = bound;
+      result.stiffness = Mat6(weights.asDiagonal() * inverse * weights.asDiagonal());
+      return result;
+    }
+  }
+  const Vec6 values = Eigen::SelfAdjointEigenSolver<Mat6>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
   result.spread = values(0) > 0 ? values(5) / values(0) : std::numeric_limits<double>::infinity();
-  if (values(5) > 0 && values(0) > 1e-14 * values(5)) result.stiffness = Mat6(compliance.fullPivLu().inverse());
+  if (values(5) > 0 && values(0) * kRigidSpread > values(5)) result.stiffness = Mat6(compliance.fullPivLu().inverse());
   return result;
 }
 

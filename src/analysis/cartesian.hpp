@@ -8,17 +8,21 @@ namespace stiffmsa::detail {
 // A length that makes rotations and translations comparable (the model's extent, at least 1e-3).
 double characteristic_length(const Model& model);
 
-// The end effector's stiffness from its compliance C, with one eigen-decomposition of C
-// (rotations weighted by `length`) for both of its checks:
+// The end effector's stiffness from its compliance C, weighing rotations by `length` for its
+// checks. Where a Cholesky factorisation of the weighted C bounds its eigenvalue spread by
+// tr(C_w)·tr(C_w⁻¹) ≤ `spread_threshold` (36 times the spread at worst), that factorisation
+// gives K; elsewhere one eigen-decomposition of the weighted C measures the spread exactly and
+// K is C⁻¹ by a fully pivoted LU.
 struct CartesianStiffness {
   // K = C⁻¹, or nullopt where C is singular: the end effector is held rigidly in some direction
   // (the smallest eigenvalue is below 1e-14 of the largest: rounding level, where a rigid hold
   // and an extreme near-mechanism look alike).
   std::optional<Mat6> stiffness;
   // Largest over smallest eigenvalue: how many decades the stiffness spans across directions
-  // (+inf where some direction is held rigidly).
+  // (+inf where some direction is held rigidly). Exact where it may exceed `spread_threshold`;
+  // below it, the bound that showed it does not.
   double spread = 0;
 };
-CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length);
+CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, double spread_threshold);
 
 }  // namespace stiffmsa::detail

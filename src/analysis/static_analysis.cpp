@@ -289,7 +289,7 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
     const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));
     auto& r = result.end_effectors[e];
     r.compliance = compliance;
-    const detail::CartesianStiffness cartesian = detail::cartesian_stiffness(compliance, length);
+    const detail::CartesianStiffness cartesian = detail::cartesian_stiffness(compliance, length, problem.options.warn_condition);
     r.stiffness = cartesian.stiffness;
     if (!r.stiffness) {
       result.report.notes.push_back("end effector '" + r.name +

@@ -45,6 +45,47 @@ void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
   t2 = n.cross(t1);
 }
 
+namespace {
+
+// Up to three axes, on the stack.
+struct Axes {
+  Vec3 axis[3];
+  int count = 0;
+  void add(const Vec3& a) { axis[count++] = a; }
+  const Vec3* begin() const { return axis; }
+  const Vec3* end() const { return axis + count; }
+};
+
+// Orthonormal axes spanning the orthogonal complement in 3-space of independent unit axes
+// (orthogonal to each other where there are three).
+Axes complement(const Axes& axes) {
+  Axes rest;
+  switch (axes.count) {
+    case 0:
+      for (int i = 0; i < 3; ++i) rest.add(Vec3::Unit(i));
+      break;
+    case 1: {
+      Vec3 t1, t2;
+      planar_axes(axes.axis[0], t1, t2);
+      rest.add(t1);
+      rest.add(t2);
+      break;
+    }
+    case 2: {
+      // Across u and v's part orthogonal to u rather than u × v, whose rounding would tilt it
+      // off u and v by ε/sin θ where the axes are nearly parallel (θ down to 2e-9 is allowed).
+      const Vec3& u = axes.axis[0];
+      const Vec3 across = (axes.axis[1] - axes.axis[1].dot(u) * u).normalized();
+      rest.add(u.cross(across).normalized());
+      break;
+    }
+    default: break;
+  }
+  return rest;
+}
+
+}  // namespace
+
 FreeDirections free_directions(const Kinematics& k) {
   DirectionRows free;
   // Λ_p on the stack: this runs for every joint of every pose.
@@ -98,12 +139,28 @@ FreeDirections free_directions(const Kinematics& k) {
   }
   if (!(smallest_over_largest > 1e-9))
     throw InputError({}, "free", "the free directions are linearly dependent");
-  // The last 6−p columns of a full QR of Λ_pᵀ span the orthogonal complement of its rows.
-  const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> qr(free.transpose());
-  const Mat6 q = qr.householderQ();
   d.p = p;
   d.rows.topRows(p) = free;
-  d.rows.bottomRows(6 - p) = q.rightCols(6 - p).transpose();
+  if (k.type == JointType::custom) {
+    // The last 6−p columns of a full QR of Λ_pᵀ span the orthogonal complement of its rows.
+    const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> qr(free.transpose());
+    const Mat6 q = qr.householderQ();
+    d.rows.bottomRows(6 - p) = q.rightCols(6 - p).transpose();
+    return d;
+  }
+  // A built-in type frees translations along some axes and rotations about some: Λ_r holds
+  // translations along the complement of the first and rotations about the complement of the
+  // second, in closed form (this runs for every joint of every pose).
+  Axes translations, rotations;
+  for (Index i = 0; i < p; ++i) {
+    if (free.row(i).head<3>().isZero(0))
+      rotations.add(free.row(i).tail<3>().transpose());
+    else
+      translations.add(free.row(i).head<3>().transpose());
+  }
+  Index row = p;
+  for (const Vec3& axis : complement(translations)) d.rows.row(row++) = translation_row(axis).transpose();
+  for (const Vec3& axis : complement(rotations)) d.rows.row(row++) = rotation_row(axis).transpose();
   return d;
 }
 

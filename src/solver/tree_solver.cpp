@@ -120,11 +120,12 @@ class PatternHash final : public EquationWriter, public PositionHash {
 };
 
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
-// the count of its nonzero coefficients. The residual and x are stored by rows, so that a
-// coefficient updates the k adjacent sums of its row. The buffers have the largest block's
-// rows, so that a check allocates them once.
+// the count of its nonzero coefficients. The residual and x are stored by rows, so that a row
+// of a written block updates its k adjacent sums, kept in registers while the row's
+// coefficients go by, and a scaled identity is one loop over adjacent values. The buffers have
+// the largest block's rows, so that a check allocates them once.
 template <int Columns>
-class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, public PositionHash {
+class BlockResidual final : public EquationWriter, public PositionHash {
  public:
   BlockResidual(const RowMajorMatX& x, Index most_rows)
       : x_(x), residual_(most_rows, x.cols()), row_sums_(most_rows) {}
@@ -138,23 +139,43 @@ class BlockResidual final : public CoefficientWriter<BlockResidual<Columns>>, pu
 
   void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients) override {
     block(row, column, coefficients);
-    CoefficientWriter<BlockResidual>::add_coefficients(row, column, coefficients);
+    const Index rows = coefficients.rows(), columns = coefficients.cols();
+    eigen_assert(row >= 0 && row + rows <= rows_ && column >= 0 && column + columns <= x_.rows());
+    const Index k = width<Columns>(x_.cols());
+    const double* const in = x_.data() + column * k;
+    for (Index i = 0; i < rows; ++i) {
+      double* const out = residual_.data() + (row + i) * k;
+      double magnitude = 0;
+      if constexpr (Columns != Eigen::Dynamic) {
+        double sums[Columns] = {};
+        for (Index j = 0; j < columns; ++j) {
+          const double value = coefficients(i, j);
+          nonzeros += value != 0;
+          magnitude += std::abs(value);
+          for (Index c = 0; c < Columns; ++c) sums[c] += value * in[j * Columns + c];
+        }
+        for (Index c = 0; c < Columns; ++c) out[c] -= sums[c];
+      } else {
+        for (Index j = 0; j < columns; ++j) {
+          const double value = coefficients(i, j);
+          nonzeros += value != 0;
+          magnitude += std::abs(value);
+          for (Index c = 0; c < k; ++c) out[c] -= value * in[j * k + c];
+        }
+      }
+      row_sums_(row + i) += magnitude;
+    }
   }
   void add_identity(Index row, Index column, Index size, double scale) override {
     identity(row, column, size);
-    CoefficientWriter<BlockResidual>::add_identity(row, column, size, scale);
-  }
-  // Row `row` of the residual −= value · row `column` of x: adjacent values, as the residual
-  // and x are both stored by rows.
-  void put(Index row, Index column, double value) {
-    eigen_assert(row >= 0 && row < rows_ && column >= 0 && column < x_.rows());
-    if (value == 0) return;
-    ++nonzeros;
-    row_sums_(row) += std::abs(value);
-    const Index columns = width<Columns>(x_.cols());
-    double* const out = residual_.data() + row * columns;
-    const double* const in = x_.data() + column * columns;
-    for (Index c = 0; c < columns; ++c) out[c] -= value * in[c];
+    eigen_assert(row >= 0 && row + size <= rows_ && column >= 0 && column + size <= x_.rows());
+    if (scale == 0) return;
+    nonzeros += size;
+    row_sums_.segment(row, size).array() += std::abs(scale);
+    const Index k = width<Columns>(x_.cols());
+    double* const out = residual_.data() + row * k;
+    const double* const in = x_.data() + column * k;
+    for (Index i = 0; i < size * k; ++i) out[i] -= scale * in[i];
   }
   long nonzeros = 0;
 
