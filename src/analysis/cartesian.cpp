@@ -37,7 +37,9 @@ CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, do
   // symmetric positive definite C_w, λ_max ≤ tr(C_w) and 1/λ_min ≤ tr(C_w⁻¹).
   const Eigen::LLT<Mat6> cholesky(symmetric);
   if (cholesky.info() == Eigen::Success) {
-    const Mat6 inverse = cholesky.solve(Mat6::Identity());
+    // Column by column: the solve of a whole 6×6 right-hand side allocates a blocking workspace.
+    Mat6 inverse;
+    for (int c = 0; c < 6; ++c) inverse.col(c) = cholesky.solve(Vec6::Unit(c));
     const double bound = symmetric.trace() * inverse.trace();
     if (bound <= std::min(spread_threshold, kRigidSpread)) {
       result.spread = bound;

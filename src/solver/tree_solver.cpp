@@ -62,32 +62,41 @@ Index width(Index runtime) {
   return Columns == Eigen::Dynamic ? runtime : Columns;
 }
 
-// The largest |entry| of each column over the rows added so far, +inf once any entry is not
-// finite (a maximum alone would drop a NaN coefficient, residual or unknown, and the check pass
-// them).
+// The largest |entry| of each column over the rows added so far, +inf once any entry of the
+// column is not finite (a maximum alone would drop a NaN coefficient, residual or unknown, and
+// the check pass them): v·0 is 0 for a finite v and NaN for an infinite or NaN one, so a sum of
+// them marks the column without a branch, and the loops vectorise.
 template <int Columns>
 class ColumnMaxima {
  public:
-  explicit ColumnMaxima(Index columns) : largest_(VecX::Zero(columns)) {}
-  // `rows` rows of the columns, stored by rows one after the other. Plain loops: the blocks are
-  // a few rows of a few columns, where Eigen's dynamic-size expressions cost more than the work.
+  explicit ColumnMaxima(Index columns) : largest_(Values::Zero(columns)), marks_(Values::Zero(columns)) {}
+  // `rows` rows of the columns, stored by rows one after the other.
   void add(const double* values, Index rows) {
-    const Index columns = width<Columns>(largest_.size());
-    double* const largest = largest_.data();
-    bool finite = true;  // a local, which the stores into `largest` cannot alias
-    for (Index i = 0; i < rows; ++i, values += columns)
-      for (Index c = 0; c < columns; ++c) {
-        const double magnitude = std::abs(values[c]);
-        finite &= magnitude <= std::numeric_limits<double>::max();  // false for inf and NaN
-        largest[c] = std::max(largest[c], magnitude);
-      }
-    finite_ = finite_ && finite;
+    if constexpr (Columns != Eigen::Dynamic) {
+      // Locals, which the loads from `values` cannot alias.
+      double largest[Columns], marks[Columns];
+      for (Index c = 0; c < Columns; ++c) largest[c] = largest_(c), marks[c] = marks_(c);
+      for (Index i = 0; i < rows; ++i, values += Columns)
+        for (Index c = 0; c < Columns; ++c) {
+          largest[c] = std::max(largest[c], std::abs(values[c]));
+          marks[c] += values[c] * 0.0;
+        }
+      for (Index c = 0; c < Columns; ++c) largest_(c) = largest[c], marks_(c) = marks[c];
+    } else {
+      const Index columns = largest_.size();
+      for (Index i = 0; i < rows; ++i, values += columns)
+        for (Index c = 0; c < columns; ++c) {
+          largest_(c) = std::max(largest_(c), std::abs(values[c]));
+          marks_(c) += values[c] * 0.0;
+        }
+    }
   }
-  double operator()(Index column) const { return finite_ ? largest_(column) : INFINITY; }
+  double operator()(Index column) const { return marks_(column) == 0 ? largest_(column) : INFINITY; }
 
  private:
-  VecX largest_;
-  bool finite_ = true;
+  using Values = Eigen::Matrix<double, Columns, 1>;  // on the stack where k is known
+  Values largest_;
+  Values marks_;
 };
 
 // FNV-1a over the written positions, a block of them at a time: (row, column, rows, columns)
@@ -147,14 +156,15 @@ class BlockResidual final : public EquationWriter, public PositionHash {
       double* const out = residual_.data() + (row + i) * k;
       double magnitude = 0;
       if constexpr (Columns != Eigen::Dynamic) {
-        double sums[Columns] = {};
+        using Row = Eigen::Array<double, 1, Columns>;
+        Row sums = Row::Zero();
         for (Index j = 0; j < columns; ++j) {
           const double value = coefficients(i, j);
           nonzeros += value != 0;
           magnitude += std::abs(value);
-          for (Index c = 0; c < Columns; ++c) sums[c] += value * in[j * Columns + c];
+          sums += value * Eigen::Map<const Row>(in + j * Columns);
         }
-        for (Index c = 0; c < Columns; ++c) out[c] -= sums[c];
+        Eigen::Map<Row>(out) -= sums;
       } else {
         for (Index j = 0; j < columns; ++j) {
           const double value = coefficients(i, j);
