@@ -145,10 +145,11 @@ struct Robot {
     }
     // The robots `auto` solves on the tree, with or without cuts (not the Gough–Stewart platform:
     // more cut unknowns than the cut solve takes).
+    detail::TreeScratch scratch;
     if (auto order = detail::tree_order(topology);
         order && detail::passes_tree(blocks.front()) &&
         detail::tree_solve(blocks.front(), topology, *order, detail::load_cases(poses.front(), topology),
-                           1 / SolveOptions{}.warn_condition))
+                           1 / SolveOptions{}.warn_condition, scratch))
       tree = std::move(order);
   }
   std::size_t pose_count() const { return poses.size(); }
@@ -372,32 +373,34 @@ void pipeline(benchmark::State& state, const Robot& robot, SolverKind kind) {
 
 // ---- the tree solve (serial robots; the tripteron with cuts) ----------------------------------------------------------
 
-detail::RowMajorMatX solve_tree(const Robot& robot, const detail::TreeOrder& order, const detail::Blocks& blocks,
-                                const detail::EndWrenches& external) {
-  std::optional<detail::TreeSolution> solution =
-      detail::tree_solve(blocks, robot.topology, order, external, 1 / SolveOptions{}.warn_condition);
-  if (!solution) throw std::runtime_error("bench: the tree solve declined a pose");
-  return std::move(solution->x);
+// Into scratch.x, as the public solve does with its workspace's scratch.
+void solve_tree(const Robot& robot, const detail::TreeOrder& order, const detail::Blocks& blocks,
+                const detail::EndWrenches& external, detail::TreeScratch& scratch) {
+  if (!detail::tree_solve(blocks, robot.topology, order, external, 1 / SolveOptions{}.warn_condition, scratch))
+    throw std::runtime_error("bench: the tree solve declined a pose");
 }
 
-Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Model& pose) {
+Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Model& pose,
+                    detail::TreeScratch& scratch) {
   const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
   const detail::EndWrenches external = detail::load_cases(pose, robot.topology);
-  const detail::RowMajorMatX x = solve_tree(robot, order, blocks, external);
-  if (!(detail::check_tree_solution(blocks, robot.topology, x, external).relative_residual < 1e-14))
+  solve_tree(robot, order, blocks, external, scratch);
+  if (!(detail::check_tree_solution(blocks, robot.topology, scratch.x, external, scratch).relative_residual < 1e-14))
     throw std::runtime_error("bench: a tree solve failed its check");
-  const Mat6 c = x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
+  const Mat6 c = scratch.x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
   return {c, detail::cartesian_stiffness(c, robot.length, SolveOptions{}.warn_condition).stiffness};
 }
 
 void tree_pipeline(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
+  detail::TreeScratch scratch;
   double error = 0;  // against the public solve, over every pose
   for (std::size_t p = 0; p < robot.pose_count(); ++p)
-    error = std::max(error, bench::scaled_difference(tree_pose(robot, order, robot.poses[p]).compliance, robot.compliance[p]));
+    error = std::max(error, bench::scaled_difference(tree_pose(robot, order, robot.poses[p], scratch).compliance,
+                                                     robot.compliance[p]));
   std::size_t p = 0;
   const auto before = bench::allocation_count();
   for (auto _ : state) {
-    Cartesian c = tree_pose(robot, order, robot.poses[p]);
+    Cartesian c = tree_pose(robot, order, robot.poses[p], scratch);
     benchmark::DoNotOptimize(c);
     p = (p + 1) % robot.pose_count();
   }
@@ -408,10 +411,11 @@ void tree_pipeline(benchmark::State& state, const Robot& robot, const detail::Tr
 void stage_tree_solve(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
   std::vector<detail::EndWrenches> loads;
   for (const Model& pose : robot.poses) loads.push_back(detail::load_cases(pose, robot.topology));
+  detail::TreeScratch scratch;
   std::size_t p = 0;
   for (auto _ : state) {
-    detail::RowMajorMatX x = solve_tree(robot, order, robot.blocks[p], loads[p]);
-    benchmark::DoNotOptimize(x);
+    solve_tree(robot, order, robot.blocks[p], loads[p], scratch);
+    benchmark::DoNotOptimize(scratch.x.data());
     p = (p + 1) % robot.pose_count();
   }
 }
@@ -419,13 +423,16 @@ void stage_tree_solve(benchmark::State& state, const Robot& robot, const detail:
 void stage_tree_check(benchmark::State& state, const Robot& robot, const detail::TreeOrder& order) {
   std::vector<detail::EndWrenches> loads;
   std::vector<detail::RowMajorMatX> solutions;
+  detail::TreeScratch scratch;
   for (std::size_t p = 0; p < robot.pose_count(); ++p) {
     loads.push_back(detail::load_cases(robot.poses[p], robot.topology));
-    solutions.push_back(solve_tree(robot, order, robot.blocks[p], loads.back()));
+    solve_tree(robot, order, robot.blocks[p], loads.back(), scratch);
+    solutions.push_back(scratch.x);
   }
   std::size_t p = 0;
   for (auto _ : state) {
-    detail::TreeCheck check = detail::check_tree_solution(robot.blocks[p], robot.topology, solutions[p], loads[p]);
+    detail::TreeCheck check =
+        detail::check_tree_solution(robot.blocks[p], robot.topology, solutions[p], loads[p], scratch);
     benchmark::DoNotOptimize(check);
     p = (p + 1) % robot.pose_count();
   }

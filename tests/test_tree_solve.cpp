@@ -154,10 +154,11 @@ TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
                                            std::pair<const char*, detail::Index>{"tripteron.yaml", 21}}) {
     const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
     const detail::Topology topology = detail::build_topology(m);
-    const auto solution = detail::tree_solve(detail::make_blocks(m, topology), topology, *detail::tree_order(topology),
-                                             detail::load_cases(m, topology), 1e-12);
-    ASSERT_TRUE(solution) << file;
-    EXPECT_EQ(solution->cut_unknowns, cut_unknowns) << file;
+    detail::TreeScratch scratch;
+    const auto solved_cuts = detail::tree_solve(detail::make_blocks(m, topology), topology, *detail::tree_order(topology),
+                                                detail::load_cases(m, topology), 1e-12, scratch);
+    ASSERT_TRUE(solved_cuts) << file;
+    EXPECT_EQ(*solved_cuts, cut_unknowns) << file;
   }
   const Model gough_stewart = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/gough-stewart-6ups.yaml");
   const detail::Topology topology = detail::build_topology(gough_stewart);
@@ -165,17 +166,18 @@ TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
   ASSERT_TRUE(order);
   const detail::Blocks blocks = detail::make_blocks(gough_stewart, topology);
   const detail::EndWrenches external = detail::load_cases(gough_stewart, topology);
-  EXPECT_FALSE(detail::tree_solve(blocks, topology, *order, external, 1e-12));
+  detail::TreeScratch scratch;
+  EXPECT_FALSE(detail::tree_solve(blocks, topology, *order, external, 1e-12, scratch));
   // Allowed more, the cut solve gives its answer: a passive root support (universal), five
   // others cut at their reactions and six ball joints at their free motions.
-  const auto solution = detail::tree_solve(blocks, topology, *order, external, 1e-12, 64);
-  ASSERT_TRUE(solution);
-  EXPECT_EQ(solution->cut_unknowns, 2 + 5 * 6 + 6 * 3);
-  EXPECT_LT(detail::check_tree_solution(blocks, topology, solution->x, external).relative_residual, 1e-15);
+  const auto solved_cuts = detail::tree_solve(blocks, topology, *order, external, 1e-12, scratch, 64);
+  ASSERT_TRUE(solved_cuts);
+  EXPECT_EQ(*solved_cuts, 2 + 5 * 6 + 6 * 3);
+  EXPECT_LT(detail::check_tree_solution(blocks, topology, scratch.x, external, scratch).relative_residual, 1e-15);
   SolveOptions factorising;
   factorising.solver = factorising_solver();
   const Mat6 factorised = *solve(gough_stewart, factorising).end_effectors[0].compliance;
-  const Mat6 compliance = solution->x.block<6, 6>(detail::deflection_column(topology.effector_ends[0]), 1);
+  const Mat6 compliance = scratch.x.block<6, 6>(detail::deflection_column(topology.effector_ends[0]), 1);
   EXPECT_LT((compliance - factorised).cwiseAbs().maxCoeff(), 1e-13 * factorised.cwiseAbs().maxCoeff());
 }
 
@@ -332,11 +334,12 @@ TEST_P(TreeCheck, SeesAWrongOrNonFiniteSolution) {
   const detail::Blocks blocks = detail::make_blocks(m, topology);
   const detail::EndWrenches external = detail::load_cases(m, topology);
   ASSERT_EQ(external.columns(), 1 + 6 * GetParam());
-  const auto solution = detail::tree_solve(blocks, topology, *order, external, 1e-12);
-  ASSERT_TRUE(solution);
-  ASSERT_EQ(solution->cut_unknowns, 0);
-  detail::RowMajorMatX x = solution->x;
-  const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external);
+  detail::TreeScratch scratch;
+  const auto cut_unknowns = detail::tree_solve(blocks, topology, *order, external, 1e-12, scratch);
+  ASSERT_TRUE(cut_unknowns);
+  ASSERT_EQ(*cut_unknowns, 0);
+  detail::RowMajorMatX x = scratch.x;
+  const detail::TreeCheck right = detail::check_tree_solution(blocks, topology, x, external, scratch);
   EXPECT_LT(right.relative_residual, 1e-15);
   // One deflection off by a hundredth of the largest unknown: above the default limit of the
   // relative residual, so the solve would be redone by factorising. (The ratio is normwise:
@@ -344,27 +347,27 @@ TEST_P(TreeCheck, SeesAWrongOrNonFiniteSolution) {
   const double largest = x.cwiseAbs().maxCoeff();
   const detail::Index row = detail::deflection_column(5) + 2;
   x(row, detail::kLoadCase) += 0.01 * largest;
-  EXPECT_GT(detail::check_tree_solution(blocks, topology, x, external).relative_residual,
+  EXPECT_GT(detail::check_tree_solution(blocks, topology, x, external, scratch).relative_residual,
             SolveOptions{}.max_relative_residual);
   // A value that is not finite fails it, in any column, whether or not a coefficient is zero.
   const double inf = std::numeric_limits<double>::infinity();
   for (const double bad : {std::nan(""), inf, -inf}) {
     detail::RowMajorMatX wrong = x;
     wrong(row, external.columns() - 1) = bad;
-    EXPECT_EQ(detail::check_tree_solution(blocks, topology, wrong, external).relative_residual, INFINITY) << bad;
+    EXPECT_EQ(detail::check_tree_solution(blocks, topology, wrong, external, scratch).relative_residual, INFINITY) << bad;
   }
   // So does a coefficient or a right-hand side that is not finite.
   Model nan_spring = m;
   nan_spring.joints[1].connection.stiffness = MatX::Constant(1, 1, std::nan(""));
-  EXPECT_EQ(detail::check_tree_solution(detail::make_blocks(nan_spring, topology), topology, x, external).relative_residual,
+  EXPECT_EQ(detail::check_tree_solution(detail::make_blocks(nan_spring, topology), topology, x, external, scratch).relative_residual,
             INFINITY);
   Model nan_preload = m;
   nan_preload.joints[1].connection.preload = VecX::Constant(1, std::nan(""));
-  EXPECT_EQ(detail::check_tree_solution(detail::make_blocks(nan_preload, topology), topology, x, external).relative_residual,
+  EXPECT_EQ(detail::check_tree_solution(detail::make_blocks(nan_preload, topology), topology, x, external, scratch).relative_residual,
             INFINITY);
   Model inf_load = m;
   inf_load.loads[2].wrench(2) = -INFINITY;
-  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, detail::load_cases(inf_load, topology)).relative_residual,
+  EXPECT_EQ(detail::check_tree_solution(blocks, topology, x, detail::load_cases(inf_load, topology), scratch).relative_residual,
             INFINITY);
   // The fingerprint follows the positions written, not the numbers.
   EXPECT_EQ(right.pattern, detail::pattern_fingerprint(blocks));

@@ -61,6 +61,8 @@ struct Workspace::Impl {
   // The pattern_fingerprint of the reference's blocks, once a tree solve needs it: a model whose
   // blocks write other positions has changed topology, solved on a tree or not.
   std::optional<std::uint64_t> tree_pattern;
+  // The tree solve's buffers, kept from one pose to the next.
+  detail::TreeScratch tree_scratch;
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
@@ -317,19 +319,25 @@ void solve_regular(Problem& problem, Result& result) {
 // then decides.
 bool solve_on_tree(Problem& problem, Result& result) {
   const auto& t = problem.ws.topology;
+  detail::TreeScratch& scratch = problem.ws.tree_scratch;
+  // Whatever the outcome, a long model's buffers are not kept in the workspace.
+  struct Release {
+    detail::TreeScratch& scratch;
+    ~Release() { scratch.release_large(); }
+  } release{scratch};
   const detail::EndWrenches external = detail::load_cases(problem.model, t);
-  const std::optional<detail::TreeSolution> solution =
-      detail::tree_solve(problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition);
-  if (!solution) return false;
-  const detail::RowMajorMatX& x = solution->x;
-  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external);
+  const std::optional<detail::Index> cut_unknowns =
+      detail::tree_solve(problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition, scratch);
+  if (!cut_unknowns) return false;
+  const detail::RowMajorMatX& x = scratch.x;
+  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, scratch);
   if (!problem.blocks_are_the_reference) {
     if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.reference_blocks());
     if (check.pattern != *problem.ws.tree_pattern) detail::throw_topology_changed();
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
   result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
-  result.report.solver = solution->cut_unknowns == 0 ? "tree" : "tree_with_cuts";
+  result.report.solver = *cut_unknowns == 0 ? "tree" : "tree_with_cuts";
   fill_loads_and_compliance(problem, x, check.relative_residual, result);
   check_accuracy(problem.options, result);
   return true;

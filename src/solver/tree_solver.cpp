@@ -136,8 +136,12 @@ class PatternHash final : public EquationWriter, public PositionHash {
 template <int Columns>
 class BlockResidual final : public EquationWriter, public PositionHash {
  public:
-  BlockResidual(const RowMajorMatX& x, Index most_rows)
-      : x_(x), residual_(most_rows, x.cols()), row_sums_(most_rows) {}
+  // `residual` and `row_sums` are the caller's buffers, resized to the largest block's rows.
+  BlockResidual(const RowMajorMatX& x, Index most_rows, RowMajorMatX& residual, VecX& row_sums)
+      : x_(x), residual_(residual), row_sums_(row_sums) {
+    residual_.resize(most_rows, x.cols());
+    row_sums_.resize(most_rows);
+  }
   void start(Index rows) {
     rows_ = rows;
     residual_.topRows(rows).setZero();
@@ -191,8 +195,8 @@ class BlockResidual final : public EquationWriter, public PositionHash {
 
  private:
   const RowMajorMatX& x_;
-  RowMajorMatX residual_;
-  VecX row_sums_;
+  RowMajorMatX& residual_;
+  VecX& row_sums_;
   Index rows_ = 0;
 };
 
@@ -234,16 +238,22 @@ bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology, co
   return any_rhs;
 }
 
+// A block's right-hand side, in buffers of the largest block's rows: a block writes only its
+// own rows, from row 0.
+void size_rhs_buffers(TreeScratch& scratch, Index most_rows, Index columns) {
+  scratch.column.resize(most_rows);
+  scratch.block_rhs.resize(most_rows, columns);
+}
+
 template <int Columns>
 TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                       const EndWrenches& external) {
+                       const EndWrenches& external, TreeScratch& scratch) {
   const Index columns = x.cols();
   const Index most_rows = most_equation_rows(blocks);
-  BlockResidual<Columns> block_residual(x, most_rows);
-  // A block's right-hand side, in buffers of the largest block's rows: a block writes only its
-  // own rows, from row 0.
-  VecX column = VecX::Zero(most_rows);
-  RowMajorMatX rhs(most_rows, columns);
+  BlockResidual<Columns> block_residual(x, most_rows, scratch.block_residual, scratch.row_sums);
+  size_rhs_buffers(scratch, most_rows, columns);
+  VecX& column = scratch.column;
+  RowMajorMatX& rhs = scratch.block_rhs;
   ColumnMaxima<1> a_norm(1);
   ColumnMaxima<Columns> residual_norm(columns), rhs_norm(columns), x_norm(columns);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
@@ -282,10 +292,21 @@ std::uint64_t pattern_fingerprint(const Blocks& blocks) {
 }
 
 TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external) {
+                              const EndWrenches& external, TreeScratch& scratch) {
   // One end effector, 1 + 6 load cases, is the common case.
-  if (x.cols() == 7) return check_blocks<7>(blocks, topology, x, external);
-  return check_blocks<Eigen::Dynamic>(blocks, topology, x, external);
+  if (x.cols() == 7) return check_blocks<7>(blocks, topology, x, external, scratch);
+  return check_blocks<Eigen::Dynamic>(blocks, topology, x, external, scratch);
+}
+
+namespace {
+// Above 1 MiB a buffer is not kept: a robot's are a few kilobytes, a 100 000-link chain's 134 MB.
+void release_if_large(RowMajorMatX& buffer) {
+  if (buffer.size() > (Index{1} << 17)) buffer.resize(0, 0);
+}
+}  // namespace
+
+void TreeScratch::release_large() {
+  for (RowMajorMatX* buffer : {&x, &x_low, &first_run, &block_residual, &block_rhs}) release_if_large(*buffer);
 }
 
 namespace {
@@ -307,12 +328,14 @@ CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& orde
   return layout;
 }
 
-// The two passes, with the cut unknowns' values of each column (null where nothing is cut).
-RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
-                        const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns) {
+// The two passes into x, with the cut unknowns' values of each column (null where nothing is
+// cut); x_low is scratch.
+void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
+                const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns, RowMajorMatX& x,
+                RowMajorMatX& x_low) {
   // Not zeroed: the passes set every link end's rows, both parts.
-  RowMajorMatX x(unknowns, external.columns());
-  RowMajorMatX x_low(unknowns, external.columns());
+  x.resize(unknowns, external.columns());
+  x_low.resize(unknowns, external.columns());
   TreeState state(x, x_low, external);
   state.cut_values = cut_values;
   // The group at entry k of the order, its cut unknowns made the current ones.
@@ -334,7 +357,7 @@ RowMajorMatX run_passes(const Blocks& blocks, int link_count, const TreeOrder& o
     enter_group(k).pass_deflection_from_root(end, state);
   }
   x += x_low;
-  return x;
+  release_if_large(x_low);  // so that a long model's low parts do not add to the peak beyond the passes
 }
 
 // −A·x on chosen rows of a block, each added into a row of `out`: the cut rows alone, so that
@@ -366,12 +389,13 @@ class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
 
 // b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows).
 RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                           const RowMajorMatX& x, const EndWrenches& external, Index m) {
+                           const RowMajorMatX& x, const EndWrenches& external, Index m, TreeScratch& scratch) {
   const Index most_rows = most_equation_rows(blocks);
   RowMajorMatX values = RowMajorMatX::Zero(m, x.cols());
   CutRowResidual residual(x, values, most_rows);
-  VecX column(most_rows);
-  RowMajorMatX rhs(most_rows, x.cols());
+  size_rhs_buffers(scratch, most_rows, x.cols());
+  VecX& column = scratch.column;
+  RowMajorMatX& rhs = scratch.block_rhs;
   std::vector<Index> rows;
   Index next = 0;
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
@@ -392,14 +416,17 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
 
 }  // namespace
 
-std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                                       const EndWrenches& external, double least_rcond,
-                                       Index most_cut_unknowns) {
+std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
+                                const EndWrenches& external, double least_rcond, TreeScratch& scratch,
+                                Index most_cut_unknowns) {
   const int link_count = topology.link_count;
   const Index unknowns = topology.unknowns();
   const CutLayout layout = cut_layout(blocks, link_count, order);
   const Index m = layout.unknowns;
-  if (m == 0) return TreeSolution{run_passes(blocks, link_count, order, layout, nullptr, external, unknowns), 0};
+  if (m == 0) {
+    run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, scratch.x, scratch.x_low);
+    return 0;
+  }
   if (m > most_cut_unknowns) return std::nullopt;
 
   // First run: the load cases with the cut unknowns at zero, then each cut unknown at 1 alone.
@@ -407,10 +434,11 @@ std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& top
   const EndWrenches widened = external.widened(k + m);
   RowMajorMatX unit_values = RowMajorMatX::Zero(m, k + m);
   unit_values.rightCols(m).setIdentity();
-  const RowMajorMatX x = run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns);
+  RowMajorMatX& x = scratch.first_run;
+  run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, x, scratch.x_low);
 
   // The cut rows' residuals b − A·x: affine in the cut unknowns z, T_load + T_cut·z.
-  const RowMajorMatX t = cut_residuals(blocks, topology, order, x, widened, m);
+  const RowMajorMatX t = cut_residuals(blocks, topology, order, x, widened, m, scratch);
 
   // T_cut·z = −T_load, equilibrated (rows, then columns, to a largest entry of 1) so that the
   // condition estimate does not depend on units: reactions in N beside motions in rad.
@@ -436,7 +464,8 @@ std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& top
 
   // Second run: the load cases with the cut unknowns solved.
   const RowMajorMatX cut_values = z;
-  return TreeSolution{run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns), m};
+  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, scratch.x, scratch.x_low);
+  return m;
 }
 
 }  // namespace stiffmsa::detail

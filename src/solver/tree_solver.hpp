@@ -52,18 +52,30 @@ bool passes_tree(const Blocks& blocks);
 // directions at every end effector.
 EndWrenches load_cases(const Model& model, const Topology& topology);
 
-// The unknowns (unknowns × external.columns(), the mixed system's layout) under the external
-// wrenches of each column, with the preloads added to kLoadCase, and the number of cut unknowns
-// solved for. Nullopt, for the factorising solve to decide, where there are more than
-// `most_cut_unknowns` cut unknowns or their system's equilibrated reciprocal condition estimate
-// is below `least_rcond` (a mechanism, a structure held rigidly twice over, or nearly so).
-struct TreeSolution {
-  RowMajorMatX x;
-  Index cut_unknowns = 0;
+// What a tree solve and its check write, kept from one solve to the next (a workspace holds
+// one): poses of one model then allocate none of it once the first has sized it. Buffers of
+// long models are released after each solve (release_large), so that a workspace kept
+// between solves does not hold hundreds of megabytes.
+struct TreeScratch {
+  RowMajorMatX x;          // the solution
+  RowMajorMatX x_low;      // the passes' low parts (see TreeState)
+  RowMajorMatX first_run;  // the cut solve's first run, over the load cases and the cut unknowns
+  // One block's rows at a time, for the check and the cut rows' residuals.
+  RowMajorMatX block_residual, block_rhs;
+  VecX row_sums, column;
+  // Frees each buffer above 1 MiB; smaller ones are kept for the next pose.
+  void release_large();
 };
-std::optional<TreeSolution> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                                       const EndWrenches& external, double least_rcond,
-                                       Index most_cut_unknowns = kMostCutUnknowns);
+
+// Solves into scratch.x (unknowns × external.columns(), the mixed system's layout) the
+// unknowns under the external wrenches of each column, with the preloads added to kLoadCase;
+// returns the number of cut unknowns solved for. Nullopt, for the factorising solve to decide,
+// where there are more than `most_cut_unknowns` cut unknowns or their system's equilibrated
+// reciprocal condition estimate is below `least_rcond` (a mechanism, a structure held rigidly
+// twice over, or nearly so).
+std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
+                                const EndWrenches& external, double least_rcond, TreeScratch& scratch,
+                                Index most_cut_unknowns = kMostCutUnknowns);
 
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
@@ -76,7 +88,8 @@ struct TreeCheck {
 // model whose numbers changed but whose pattern did not give the same fingerprint.
 std::uint64_t pattern_fingerprint(const Blocks& blocks);
 
+// `x` may be scratch.x: the check writes only the scratch's block buffers.
 TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external);
+                              const EndWrenches& external, TreeScratch& scratch);
 
 }  // namespace stiffmsa::detail
