@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The library before and after a change, in one session: builds BASELINE (a commit) in a git
 # worktree under build-compare/, and the working tree in build-bench/, then alternates the two
-# ROUNDS times (default 3) on one core: the robots' public solve with each solver (and the
+# ROUNDS times (default 3) on one core, each benchmark after 0.5 s of warm-up (the first of a
+# process would otherwise run cold): the robots' public solve with each solver (and the
 # serial robots' tree pipeline, the VJM floor), the chain of
 # 10 000 and 100 000 links (one process each: time, peak memory, tip error) and the `stiffmsa
 # solve` command on the 100 000-link file. This VM's timings drift from process to process and
@@ -44,7 +45,7 @@ for round in $(seq "$rounds"); do
     dir="${build_of[$side]}"
     read -r -a solvers <<<"${solvers_on[$side]}"
     filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$|^(6axis[a-z_]*|tripteron)/pipeline/tree\$|^6axis/vjm_floor\$"
-    "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_format=json 2>/dev/null |
+    "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_min_warmup_time=0.5 --benchmark_format=json 2>/dev/null |
       python3 -c "import json, sys
 scale = {'ns': 1e-3, 'us': 1.0, 'ms': 1e3, 's': 1e6}
 for b in json.load(sys.stdin)['benchmarks']: print('$side', 'pose', b['name'], b['cpu_time'] * scale[b['time_unit']], 'us')" | tee -a "$out"

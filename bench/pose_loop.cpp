@@ -4,7 +4,7 @@
 // a change to the pose's code is also compared by the instructions it executes, which do not
 // drift: run it under callgrind with collection limited to the loop,
 //
-//   valgrind --tool=callgrind --toggle-collect='run_poses*' stiffmsa_pose_loop 6axis 20
+//   valgrind --tool=callgrind --toggle-collect='*run_poses*' stiffmsa_pose_loop 6axis 20
 //
 // and divide "Collected" by 16 × (ROUNDS + 1) poses (one warm-up round is collected too).
 #include <chrono>

@@ -211,8 +211,9 @@ TEST(KluPivotReuse, ReusedPivotsMustPassThresholdPivotingAtOneTenth) {
   EXPECT_TRUE(lu->reused_pivot_order());
 }
 
-// K = C⁻¹ from the end effector's compliance: by Cholesky where tr(C_w)·tr(C_w⁻¹) shows the
-// spread below the threshold (the bound is at least the spread), else by the eigenvalues.
+// K = C⁻¹ from the end effector's compliance: by an LU where tr(Ĉ)·tr(Ĉ⁻¹) from a Cholesky
+// factorisation shows the spread below the threshold (the bound is at least the spread), else
+// with the eigenvalues of Ĉ.
 TEST(CartesianStiffness, TheCholeskyBoundAndTheEigenvaluesGiveTheSameInverse) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> uniform(-1, 1);
@@ -220,32 +221,48 @@ TEST(CartesianStiffness, TheCholeskyBoundAndTheEigenvaluesGiveTheSameInverse) {
   for (Eigen::Index i = 0; i < 36; ++i) m(i) = uniform(random);
   const Eigen::HouseholderQR<Mat6> qr(m);
   const Mat6 q = qr.householderQ();
-  Vec6 values;
-  values << 1e-9, 3e-9, 2e-8, 5e-8, 1e-7, 4e-7;  // spread 400 in the weighted compliance
   const double length = 0.8;
   Vec6 weights;
   weights << 1, 1, 1, length, length, length;
-  const Mat6 weighted = q * values.asDiagonal() * q.transpose();
-  const Mat6 compliance = weights.cwiseInverse().asDiagonal() * weighted * weights.cwiseInverse().asDiagonal();
-  const double spread = values(5) / values(0);
+  // The compliance whose weighted form has eigenvalues `values` along q's columns.
+  const auto compliance_of = [&](const Vec6& values) -> Mat6 {
+    return weights.cwiseInverse().asDiagonal() * (q * values.asDiagonal() * q.transpose()) *
+           weights.cwiseInverse().asDiagonal();
+  };
+  Vec6 values;
+  values << 1e-9, 3e-9, 2e-8, 5e-8, 1e-7, 4e-7;
+  const double spread = values(5) / values(0);  // 400
+  const Mat6 compliance = compliance_of(values);
 
+  // The bound path: its spread is the bound (Σλ)(Σ1/λ) = 812.7…, not the spread.
   const detail::CartesianStiffness bounded = detail::cartesian_stiffness(compliance, length, 1e12);
   ASSERT_TRUE(bounded.stiffness);
-  EXPECT_GE(bounded.spread, spread * (1 - 1e-12));
-  EXPECT_LE(bounded.spread, 36 * spread);
+  EXPECT_NEAR(bounded.spread / (values.sum() * values.cwiseInverse().sum()), 1.0, 1e-9);
+  EXPECT_LT(bounded.spread, 36 * spread);
   EXPECT_LT((*bounded.stiffness * compliance - Mat6::Identity()).cwiseAbs().maxCoeff(), 1e-12);
 
   // A threshold below the bound takes the eigenvalues: the exact spread, the same inverse.
-  const detail::CartesianStiffness exact = detail::cartesian_stiffness(compliance, length, spread);
+  const detail::CartesianStiffness exact = detail::cartesian_stiffness(compliance, length, spread * 1.5);
   ASSERT_TRUE(exact.stiffness);
   EXPECT_NEAR(exact.spread / spread, 1.0, 1e-9);
-  EXPECT_LT((*exact.stiffness - *bounded.stiffness).cwiseAbs().maxCoeff(), 1e-9 * bounded.stiffness->cwiseAbs().maxCoeff());
+  EXPECT_LT((*exact.stiffness - *bounded.stiffness).cwiseAbs().maxCoeff(), 1e-12 * bounded.stiffness->cwiseAbs().maxCoeff());
 
-  // A direction held rigidly: no stiffness, an infinite spread, whatever the threshold.
+  // A compliance unsymmetric at 1e-9 (a CAD stiffness matrix given to ten digits): K inverts C
+  // itself on the bound path too.
+  Mat6 unsymmetric = compliance;
+  unsymmetric(0, 4) *= 1 + 1e-9;
+  const detail::CartesianStiffness inverse = detail::cartesian_stiffness(unsymmetric, length, 1e12);
+  ASSERT_TRUE(inverse.stiffness);
+  EXPECT_LT((*inverse.stiffness * unsymmetric - Mat6::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+
+  // A direction held rigidly: no stiffness, an infinite or huge spread, whatever the threshold.
   values(0) = 0;
-  const Mat6 held = weights.cwiseInverse().asDiagonal() * (q * values.asDiagonal() * q.transpose()) *
-                    weights.cwiseInverse().asDiagonal();
-  const detail::CartesianStiffness rigid = detail::cartesian_stiffness(held, length, 1e12);
+  const detail::CartesianStiffness rigid = detail::cartesian_stiffness(compliance_of(values), length, 1e12);
   EXPECT_FALSE(rigid.stiffness);
   EXPECT_GT(rigid.spread, 1e14);
+  // A spread of 1e15 is rounding level, rigid, even where the warning's threshold is above it.
+  values(0) = 4e-22;
+  const detail::CartesianStiffness beyond = detail::cartesian_stiffness(compliance_of(values), length, 1e16);
+  EXPECT_FALSE(beyond.stiffness);
+  EXPECT_GT(beyond.spread, 1e14);
 }

@@ -211,6 +211,56 @@ Model propped_beam(int supports) {
   return m;
 }
 
+// One scratch through solves of other models, widths and cut counts (a workspace keeps its own
+// from pose to pose) gives bit for bit what a fresh one gives; release_large frees only what is
+// above 1 MiB.
+TEST(TreeSolve, AScratchKeptBetweenSolvesChangesNoDigit) {
+  struct Case {
+    Model model;
+    detail::Topology topology;
+    detail::TreeOrder order;
+    detail::Blocks blocks;
+    detail::EndWrenches external;
+  };
+  auto make_case = [](Model m) {
+    detail::Topology topology = detail::build_topology(m);
+    detail::TreeOrder order = *detail::tree_order(topology);
+    detail::Blocks blocks = detail::make_blocks(m, topology);
+    detail::EndWrenches external = detail::load_cases(m, topology);
+    return Case{std::move(m), std::move(topology), std::move(order), std::move(blocks), std::move(external)};
+  };
+  Model one_effector = branched_arm();
+  one_effector.end_effectors.pop_back();
+  std::vector<Case> cases;
+  cases.push_back(make_case(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")));  // cut
+  cases.push_back(make_case(branched_arm()));  // no cut, 13 columns
+  cases.push_back(make_case(one_effector));    // no cut, 7 columns
+  cases.push_back(make_case(propped_beam(3)));  // cut
+  detail::TreeScratch kept;
+  for (int round = 0; round < 2; ++round)
+    for (const Case& c : cases) {
+      detail::TreeScratch fresh;
+      const auto fresh_cuts = detail::tree_solve(c.blocks, c.topology, c.order, c.external, 1e-12, fresh);
+      const auto kept_cuts = detail::tree_solve(c.blocks, c.topology, c.order, c.external, 1e-12, kept);
+      ASSERT_TRUE(fresh_cuts && kept_cuts) << c.model.name;
+      EXPECT_EQ(*kept_cuts, *fresh_cuts);
+      ASSERT_EQ(kept.x.rows(), fresh.x.rows());
+      ASSERT_EQ(kept.x.cols(), fresh.x.cols());
+      EXPECT_TRUE((kept.x.array() == fresh.x.array()).all()) << c.model.name << " round " << round;
+      const detail::TreeCheck fresh_check = detail::check_tree_solution(c.blocks, c.topology, fresh.x, c.external, fresh);
+      const detail::TreeCheck kept_check = detail::check_tree_solution(c.blocks, c.topology, kept.x, c.external, kept);
+      EXPECT_EQ(kept_check.relative_residual, fresh_check.relative_residual);
+      EXPECT_EQ(kept_check.nonzeros, fresh_check.nonzeros);
+      EXPECT_EQ(kept_check.pattern, fresh_check.pattern);
+    }
+  kept.x.resize(1 << 17, 1);  // 1 MiB: kept
+  kept.first_run.resize((1 << 17) + 1, 1);
+  kept.release_large();
+  EXPECT_EQ(kept.x.size(), 1 << 17);
+  EXPECT_EQ(kept.first_run.size(), 0);
+  EXPECT_GT(kept.block_residual.size(), 0);
+}
+
 TEST(TreeSolve, CutsLoopsThroughTheGroundAndFreeMotionsThere) {
   SolveOptions factorising;
   factorising.solver = factorising_solver();

@@ -33,17 +33,19 @@ CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, do
   const Mat6 weighted = weights.asDiagonal() * compliance * weights.asDiagonal();
   const Mat6 symmetric = 0.5 * (weighted + weighted.transpose());
   CartesianStiffness result;
-  // The common case, a well-conditioned compliance, without an eigen-decomposition: for a
-  // symmetric positive definite C_w, λ_max ≤ tr(C_w) and 1/λ_min ≤ tr(C_w⁻¹).
+  // The common case, a well-conditioned compliance, without an eigen-decomposition: for the
+  // symmetric positive definite Ĉ = L·Lᵀ, λ_max ≤ tr(Ĉ) and 1/λ_min ≤ tr(Ĉ⁻¹) = ‖L⁻¹‖²_F.
+  // (A NaN passes Eigen's Cholesky; it fails the comparison below.)
   const Eigen::LLT<Mat6> cholesky(symmetric);
   if (cholesky.info() == Eigen::Success) {
-    // Column by column: the solve of a whole 6×6 right-hand side allocates a blocking workspace.
-    Mat6 inverse;
-    for (int c = 0; c < 6; ++c) inverse.col(c) = cholesky.solve(Vec6::Unit(c));
-    const double bound = symmetric.trace() * inverse.trace();
-    if (bound <= std::min(spread_threshold, kRigidSpread)) {
+    double inverse_trace = 0;
+    for (int c = 0; c < 6; ++c) inverse_trace += cholesky.matrixL().solve(Vec6::Unit(c)).squaredNorm();
+    const double bound = symmetric.trace() * inverse_trace;
+    if (bound > 0 && bound <= std::min(spread_threshold, kRigidSpread)) {
       result.spread = bound;
-      result.stiffness = Mat6(weights.asDiagonal() * inverse * weights.asDiagonal());
+      // C itself, not its symmetric part: a stiffness matrix given to ~10 digits leaves C
+      // unsymmetric at that level, and K is its inverse on both paths.
+      result.stiffness = Mat6(compliance.partialPivLu().inverse());
       return result;
     }
   }

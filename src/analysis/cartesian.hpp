@@ -8,11 +8,11 @@ namespace stiffmsa::detail {
 // A length that makes rotations and translations comparable (the model's extent, at least 1e-3).
 double characteristic_length(const Model& model);
 
-// The end effector's stiffness from its compliance C, weighing rotations by `length` for its
-// checks. Where a Cholesky factorisation of the weighted C bounds its eigenvalue spread by
-// tr(C_w)·tr(C_w⁻¹) ≤ `spread_threshold` (36 times the spread at worst), that factorisation
-// gives K; elsewhere one eigen-decomposition of the weighted C measures the spread exactly and
-// K is C⁻¹ by a fully pivoted LU.
+// The end effector's stiffness from its compliance C, with rotations weighted by `length` in
+// Ĉ, the symmetric part of the weighted C, for its checks. Where a Cholesky factorisation of Ĉ
+// bounds its eigenvalue spread by tr(Ĉ)·tr(Ĉ⁻¹) (at most 36 times the spread) to at most
+// `spread_threshold` and 1e14, no check can fire and K = C⁻¹ by a partially pivoted LU;
+// elsewhere the eigenvalues of Ĉ measure the spread exactly, and K = C⁻¹ by a fully pivoted LU.
 struct CartesianStiffness {
   // K = C⁻¹, or nullopt where C is singular: the end effector is held rigidly in some direction
   // (the smallest eigenvalue is below 1e-14 of the largest: rounding level, where a rigid hold

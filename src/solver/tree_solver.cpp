@@ -131,8 +131,8 @@ class PatternHash final : public EquationWriter, public PositionHash {
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
 // the count of its nonzero coefficients. The residual and x are stored by rows, so that a row
 // of a written block updates its k adjacent sums, kept in registers while the row's
-// coefficients go by, and a scaled identity is one loop over adjacent values. The buffers have
-// the largest block's rows, so that a check allocates them once.
+// coefficients go by, and a scaled identity is one loop over adjacent values. The buffers, the
+// caller's, have the largest block's rows: a workspace's scratch keeps them from pose to pose.
 template <int Columns>
 class BlockResidual final : public EquationWriter, public PositionHash {
  public:
@@ -240,9 +240,9 @@ bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology, co
 
 // A block's right-hand side, in buffers of the largest block's rows: a block writes only its
 // own rows, from row 0.
-void size_rhs_buffers(TreeScratch& scratch, Index most_rows, Index columns) {
-  scratch.column.resize(most_rows);
-  scratch.block_rhs.resize(most_rows, columns);
+void size_rhs_buffers(VecX& column, RowMajorMatX& rhs, Index most_rows, Index columns) {
+  column.resize(most_rows);
+  rhs.resize(most_rows, columns);
 }
 
 template <int Columns>
@@ -251,9 +251,9 @@ TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const Row
   const Index columns = x.cols();
   const Index most_rows = most_equation_rows(blocks);
   BlockResidual<Columns> block_residual(x, most_rows, scratch.block_residual, scratch.row_sums);
-  size_rhs_buffers(scratch, most_rows, columns);
   VecX& column = scratch.column;
   RowMajorMatX& rhs = scratch.block_rhs;
+  size_rhs_buffers(column, rhs, most_rows, columns);
   ColumnMaxima<1> a_norm(1);
   ColumnMaxima<Columns> residual_norm(columns), rhs_norm(columns), x_norm(columns);
   for (std::size_t k = 0; k < blocks.size(); ++k) {
@@ -306,7 +306,8 @@ void release_if_large(RowMajorMatX& buffer) {
 }  // namespace
 
 void TreeScratch::release_large() {
-  for (RowMajorMatX* buffer : {&x, &x_low, &first_run, &block_residual, &block_rhs}) release_if_large(*buffer);
+  for (RowMajorMatX* buffer : {&x, &x_low, &first_run, &first_run_low, &cut_rhs, &block_residual, &block_rhs})
+    release_if_large(*buffer);
 }
 
 namespace {
@@ -393,9 +394,9 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
   const Index most_rows = most_equation_rows(blocks);
   RowMajorMatX values = RowMajorMatX::Zero(m, x.cols());
   CutRowResidual residual(x, values, most_rows);
-  size_rhs_buffers(scratch, most_rows, x.cols());
   VecX& column = scratch.column;
-  RowMajorMatX& rhs = scratch.block_rhs;
+  RowMajorMatX& rhs = scratch.cut_rhs;
+  size_rhs_buffers(column, rhs, most_rows, x.cols());
   std::vector<Index> rows;
   Index next = 0;
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
@@ -435,10 +436,11 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
   RowMajorMatX unit_values = RowMajorMatX::Zero(m, k + m);
   unit_values.rightCols(m).setIdentity();
   RowMajorMatX& x = scratch.first_run;
-  run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, x, scratch.x_low);
+  run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, x, scratch.first_run_low);
 
   // The cut rows' residuals b − A·x: affine in the cut unknowns z, T_load + T_cut·z.
   const RowMajorMatX t = cut_residuals(blocks, topology, order, x, widened, m, scratch);
+  release_if_large(x);  // a long model's first run is not needed beside the second
 
   // T_cut·z = −T_load, equilibrated (rows, then columns, to a largest entry of 1) so that the
   // condition estimate does not depend on units: reactions in N beside motions in rad.

@@ -57,10 +57,13 @@ EndWrenches load_cases(const Model& model, const Topology& topology);
 // long models are released after each solve (release_large), so that a workspace kept
 // between solves does not hold hundreds of megabytes.
 struct TreeScratch {
-  RowMajorMatX x;          // the solution
-  RowMajorMatX x_low;      // the passes' low parts (see TreeState)
-  RowMajorMatX first_run;  // the cut solve's first run, over the load cases and the cut unknowns
-  // One block's rows at a time, for the check and the cut rows' residuals.
+  RowMajorMatX x;      // the solution
+  RowMajorMatX x_low;  // the passes' low parts (see TreeState)
+  // The cut solve's first run, over the load cases and the cut unknowns: its unknowns, their
+  // low parts, and one block's right-hand side (wider than the check's, so kept apart: Eigen
+  // reallocates a buffer whose size changes).
+  RowMajorMatX first_run, first_run_low, cut_rhs;
+  // The check's: one block's residual and right-hand side.
   RowMajorMatX block_residual, block_rhs;
   VecX row_sums, column;
   // Frees each buffer above 1 MiB; smaller ones are kept for the next pose.
@@ -72,7 +75,7 @@ struct TreeScratch {
 // returns the number of cut unknowns solved for. Nullopt, for the factorising solve to decide,
 // where there are more than `most_cut_unknowns` cut unknowns or their system's equilibrated
 // reciprocal condition estimate is below `least_rcond` (a mechanism, a structure held rigidly
-// twice over, or nearly so).
+// twice over, or nearly so); scratch.x then holds nothing of this model's.
 std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
                                 const EndWrenches& external, double least_rcond, TreeScratch& scratch,
                                 Index most_cut_unknowns = kMostCutUnknowns);
