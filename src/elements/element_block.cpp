@@ -53,7 +53,7 @@ void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root,
     increment.setZero();
   int through = -1;
   for (int end : ends) {
-    increment += external.at(end);
+    if (external.any_at(end)) increment += external.at(end);
     if (end == toward_root) continue;
     if (through < 0)
       through = end;
