@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The library before and after a change, in one session: builds BASELINE (a commit) in a git
 # worktree under build-compare/, and the working tree in build-bench/, then alternates the two
-# ROUNDS times (default 3) on one core, each benchmark after 0.5 s of warm-up (the first of a
-# process would otherwise run cold): the robots' public solve with each solver (and the
+# ROUNDS times (default 3) on one core, each pose benchmark after 0.5 s of warm-up (the first of
+# a process would otherwise run cold) and repeated BENCH_REPETITIONS times (default 5) per round:
+# the robots' public solve with each solver (and the
 # serial robots' tree pipeline, the VJM floor), the chain of
 # 10 000 and 100 000 links (one process each: time, peak memory, tip error) and the `stiffmsa
 # solve` command on the 100 000-link file. This VM's timings drift from process to process and
-# hour to hour, so only figures taken side by side are compared; the table takes the best of
-# the rounds. Results: bench/results-<date>-compare.txt (raw) and the table on stdout.
+# hour to hour, so only figures taken side by side are compared; the table gives the best of
+# every measurement and their median. Results: bench/results-<date>-compare.txt (raw) and the table on stdout.
 #
 # Usage: bench/compare.sh BASELINE [ROUNDS]     e.g. bench/compare.sh 0847040
 set -euo pipefail
@@ -15,6 +16,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 baseline="$(git -C "$root" rev-parse --short "${1:?usage: bench/compare.sh BASELINE [ROUNDS]}")"
 rounds="${2:-3}"
+repetitions="${BENCH_REPETITIONS:-5}"  # of each pose benchmark per round, 0.2 s each
 base_src="$root/build-compare/$baseline"
 out="$root/bench/results-${BENCH_DATE:-$(date +%F)}-compare.txt"
 pin=(taskset -c "${BENCH_CPU:-0}")
@@ -45,10 +47,13 @@ for round in $(seq "$rounds"); do
     dir="${build_of[$side]}"
     read -r -a solvers <<<"${solvers_on[$side]}"
     filter="^(6axis|6axis_rigid|tripteron|gough_stewart)/public_solve/($(IFS='|'; echo "${solvers[*]}"))\$|^(6axis[a-z_]*|tripteron)/pipeline/tree\$|^6axis/vjm_floor\$"
-    "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_min_warmup_time=0.5 --benchmark_format=json 2>/dev/null |
+    "${pin[@]}" "$dir/bench/stiffmsa_bench" --benchmark_filter="$filter" --benchmark_min_warmup_time=0.5 \
+      --benchmark_repetitions="$repetitions" --benchmark_min_time=0.2 --benchmark_format=json 2>/dev/null |
       python3 -c "import json, sys
 scale = {'ns': 1e-3, 'us': 1.0, 'ms': 1e3, 's': 1e6}
-for b in json.load(sys.stdin)['benchmarks']: print('$side', 'pose', b['name'], b['cpu_time'] * scale[b['time_unit']], 'us')" | tee -a "$out"
+for b in json.load(sys.stdin)['benchmarks']:
+    if b.get('run_type', 'iteration') == 'iteration':
+        print('$side', 'pose', b.get('run_name', b['name']), b['cpu_time'] * scale[b['time_unit']], 'us')" | tee -a "$out"
     for n in 10000 100000; do
       for s in "${solvers[@]}"; do
         "${pin[@]}" "$dir/bench/stiffmsa_chain" "$n" "$s" --once |
@@ -66,8 +71,8 @@ print('$side', 'chain', f\"{d['links']}/{d['solver']}\", d['solve_s'], 's', d['p
 done
 
 python3 - "$out" <<'PY'
-import sys
-best = {}
+import statistics, sys
+best, values = {}, {}
 for line in open(sys.argv[1]):
     f = line.split()
     side, kind, name, value = f[0], f[1], f[2], float(f[3])
@@ -75,13 +80,19 @@ for line in open(sys.argv[1]):
     if kind == "chain": extra = f"{float(f[5]):.0f} MiB, tip error {f[7]}"
     if kind == "cli": extra = f"{int(f[5]) / 1024:.0f} MiB"
     key = (kind, name)
+    values.setdefault(key, {}).setdefault(side, []).append(value)
     if side not in best.setdefault(key, {}) or value < best[key][side][0]:
         best[key][side] = (value, f[4], extra)
-print("| what | before | after | after/before |")
+# The best of every measurement, and the median beside it: one figure alone can be off by 2×
+# on this VM.
+print("| what | before: best (median) | after: best (median) | after/before, best |")
 print("|---|--:|--:|--:|")
 for (kind, name), sides in sorted(best.items()):
     b, a = sides.get("before"), sides.get("after")
-    show = lambda x: f"{x[0]:.4g} {x[1]}" + (f" ({x[2]})" if x[2] else "") if x else "–"
+    def show(side, x):
+        if not x: return "–"
+        median = statistics.median(values[(kind, name)][side])
+        return f"{x[0]:.4g} ({median:.4g}) {x[1]}" + (f" ({x[2]})" if x[2] else "")
     ratio = f"{a[0] / b[0]:.2f}" if a and b else "–"
-    print(f"| {kind} {name} | {show(b)} | {show(a)} | {ratio} |")
+    print(f"| {kind} {name} | {show('before', b)} | {show('after', a)} | {ratio} |")
 PY
