@@ -74,7 +74,7 @@ TEST(Equilibration, PowersOfTwoBringEveryRowAndColumnToAMaximumNearOne) {
   SparseMatrix a(n, n);
   a.setFromTriplets(entries.begin(), entries.end());
   a.makeCompressed();
-  const detail::Equilibration s = detail::equilibrate(a, 60);
+  const detail::Equilibration s = detail::equilibrate(a, nullptr, 60);
   for (int i = 0; i < n; ++i) {
     EXPECT_TRUE(is_power_of_two(s.row(i))) << s.row(i);
     EXPECT_TRUE(is_power_of_two(s.column(i))) << s.column(i);

@@ -158,12 +158,7 @@ PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
   for (const auto& p : family.parameters()) names.push_back(p.name);
   for (const auto& name : poses.parameters) {
     const auto index = family.find_parameter(name);
-    if (!index) {
-      std::string message = "the model '" + family.name() + "' has no parameter '" + name + "'";
-      message += names.empty() ? "; it declares no `parameters:`"
-                               : detail::suggestion(name, names, "its parameters are");
-      throw UsageError(message);
-    }
+    if (!index) throw UsageError(detail::no_parameter_message(family.name(), name, names));
     values.swept.push_back(*index);
   }
   return values;

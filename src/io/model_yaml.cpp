@@ -1518,11 +1518,7 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
     for (const auto& [name, value] : settings) unknown.push_back(name);
   std::vector<std::string> names;
   for (const auto& p : loader.parameters()) names.push_back(p.name);
-  if (!unknown.empty()) {
-    throw UsageError("the model '" + file_name + "' has no parameter '" + unknown.front() + "'" +
-                     (names.empty() ? std::string("; it declares no `parameters:`")
-                                    : detail::suggestion(unknown.front(), names, "its parameters are")));
-  }
+  if (!unknown.empty()) throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
   auto defects = loader.merge(find_defects(at_defaults));
   if (!defects.empty()) throw InputError(std::move(defects));
   const std::vector<std::string> derived_names = loader.derived_names();

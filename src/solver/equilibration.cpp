@@ -20,7 +20,7 @@ double inverse_sqrt_power_of_two(double m) {
 }
 }  // namespace
 
-Equilibration equilibrate(const SparseMatrix& a, int iterations, const Equilibration* start) {
+Equilibration equilibrate(const SparseMatrix& a, const Equilibration* start, int iterations) {
   const Index n = a.rows();
   Equilibration s = start ? *start : Equilibration{VecX::Ones(n), VecX::Ones(a.cols())};
   VecX row_max(n), column_max(a.cols());

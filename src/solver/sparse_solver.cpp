@@ -275,7 +275,7 @@ bool FactorizedSystem::factorize(const SparseMatrix& a, double singular_rcond) {
     scaled_.makeCompressed();
     reference_scaling_.reset();
   }
-  scaling_ = equilibrate(a, 8, reference_scaling_ ? &*reference_scaling_ : nullptr);
+  scaling_ = equilibrate(a, reference_scaling_ ? &*reference_scaling_ : nullptr);
   if (!reference_scaling_) reference_scaling_ = scaling_;
   for (Index j = 0; j < a.outerSize(); ++j) {
     SparseMatrix::InnerIterator target(scaled_, j);

@@ -39,7 +39,7 @@ double estimate_inverse_norm1(const LinearSolver& lu, Index n);
 struct Equilibration {
   VecX row, column;
 };
-Equilibration equilibrate(const SparseMatrix& a, int iterations = 8, const Equilibration* start = nullptr);
+Equilibration equilibrate(const SparseMatrix& a, const Equilibration* start = nullptr, int iterations = 8);
 
 struct BackwardError {
   double normwise = 0;       // ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞)
