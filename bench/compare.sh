@@ -22,6 +22,7 @@ out="$root/bench/results-${BENCH_DATE:-$(date +%F)}-compare.txt"
 pin=(taskset -c "${BENCH_CPU:-0}")
 targets=(stiffmsa_bench stiffmsa_chain stiffmsa_cli)
 
+bash "$root/scripts/install-deps.sh" bench
 [[ -d "$base_src" ]] || git -C "$root" worktree add --detach "$base_src" "$baseline" >/dev/null
 for side in "$base_src" "$root"; do
   cmake -S "$side" -B "$side/build-bench" -G Ninja -DCMAKE_BUILD_TYPE=Release \

@@ -27,6 +27,7 @@ cpu="${BENCH_CPU:-0}"
 out="$root/bench/results-${BENCH_DATE:-$(date +%F)}${BENCH_RUN:+-$BENCH_RUN}"
 pin=(taskset -c "$cpu")
 
+bash "$root/scripts/install-deps.sh" bench
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DSTIFFMSA_BUILD_BENCH=ON -DSTIFFMSA_BUILD_TESTS=OFF >/dev/null
 cmake --build "$build" -j2 --target stiffmsa_bench stiffmsa_chain stiffmsa_cli stiffmsa_sweep

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages stiffmsa builds with. Safe to run again; needs root (or sudo).
-#   usage: scripts/install-deps.sh [fuzz]
+#   usage: scripts/install-deps.sh [fuzz] [bench]
+# With `bench`, also Google Benchmark, valgrind (instruction counts) and GNU time (bench/run.sh,
+# bench/compare.sh, bench/pose_loop.cpp under callgrind); perf for bench/profile.py is not included.
 # With `fuzz`, also clang and its sanitizer and libFuzzer runtimes (scripts/fuzz.sh). The
 # sanitizer build with g++ (scripts/sanitize.sh) needs nothing more: g++ brings libasan and
 # libubsan.
@@ -11,7 +13,8 @@ packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev li
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
-    *) echo "install-deps.sh: unknown group '$group' (known: fuzz)" >&2; exit 2 ;;
+    bench) packages+=(libbenchmark-dev valgrind time python3) ;;
+    *) echo "install-deps.sh: unknown group '$group' (known: fuzz, bench)" >&2; exit 2 ;;
   esac
 done
 missing=()
