@@ -330,6 +330,49 @@ TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
   EXPECT_EQ(overconstrained.report.notes, factorised.report.notes);
 }
 
+// Running sums are carried in two parts on trees at least kCompensatedFromDepth links deep, in
+// one part on shallower ones (a robot's few links), and both agree where both are exact enough.
+TEST(TreeSolve, RunningSumsInTwoPartsOnlyOnDeepTrees) {
+  Model chain;
+  chain.add_point("P0", Vec3::Zero());
+  for (int i = 1; i <= 40; ++i) {
+    chain.add_point("P" + std::to_string(i), Vec3(0.05 * i, 0.01 * (i % 2), 0));
+    chain.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel,
+                   Section::tube(0.06, 0.004));
+  }
+  chain.add_support("ground", "P0", {}, Connection{});
+  chain.add_load("P40", std::nullopt, (Vec6() << 10, -200, 50, 3, 0, -1).finished());
+  chain.add_end_effector("tip", "P40");
+  const Model robot = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
+  struct Case {
+    const Model& model;
+    int depth;
+  };
+  for (const Case& c : {Case{robot, 7}, Case{chain, 40}}) {
+    const detail::Topology topology = detail::build_topology(c.model);
+    const detail::TreeOrder order = *detail::tree_order(topology);
+    EXPECT_EQ(order.depth, c.depth) << c.model.name;
+    const detail::Blocks blocks = detail::make_blocks(c.model, topology);
+    const detail::EndWrenches external = detail::load_cases(c.model, topology);
+    auto solved = [&](int compensated_from_depth) {
+      detail::TreeScratch scratch;
+      EXPECT_TRUE(detail::tree_solve(blocks, topology, order, external, 1e-12, scratch, detail::kMostCutUnknowns,
+                                     compensated_from_depth));
+      return scratch.x;
+    };
+    const detail::RowMajorMatX by_default = solved(detail::kCompensatedFromDepth);
+    const detail::RowMajorMatX two_parts = solved(0);
+    const detail::RowMajorMatX one_part = solved(std::numeric_limits<int>::max());
+    const bool deep = c.depth >= detail::kCompensatedFromDepth;
+    EXPECT_TRUE((by_default.array() == (deep ? two_parts : one_part).array()).all()) << c.model.name;
+    for (detail::Index column = 0; column < by_default.cols(); ++column) {
+      const double scale = two_parts.col(column).cwiseAbs().maxCoeff();
+      EXPECT_LT((one_part.col(column) - two_parts.col(column)).cwiseAbs().maxCoeff(), 1e-14 * scale)
+          << c.model.name << ", load case " << column;
+    }
+  }
+}
+
 TEST(TreeSolve, TheOrderVisitsEveryGroupAfterTheOneTowardTheSupport) {
   const Model m = branched_arm();
   const detail::Topology topology = detail::build_topology(m);

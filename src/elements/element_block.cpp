@@ -18,15 +18,13 @@ void ElementBlock::set_root_deflection(TreeState&) const {
   throw Error("internal error: a block that is no support was made the root of a tree solve");
 }
 
-void TreeState::set_sum(Index target, Index source, double sign) {
-  const Index count = 6 * x.cols();  // rows are adjacent: 6 rows of k columns are one run
-  const double* const high_in = x.row(source).data();
-  const double* const low_in = x_low.row(source).data();
-  const double* const step = increment.data();
-  double* const high_out = x.row(target).data();
-  double* const low_out = x_low.row(target).data();
+namespace {
+// Knuth's TwoSum per value: high + low = sign·(high_in + low_in) + step exactly, to the rounding
+// of step + sign·low_in. The runs never overlap (a target's rows are never its source's), and
+// saying so lets the loop run two values at a time.
+void two_sums(Index count, double sign, const double* __restrict high_in, const double* __restrict low_in,
+              const double* __restrict step, double* __restrict high_out, double* __restrict low_out) {
   for (Index i = 0; i < count; ++i) {
-    // Knuth's TwoSum: sum + error = a + b exactly.
     const double a = sign * high_in[i];
     const double b = step[i] + sign * low_in[i];
     const double sum = a + b;
@@ -36,14 +34,30 @@ void TreeState::set_sum(Index target, Index source, double sign) {
   }
 }
 
+void plain_sums(Index count, double sign, const double* __restrict high_in, const double* __restrict step,
+                double* __restrict high_out) {
+  for (Index i = 0; i < count; ++i) high_out[i] = sign * high_in[i] + step[i];
+}
+}  // namespace
+
+void TreeState::set_sum(Index target, Index source, double sign) {
+  eigen_assert(target != source);
+  // Rows are adjacent: 6 rows of k columns are one run.
+  if (compensated)
+    two_sums(6 * x.cols(), sign, x.row(source).data(), x_low.row(source).data(), increment.data(),
+             x.row(target).data(), x_low.row(target).data());
+  else
+    plain_sums(6 * x.cols(), sign, x.row(source).data(), increment.data(), x.row(target).data());
+}
+
 void TreeState::set_copy(Index target, Index source) {
   x.middleRows<6>(target) = x.middleRows<6>(source);
-  x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
+  if (compensated) x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
 }
 
 void TreeState::set_value(Index target, const MatX& value) {
   x.middleRows<6>(target) = value;
-  x_low.middleRows<6>(target).setZero();
+  if (compensated) x_low.middleRows<6>(target).setZero();
 }
 
 void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root, bool with_reaction) {
@@ -57,8 +71,10 @@ void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root,
     if (end == toward_root) continue;
     if (through < 0)
       through = end;
-    else
+    else if (compensated)
       increment -= wrench(end) + x_low.middleRows<6>(wrench_column(end));
+    else
+      increment -= wrench(end);
   }
   if (through < 0)  // one end: no running sum to carry
     set_value(wrench_column(toward_root), increment);

@@ -86,16 +86,17 @@ using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen
 
 // The state of a tree solve: the unknowns x (n × k, the mixed system's layout, one column per
 // load case) and the external wrenches. A block asked to pass something writes only the rows
-// the pass names. Values passed along a long chain are running sums: x holds each rounded to
-// double and x_low what the rounding left out, so that ten thousand links add no more error
-// than one.
+// the pass names. Values passed along a long chain are running sums: where `compensated`, x
+// holds each rounded to double and x_low what the rounding left out, so that ten thousand
+// links add no more error than one; else x_low is not read or written.
 struct TreeState {
-  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_)
-      : x(x_), x_low(x_low_), external(external_), increment(6, x_.cols()) {}
+  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, bool compensated_)
+      : x(x_), x_low(x_low_), external(external_), compensated(compensated_), increment(6, x_.cols()) {}
 
   RowMajorMatX& x;
   RowMajorMatX& x_low;
   const EndWrenches& external;
+  bool compensated;
   RowMajorMatX increment;  // 6 × k scratch of the passes, for set_sum
 
   // The values of the current block's cut unknowns (see ElementBlock::cut_unknowns), one row
@@ -107,7 +108,8 @@ struct TreeState {
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
   auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }
   // The rows of `target` (a deflection or wrench column) become sign·(rows of `source`) +
-  // `increment`, both parts: the increment is formed from rounded values, the sum is not rounded.
+  // `increment`, both parts: the increment is formed from rounded values, the sum is not rounded
+  // where the state is compensated.
   void set_sum(Index target, Index source, double sign);
   void set_copy(Index target, Index source);  // both parts
   void set_value(Index target, const MatX& value);  // low part zero

@@ -24,6 +24,8 @@ std::optional<TreeOrder> tree_order(const Topology& topology) {
   order.groups.push_back(order.root);
   order.toward_root.push_back(-1);
   reached[static_cast<std::size_t>(order.root)] = 1;
+  std::vector<int> depth{0};  // per entry of the order: links from the root
+  depth.reserve(static_cast<std::size_t>(group_count));
   for (std::size_t next = 0; next < order.groups.size(); ++next) {
     const ConnectionGroup& group = topology.groups[static_cast<std::size_t>(order.groups[next])];
     for (int end : group.ends) {
@@ -34,6 +36,8 @@ std::optional<TreeOrder> tree_order(const Topology& topology) {
       reached[static_cast<std::size_t>(far_group)] = 1;
       order.groups.push_back(far_group);
       order.toward_root.push_back(far_end);
+      depth.push_back(depth[next] + 1);
+      order.depth = std::max(order.depth, depth.back());
     }
   }
   if (order.groups.size() != static_cast<std::size_t>(group_count)) return std::nullopt;  // not connected
@@ -73,15 +77,22 @@ class ColumnMaxima {
   // `rows` rows of the columns, stored by rows one after the other.
   void add(const double* values, Index rows) {
     if constexpr (Columns != Eigen::Dynamic) {
-      // Locals, which the loads from `values` cannot alias.
-      double largest[Columns], marks[Columns];
-      for (Index c = 0; c < Columns; ++c) largest[c] = largest_(c), marks[c] = marks_(c);
-      for (Index i = 0; i < rows; ++i, values += Columns)
-        for (Index c = 0; c < Columns; ++c) {
-          largest[c] = std::max(largest[c], std::abs(values[c]));
-          marks[c] += values[c] * 0.0;
-        }
-      for (Index c = 0; c < Columns; ++c) largest_(c) = largest[c], marks_(c) = marks[c];
+      // Two rows at a time, as one run of 2k values: whole vector registers even for an odd k.
+      using Pair = Eigen::Array<double, 2 * Columns, 1>;
+      Pair largest = Pair::Zero(), marks = Pair::Zero();
+      Index i = 0;
+      for (; i + 1 < rows; i += 2, values += 2 * Columns) {
+        const Eigen::Map<const Pair> two_rows(values);
+        largest = largest.max(two_rows.abs());
+        marks += two_rows * 0.0;
+      }
+      largest_ = largest_.max(largest.template head<Columns>()).max(largest.template tail<Columns>());
+      marks_ += marks.template head<Columns>() + marks.template tail<Columns>();
+      if (i < rows) {
+        const Eigen::Map<const Values> last_row(values);
+        largest_ = largest_.max(last_row.abs());
+        marks_ += last_row * 0.0;
+      }
     } else {
       const Index columns = largest_.size();
       for (Index i = 0; i < rows; ++i, values += columns)
@@ -94,7 +105,7 @@ class ColumnMaxima {
   double operator()(Index column) const { return marks_(column) == 0 ? largest_(column) : INFINITY; }
 
  private:
-  using Values = Eigen::Matrix<double, Columns, 1>;  // on the stack where k is known
+  using Values = Eigen::Array<double, Columns, 1>;  // on the stack where k is known
   Values largest_;
   Values marks_;
 };
@@ -156,6 +167,7 @@ class BlockResidual final : public EquationWriter, public PositionHash {
     eigen_assert(row >= 0 && row + rows <= rows_ && column >= 0 && column + columns <= x_.rows());
     const Index k = width<Columns>(x_.cols());
     const double* const in = x_.data() + column * k;
+    long block_nonzeros = 0;
     for (Index i = 0; i < rows; ++i) {
       double* const out = residual_.data() + (row + i) * k;
       double magnitude = 0;
@@ -164,7 +176,7 @@ class BlockResidual final : public EquationWriter, public PositionHash {
         Row sums = Row::Zero();
         for (Index j = 0; j < columns; ++j) {
           const double value = coefficients(i, j);
-          nonzeros += value != 0;
+          block_nonzeros += value != 0;
           magnitude += std::abs(value);
           sums += value * Eigen::Map<const Row>(in + j * Columns);
         }
@@ -172,13 +184,14 @@ class BlockResidual final : public EquationWriter, public PositionHash {
       } else {
         for (Index j = 0; j < columns; ++j) {
           const double value = coefficients(i, j);
-          nonzeros += value != 0;
+          block_nonzeros += value != 0;
           magnitude += std::abs(value);
           for (Index c = 0; c < k; ++c) out[c] -= value * in[j * k + c];
         }
       }
       row_sums_(row + i) += magnitude;
     }
+    nonzeros += block_nonzeros;
   }
   void add_identity(Index row, Index column, Index size, double scale) override {
     identity(row, column, size);
@@ -186,10 +199,10 @@ class BlockResidual final : public EquationWriter, public PositionHash {
     if (scale == 0) return;
     nonzeros += size;
     row_sums_.segment(row, size).array() += std::abs(scale);
+    // The residual and x are separate buffers: one run of size·k values, as arrays that do not alias.
     const Index k = width<Columns>(x_.cols());
-    double* const out = residual_.data() + row * k;
-    const double* const in = x_.data() + column * k;
-    for (Index i = 0; i < size * k; ++i) out[i] -= scale * in[i];
+    Eigen::Map<Eigen::ArrayXd>(residual_.data() + row * k, size * k) -=
+        scale * Eigen::Map<const Eigen::ArrayXd>(x_.data() + column * k, size * k);
   }
   long nonzeros = 0;
 
@@ -330,14 +343,14 @@ CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& orde
 }
 
 // The two passes into x, with the cut unknowns' values of each column (null where nothing is
-// cut); x_low is scratch.
+// cut); x_low is scratch, used where `compensated`.
 void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
-                const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns, RowMajorMatX& x,
-                RowMajorMatX& x_low) {
+                const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns, bool compensated,
+                RowMajorMatX& x, RowMajorMatX& x_low) {
   // Not zeroed: the passes set every link end's rows, both parts.
   x.resize(unknowns, external.columns());
-  x_low.resize(unknowns, external.columns());
-  TreeState state(x, x_low, external);
+  if (compensated) x_low.resize(unknowns, external.columns());
+  TreeState state(x, x_low, external, compensated);
   state.cut_values = cut_values;
   // The group at entry k of the order, its cut unknowns made the current ones.
   auto enter_group = [&](std::size_t k) -> const ElementBlock& {
@@ -357,6 +370,7 @@ void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, co
     link_block(end).pass_deflection_from_root(end ^ 1, state);
     enter_group(k).pass_deflection_from_root(end, state);
   }
+  if (!compensated) return;
   x += x_low;
   release_if_large(x_low);  // so that a long model's low parts do not add to the peak beyond the passes
 }
@@ -419,13 +433,15 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
 
 std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
                                 const EndWrenches& external, double least_rcond, TreeScratch& scratch,
-                                Index most_cut_unknowns) {
+                                Index most_cut_unknowns, int compensated_from_depth) {
+  const bool compensated = order.depth >= compensated_from_depth;
   const int link_count = topology.link_count;
   const Index unknowns = topology.unknowns();
   const CutLayout layout = cut_layout(blocks, link_count, order);
   const Index m = layout.unknowns;
   if (m == 0) {
-    run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, scratch.x, scratch.x_low);
+    run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, compensated, scratch.x,
+               scratch.x_low);
     return 0;
   }
   if (m > most_cut_unknowns) return std::nullopt;
@@ -436,7 +452,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
   RowMajorMatX unit_values = RowMajorMatX::Zero(m, k + m);
   unit_values.rightCols(m).setIdentity();
   RowMajorMatX& x = scratch.first_run;
-  run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, x, scratch.first_run_low);
+  run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, compensated, x,
+             scratch.first_run_low);
 
   // The cut rows' residuals b − A·x: affine in the cut unknowns z, T_load + T_cut·z.
   const RowMajorMatX t = cut_residuals(blocks, topology, order, x, widened, m, scratch);
@@ -466,7 +483,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
 
   // Second run: the load cases with the cut unknowns solved.
   const RowMajorMatX cut_values = z;
-  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, scratch.x, scratch.x_low);
+  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated, scratch.x,
+             scratch.x_low);
   return m;
 }
 

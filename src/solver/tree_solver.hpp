@@ -6,7 +6,8 @@
 // deflection from the root's, passed back out; each element block solves its own equations
 // for the link ends it hands on (ElementBlock::pass_*). It costs a few 6×6 products per link
 // end and load case, and sums the transported compliances the way a hand-condensed serial model
-// does, carrying every running sum exactly (TwoSum), so it loses no digits on long chains.
+// does. On a deep tree it carries every running sum exactly (TwoSum), so that it loses no digits
+// on long chains.
 //
 // Where the passes cannot solve a block alone (a passive joint's free motion, a second support,
 // a passive support at the root), the block is cut (ElementBlock::cut_unknowns): the passes take
@@ -31,6 +32,7 @@ struct TreeOrder {
   int root = -1;                 // the first support's connection group
   std::vector<int> groups;       // breadth first from the root, the root first
   std::vector<int> toward_root;  // per entry of `groups`: its link end on the path to the root (−1 at the root)
+  int depth = 0;                 // the most links on a path from the root
 };
 
 // The order of a tree solve; nullopt where the links and connection groups do not form a tree
@@ -43,6 +45,11 @@ std::optional<TreeOrder> tree_order(const Topology& topology);
 // measured on one core, the tripteron (m = 21) takes ~0.4× KLU's time, the Gough–Stewart
 // platform (m = 50) ~1.8× (bench/README.md, round 5).
 inline constexpr Index kMostCutUnknowns = 32;
+
+// Trees at least this deep carry their running sums in two parts (TreeState). A sum over d links
+// rounds d times, to a relative error of about d·1e-16: no digit a result reports on a robot's
+// few links, while two-part sums cost about a third of a serial robot's passes.
+inline constexpr int kCompensatedFromDepth = 32;
 
 // Whether every block can take part in a tree solve, cut where it must be (a stiffness-only
 // CAD link cannot).
@@ -72,13 +79,15 @@ struct TreeScratch {
 
 // Solves into scratch.x (unknowns × external.columns(), the mixed system's layout) the
 // unknowns under the external wrenches of each column, with the preloads added to kLoadCase;
-// returns the number of cut unknowns solved for. Nullopt, for the factorising solve to decide,
+// returns the number of cut unknowns solved for. Running sums are carried in two parts where
+// the tree is at least `compensated_from_depth` links deep. Nullopt, for the factorising solve to decide,
 // where there are more than `most_cut_unknowns` cut unknowns or their system's equilibrated
 // reciprocal condition estimate is below `least_rcond` (a mechanism, a structure held rigidly
 // twice over, or nearly so); scratch.x then holds nothing of this model's.
 std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
                                 const EndWrenches& external, double least_rcond, TreeScratch& scratch,
-                                Index most_cut_unknowns = kMostCutUnknowns);
+                                Index most_cut_unknowns = kMostCutUnknowns,
+                                int compensated_from_depth = kCompensatedFromDepth);
 
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
