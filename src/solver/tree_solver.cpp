@@ -176,7 +176,9 @@ class BlockResidual final : public EquationWriter, public PositionHash {
         Row sums = Row::Zero();
         for (Index j = 0; j < columns; ++j) {
           const double value = coefficients(i, j);
-          block_nonzeros += value != 0;
+          // Most of a joint's Λ_r and of a link's [d×] are zeros: a row of k products saved each.
+          if (value == 0) continue;
+          ++block_nonzeros;
           magnitude += std::abs(value);
           sums += value * Eigen::Map<const Row>(in + j * Columns);
         }
@@ -469,16 +471,20 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
     if (!(largest > 0)) return std::nullopt;
     row_scale(i) = 1 / largest;
   }
-  a = row_scale.asDiagonal() * a;
   for (Index j = 0; j < m; ++j) {
-    const double largest = a.col(j).cwiseAbs().maxCoeff();
+    auto column = a.col(j);
+    column.array() *= row_scale.array();
+    const double largest = column.cwiseAbs().maxCoeff();
     if (!(largest > 0)) return std::nullopt;
     column_scale(j) = 1 / largest;
+    column *= column_scale(j);
   }
-  a = a * column_scale.asDiagonal();
   const Eigen::PartialPivLU<MatX> lu(a);
   if (!(lu.rcond() >= least_rcond)) return std::nullopt;
-  const MatX z = column_scale.asDiagonal() * lu.solve(-(row_scale.asDiagonal() * t.leftCols(k)));
+  MatX rhs = t.leftCols(k);
+  for (Index c = 0; c < k; ++c) rhs.col(c).array() *= -row_scale.array();
+  MatX z = lu.solve(rhs);
+  for (Index c = 0; c < k; ++c) z.col(c).array() *= column_scale.array();
   if (!z.allFinite()) return std::nullopt;
 
   // Second run: the load cases with the cut unknowns solved.
