@@ -65,7 +65,7 @@ void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeState&
       state.set_copy(deflection_column(end), deflection_column(toward_root));
       continue;
     }
-    state.increment.noalias() = directions_.free().transpose() * state.cut(motion, p());
+    state.increment.noalias() = directions_.free().transpose().lazyProduct(state.cut(motion, p()));
     state.set_sum(deflection_column(end), deflection_column(toward_root), 1.0);
     motion += p();
   }

@@ -56,8 +56,8 @@ void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeState& st
   const double sign = toward_root == end_1_ ? 1.0 : -1.0;
   const Mat6 compliance = sign * spring.compliance;
   RowMajorMatX& delta = state.increment;
-  delta.noalias() = compliance * state.wrench(end_1_);
-  if (state.external.any_at(end_1_)) delta.noalias() -= compliance * state.external.at(end_1_);
+  delta.noalias() = compliance.lazyProduct(state.wrench(end_1_));
+  if (state.external.any_at(end_1_)) delta.noalias() -= compliance.lazyProduct(state.external.at(end_1_));
   delta.col(kLoadCase) -= sign * spring.preload_motion;
   if (toward_root == end_1_)
     state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);

@@ -23,7 +23,8 @@ void LinkBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
   const double sign = toward_root == end_i_ ? -1.0 : 1.0;
   RowMajorMatX& increment = state.increment;
   increment.topRows<3>().setZero();
-  increment.bottomRows<3>().noalias() = sign * skew(d_) * state.wrench(far).topRows<3>();
+  const Mat3 moment_arm = sign * skew(d_);
+  increment.bottomRows<3>().noalias() = moment_arm.lazyProduct(state.wrench(far).topRows<3>());
   state.set_sum(wrench_column(toward_root), wrench_column(far), -1.0);
 }
 
@@ -33,16 +34,16 @@ void LinkBlock::pass_deflection_from_root(int toward_root, TreeState& state) con
   const Mat3 d_cross = skew(d_);
   RowMajorMatX& increment = state.increment;
   if (compliance_)
-    increment.noalias() = *compliance_ * state.wrench(end_j_);
+    increment.noalias() = compliance_->lazyProduct(state.wrench(end_j_));
   else
     increment.setZero();
   if (toward_root == end_i_) {
-    increment.topRows<3>().noalias() -= d_cross * state.deflection(end_i_).bottomRows<3>();
+    increment.topRows<3>().noalias() -= d_cross.lazyProduct(state.deflection(end_i_).bottomRows<3>());
     state.set_sum(deflection_column(end_j_), deflection_column(end_i_), 1.0);
   } else {
     increment = -increment;
-    increment.topRows<3>().noalias() += d_cross * state.deflection(end_j_).bottomRows<3>();
-    increment.topRows<3>().noalias() += d_cross * increment.bottomRows<3>();
+    increment.topRows<3>().noalias() += d_cross.lazyProduct(state.deflection(end_j_).bottomRows<3>());
+    increment.topRows<3>().noalias() += d_cross.lazyProduct(increment.bottomRows<3>());
     state.set_sum(deflection_column(end_i_), deflection_column(end_j_), 1.0);
   }
 }

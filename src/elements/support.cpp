@@ -51,12 +51,12 @@ void SupportBlock::add_preload(Index row, VecX& rhs) const {
 void SupportBlock::set_root_deflection(TreeState& state) const {
   MatX deflection = MatX::Zero(6, state.x.cols());
   if (passive()) {
-    deflection.noalias() = directions_.free().transpose() * state.cut(0, directions_.free().rows());
+    deflection.noalias() = directions_.free().transpose().lazyProduct(state.cut(0, directions_.free().rows()));
   } else if (directions_.free().rows() > 0) {
     const SpringCompliance spring = spring_compliance(directions_, *spring_, preload_);
     MatX reaction = MatX::Zero(6, state.x.cols());
     for (int end : ends_) reaction += state.wrench(end) - state.external.at(end);
-    deflection.noalias() = -spring.compliance * reaction;
+    deflection.noalias() = (-spring.compliance).lazyProduct(reaction);
     deflection.col(kLoadCase) += spring.preload_motion;
   }
   for (int end : ends_) state.set_value(deflection_column(end), deflection);
