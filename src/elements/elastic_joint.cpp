@@ -10,7 +10,7 @@ ElasticJointBlock::ElasticJointBlock(int end_1, int end_2, FreeDirections direct
       end_2_(end_2),
       directions_(std::move(directions)),
       // The spring resists q = Λ_p·(Δt_2 − Δt_1): it pulls end 1 along +q.
-      spring_(directions_.gram() * stiffness * directions_.free()),
+      spring_(SmallMat(directions_.gram() * SmallMat(stiffness)) * directions_.free()),
       preload_(std::move(preload)) {}
 
 void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {

@@ -9,7 +9,7 @@ SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
     : ends_(std::move(ends)),
       directions_(std::move(directions)),
       preload_(std::move(preload)) {
-  if (stiffness) spring_ = directions_.gram() * *stiffness * directions_.free();
+  if (stiffness) spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
 }
 
 void SupportBlock::write_equations(Index row, EquationWriter& out) const {

@@ -203,8 +203,14 @@ class BlockResidual final : public EquationWriter, public PositionHash {
     row_sums_.segment(row, size).array() += std::abs(scale);
     // The residual and x are separate buffers: one run of size·k values, as arrays that do not alias.
     const Index k = width<Columns>(x_.cols());
-    Eigen::Map<Eigen::ArrayXd>(residual_.data() + row * k, size * k) -=
-        scale * Eigen::Map<const Eigen::ArrayXd>(x_.data() + column * k, size * k);
+    Eigen::Map<Eigen::ArrayXd> out(residual_.data() + row * k, size * k);
+    const Eigen::Map<const Eigen::ArrayXd> in(x_.data() + column * k, size * k);
+    if (scale == 1)  // most identities: a link's and a joint's W and Δt, without a product each
+      out -= in;
+    else if (scale == -1)
+      out += in;
+    else
+      out -= scale * in;
   }
   long nonzeros = 0;
 
