@@ -11,77 +11,16 @@
 #include <string>
 
 #include "assembly/topology.hpp"
+#include "solve_comparison.hpp"
 #include "solver/tree_solver.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
 using namespace stiffmsa;
+using namespace stiffmsa::testing;
 
 namespace {
 
 const Material kSteel{2.1e11, 0.3, std::nullopt};
-
-SolverKind factorising_solver() { return solver_available(SolverKind::klu) ? SolverKind::klu : SolverKind::sparse_lu; }
-
-// Largest difference between two optional vectors or matrices over the largest entry of the
-// factorised one (both absent counts as equal, one absent as a failure).
-template <class T>
-void expect_same(const std::optional<T>& tree, const std::optional<T>& factorised, double& largest_difference,
-                 double scale, const std::string& what) {
-  ASSERT_EQ(tree.has_value(), factorised.has_value()) << what;
-  if (!tree) return;
-  ASSERT_EQ(tree->size(), factorised->size()) << what;
-  if (factorised->size() == 0) return;  // a rigid joint's relative deflection
-  const double size = std::max(scale, factorised->cwiseAbs().maxCoeff());
-  if (size == 0) return;
-  largest_difference = std::max(largest_difference, (*tree - *factorised).cwiseAbs().maxCoeff() / size);
-}
-
-// Every reported number of two results of one model, each kind relative to its largest entry.
-void expect_same_results(const Result& tree, const Result& factorised, double tolerance) {
-  auto largest_deflection = 0.0, largest_wrench = 0.0;
-  for (const auto& l : factorised.links)
-    for (const auto* end : {&l.from, &l.to}) {
-      if (end->deflection) largest_deflection = std::max(largest_deflection, end->deflection->cwiseAbs().maxCoeff());
-      if (end->wrench) largest_wrench = std::max(largest_wrench, end->wrench->cwiseAbs().maxCoeff());
-    }
-  double difference = 0;
-  ASSERT_EQ(tree.links.size(), factorised.links.size());
-  for (std::size_t l = 0; l < tree.links.size(); ++l) {
-    const std::string name = "link " + factorised.links[l].name;
-    expect_same(tree.links[l].from.deflection, factorised.links[l].from.deflection, difference, largest_deflection, name);
-    expect_same(tree.links[l].to.deflection, factorised.links[l].to.deflection, difference, largest_deflection, name);
-    expect_same(tree.links[l].from.wrench, factorised.links[l].from.wrench, difference, largest_wrench, name);
-    expect_same(tree.links[l].to.wrench, factorised.links[l].to.wrench, difference, largest_wrench, name);
-  }
-  for (std::size_t j = 0; j < tree.joints.size(); ++j) {
-    const std::string name = "joint " + factorised.joints[j].name;
-    expect_same(tree.joints[j].wrench, factorised.joints[j].wrench, difference, largest_wrench, name);
-    expect_same(tree.joints[j].effort, factorised.joints[j].effort, difference, largest_wrench, name);
-    ASSERT_EQ(tree.joints[j].relative_deflection.has_value(), factorised.joints[j].relative_deflection.has_value());
-    if (tree.joints[j].relative_deflection)
-      for (std::size_t k = 0; k < tree.joints[j].relative_deflection->size(); ++k)
-        expect_same(std::optional<VecX>((*tree.joints[j].relative_deflection)[k]),
-                    std::optional<VecX>((*factorised.joints[j].relative_deflection)[k]), difference, largest_deflection,
-                    name);
-  }
-  for (std::size_t s = 0; s < tree.supports.size(); ++s)
-    expect_same(tree.supports[s].reaction, factorised.supports[s].reaction, difference, largest_wrench,
-                "support " + factorised.supports[s].name);
-  for (std::size_t e = 0; e < tree.end_effectors.size(); ++e) {
-    const std::string name = "end effector " + factorised.end_effectors[e].name;
-    expect_same(tree.end_effectors[e].compliance, factorised.end_effectors[e].compliance, difference, 0.0, name);
-    expect_same(tree.end_effectors[e].stiffness, factorised.end_effectors[e].stiffness, difference, 0.0, name);
-    expect_same(tree.end_effectors[e].deflection, factorised.end_effectors[e].deflection, difference, largest_deflection, name);
-  }
-  EXPECT_LT(difference, tolerance);
-  // Counted block by block, the system the factorising solve assembles.
-  EXPECT_EQ(tree.system.unknowns, factorised.system.unknowns);
-  EXPECT_EQ(tree.system.equations, factorised.system.equations);
-  EXPECT_EQ(tree.system.nonzeros, factorised.system.nonzeros);
-  EXPECT_LT(tree.report.relative_residual, 1e-15);
-  EXPECT_LT(tree.report.equilibrium_error, 1e-13);
-  EXPECT_TRUE(tree.report.failed_checks.empty());
-}
 
 // A branched arm with every element a tree solve passes: an elastic, preloaded support; a rigid
 // joint of three link ends; elastic joints (one preloaded, one of two directions); beams,

@@ -10,6 +10,7 @@
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
 #include "model/link_ends.hpp"
+#include "solver/frame_solver.hpp"
 #include "solver/sparse_solver.hpp"
 #include "solver/tree_solver.hpp"
 #include "stiffmsa/analysis.hpp"
@@ -63,6 +64,9 @@ struct Workspace::Impl {
   std::optional<std::uint64_t> tree_pattern;
   // The tree solve's buffers, kept from one pose to the next.
   detail::TreeScratch tree_scratch;
+  // Where the model is no tree but a frame (every link flexible, every connection a weld), `auto`
+  // solves the condensed displacement system first (solver/frame_solver.hpp).
+  std::optional<detail::FramePlan> frame;
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
@@ -71,6 +75,7 @@ Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   impl_->topology = detail::build_topology(model, index);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
   impl_->tree = detail::tree_order(impl_->topology);
+  if (!impl_->tree) impl_->frame = detail::frame_plan(impl_->topology, impl_->recorded_blocks);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -343,6 +348,35 @@ bool solve_on_tree(Problem& problem, Result& result) {
   return true;
 }
 
+// The frame solve (solver/frame_solver.hpp), checked against the equations block by block as
+// the tree solve is. False, with the result untouched, where it declines or its residual fails
+// the check: the factorising solve then decides.
+bool solve_as_frame(Problem& problem, Result& result) {
+  const auto& t = problem.ws.topology;
+  detail::TreeScratch& scratch = problem.ws.tree_scratch;
+  struct Release {
+    detail::TreeScratch& scratch;
+    ~Release() { scratch.release_large(); }
+  } release{scratch};
+  const detail::EndWrenches external = detail::load_cases(problem.model, t);
+  const std::optional<detail::FrameSolution> solution =
+      detail::frame_solve(problem.blocks, t, *problem.ws.frame, external, scratch.x);
+  if (!solution) return false;
+  const detail::RowMajorMatX& x = scratch.x;
+  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, scratch);
+  if (!problem.blocks_are_the_reference) {
+    if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.reference_blocks());
+    if (check.pattern != *problem.ws.tree_pattern) detail::throw_topology_changed();
+  }
+  if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
+  result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
+  result.report.solver = "frame";
+  result.report.reciprocal_condition = solution->reciprocal_condition;
+  fill_loads_and_compliance(problem, x, check.relative_residual, result);
+  check_accuracy(problem.options, result);
+  return true;
+}
+
 detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns, const MatX& rows) {
   const Index n = a.rows(), k = columns.cols();
   std::vector<Eigen::Triplet<double>> entries;
@@ -543,6 +577,7 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
       solve_on_tree(problem, result))
     return result;
+  if (options.solver == SolverKind::automatic && ws.frame && solve_as_frame(problem, result)) return result;
   detail::Assembler& assembler = ws.pattern(problem.reference_blocks());
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);

@@ -5,6 +5,7 @@
 // (row, column) positions an element writes depends only on the topology, never on values:
 // explicit zeros are written too, so a model whose numbers change keeps its sparsity pattern.
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "stiffmsa/types.hpp"
@@ -133,6 +134,10 @@ class ElementBlock {
   // A joint's or support's free and constrained directions in this pose (the results read them
   // back rather than recomputing them); null for other blocks.
   virtual const FreeDirections* directions() const { return nullptr; }
+  // A flexible link's stiffness K12 (paper eq. 1), [W_i; W_j] = K12·[Δt_i; Δt_j] in the global
+  // frame, for the frame solve (solver/frame_solver.hpp); nullopt for a rigid link and for
+  // connection blocks.
+  virtual std::optional<Mat12> end_stiffness() const { return std::nullopt; }
 
   // The tree solve: where links and connections form a tree with a support at its root, every
   // wrench follows from equilibrium, passed from the leaves to the root, and every deflection

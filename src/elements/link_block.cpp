@@ -1,5 +1,7 @@
 #include "elements/link_blocks.hpp"
 
+#include <Eigen/Cholesky>
+
 namespace stiffmsa::detail {
 
 void LinkBlock::write_equations(Index row, EquationWriter& out) const {
@@ -14,6 +16,19 @@ void LinkBlock::write_equations(Index row, EquationWriter& out) const {
   out.add_identity(row + 6, wrench_column(end_i_), 6);
   out.add_identity(row + 6, wrench_column(end_j_), 6);
   out.add_block(row + 9, wrench_column(end_j_), coupling.transpose());
+}
+
+std::optional<Mat12> LinkBlock::end_stiffness() const {
+  if (!compliance_) return std::nullopt;
+  // K = C⁻¹ by Cholesky: a link's compliance is symmetric positive definite (make_blocks
+  // checked it); K·D differs from K only in its first three columns' [d×] part.
+  const Mat6 k = compliance_->llt().solve(Mat6::Identity());
+  Mat6 d = Mat6::Identity();
+  d.topRightCorner<3, 3>() = skew(d_).transpose();
+  const Mat6 kd = k * d;
+  Mat12 k12;
+  k12 << d.transpose() * kd, -(d.transpose() * k), -kd, k;
+  return k12;
 }
 
 // W_i + Dᵀ·W_j = 0 solved for the end toward the root: W_i = −W_j − [0; d×F_j], or

@@ -1,0 +1,194 @@
+// The frame solve (solver/frame_solver.hpp): frames whose links are all flexible and whose
+// connections all weld are solved by the condensed displacement system; every number they
+// report must be the one the factorised mixed system gives, and a condensation that would lose
+// digits must be left to the factorising solve.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "assembly/topology.hpp"
+#include "solve_comparison.hpp"
+#include "solver/frame_solver.hpp"
+#include "stiffmsa/stiffmsa.hpp"
+
+using namespace stiffmsa;
+using namespace stiffmsa::testing;
+
+namespace {
+
+Vec6 wrench(double fx, double fy, double fz, double mx, double my, double mz) {
+  return (Vec6() << fx, fy, fz, mx, my, mz).finished();
+}
+
+// The building of test_solver.cpp, loaded on its roof and on a floor, in three directions.
+Model loaded_building() {
+  Model m = building(3, 3, 4);
+  m.add_load("n3_3_4", std::string("cn3_3_4"), wrench(1.2e4, -3e3, -2e4, 500, 0, 800));
+  m.add_load("n1_2_2", std::string("cn1_2_2"), wrench(0, 8e3, 0, 0, -1.5e3, 0));
+  return m;
+}
+
+// Beams from P0 (clamped) to P1, side by side: a loop through P1's weld that is no tree.
+Model beams_side_by_side(const std::vector<Section>& sections) {
+  Model m;
+  m.add_point("P0", Vec3::Zero());
+  m.add_point("P1", Vec3(0.9, 0.2, -0.1));
+  for (std::size_t k = 0; k < sections.size(); ++k)
+    m.add_beam("B" + std::to_string(k), "P0", "P1", kFrameSteel, sections[k]);
+  m.add_support("clamp", "P0", {}, Connection{});
+  m.add_end_effector("tip", "P1", std::string("B0"));
+  return m;
+}
+
+double relative_difference(const Mat6& a, const Mat6& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
+
+}  // namespace
+
+TEST(FrameSolve, ABuildingFrameMatchesTheFactorisedSolveInEveryNumber) {
+  const Model m = loaded_building();
+  const Result frame = solve(m);
+  ASSERT_EQ(frame.report.solver, "frame");
+  // The condensed K's condition, from its own factors: a well-conditioned building.
+  EXPECT_GT(frame.report.reciprocal_condition, 1e-6);
+  EXPECT_LE(frame.report.reciprocal_condition, 1.0);
+  SolveOptions options;
+  options.solver = factorising_solver();
+  const Result factorised = solve(m, options);
+  expect_same_results(frame, factorised, 1e-11, 1e-14);
+  EXPECT_LT(frame.report.equilibrium_error, 1e-12);
+}
+
+TEST(FrameSolve, BeamsSideBySideAddTheirStiffnesses) {
+  // One beam's compliance at P1 comes from the tree solve (test_closed_forms.cpp pins it to the
+  // cantilever's closed form); beams side by side between the same welds add their stiffnesses.
+  const Section tube = Section::tube(0.06, 0.004), bar = Section::rect(0.03, 0.05);
+  const Mat6 tube_alone = *solve(beams_side_by_side({tube})).end_effectors[0].compliance;
+  const Mat6 bar_alone = *solve(beams_side_by_side({bar})).end_effectors[0].compliance;
+  const Result two_tubes = solve(beams_side_by_side({tube, tube}));
+  ASSERT_EQ(two_tubes.report.solver, "frame");
+  EXPECT_LT(relative_difference(*two_tubes.end_effectors[0].compliance, 0.5 * tube_alone), 1e-12);
+  const Result tube_and_bar = solve(beams_side_by_side({tube, bar}));
+  ASSERT_EQ(tube_and_bar.report.solver, "frame");
+  const Mat6 combined = (Mat6(tube_alone.inverse()) + Mat6(bar_alone.inverse())).inverse();
+  EXPECT_LT(relative_difference(*tube_and_bar.end_effectors[0].compliance, combined), 1e-11);
+  // Each beam carries its share of a load: the wrenches at P1 sum to it.
+  Model loaded = beams_side_by_side({tube, bar});
+  const Vec6 load = wrench(50, -400, 120, 3, 0, -7);
+  loaded.add_load("P1", std::string("B1"), load);
+  const Result r = solve(loaded);
+  ASSERT_EQ(r.report.solver, "frame");
+  const Vec6 carried = *r.links[0].to.wrench + *r.links[1].to.wrench;
+  EXPECT_LT((carried - load).cwiseAbs().maxCoeff(), 1e-12 * load.cwiseAbs().maxCoeff());
+  // The clamp at the origin holds the load and its moment about the origin.
+  const Vec3 at = loaded.points[1].position;
+  Vec6 held;
+  held << -load.head<3>(), -(load.tail<3>() + at.cross(load.head<3>()));
+  EXPECT_LT((*r.supports[0].reaction - held).cwiseAbs().maxCoeff(), 1e-11 * held.cwiseAbs().maxCoeff());
+}
+
+TEST(FrameSolve, PlanCoversOnlyFramesOfFlexibleLinksAndWelds) {
+  const Model m = building(2, 1, 2);
+  const detail::Topology topology = detail::build_topology(m);
+  const detail::Blocks blocks = detail::make_blocks(m, topology);
+  const auto plan = detail::frame_plan(topology, blocks);
+  ASSERT_TRUE(plan);
+  // A node per point above the ground (3 × 2 × 2), the ground's ends held by their supports.
+  EXPECT_EQ(plan->nodes, 12);
+  for (int end = 0; end < topology.end_count(); ++end) {
+    const int point = topology.end_points[static_cast<std::size_t>(end)];
+    const bool on_the_ground = m.points[static_cast<std::size_t>(point)].position.z() == 0;
+    EXPECT_EQ(plan->node_of_end[static_cast<std::size_t>(end)] < 0, on_the_ground) << "end " << end;
+  }
+  auto is_frame = [](const Model& model) {
+    const detail::Topology t = detail::build_topology(model);
+    return detail::frame_plan(t, detail::make_blocks(model, t)).has_value();
+  };
+  Model rigid_link = m;
+  rigid_link.links.back().kind = RigidLink{};
+  EXPECT_FALSE(is_frame(rigid_link));
+  Model hinged = m;  // every end at a roof corner pinned about y
+  hinged.add_joint("hinge", "n0_0_2", {"cn0_0_2", "xn0_0_2", "yn0_0_2"}, Connection{Kinematics::revolute(Vec3::UnitY())});
+  EXPECT_FALSE(is_frame(hinged));
+  Model elastic_support = m;
+  elastic_support.supports.front().connection = Connection{Kinematics::spherical(), MatX(1e8 * Eigen::Matrix3d::Identity())};
+  EXPECT_FALSE(is_frame(elastic_support));
+  // A triangle of beams clamped at P0: welded at M, a frame; spliced there by a spring, none.
+  Model triangle;
+  triangle.add_point("P0", Vec3::Zero());
+  triangle.add_point("M", Vec3(0.5, 0, 0));
+  triangle.add_point("P1", Vec3(1, 0.4, 0));
+  triangle.add_beam("a", "P0", "M", kFrameSteel, Section::circle(0.03));
+  triangle.add_beam("b", "M", "P1", kFrameSteel, Section::circle(0.03));
+  triangle.add_beam("c", "P0", "P1", kFrameSteel, Section::circle(0.03));
+  triangle.add_support("clamp", "P0", {}, Connection{});
+  EXPECT_TRUE(is_frame(triangle));
+  Model spliced = triangle;
+  spliced.add_joint("splice", "M", {"a", "b"}, Connection{Kinematics::revolute(Vec3::UnitZ()), MatX::Constant(1, 1, 1e5)});
+  EXPECT_FALSE(is_frame(spliced));
+  Model locked = m;  // a locked actuator is held rigidly: still a weld
+  locked.add_joint("brake", "n0_0_2", {"cn0_0_2", "xn0_0_2", "yn0_0_2"},
+                   Connection{Kinematics::revolute(Vec3::UnitY()), {}, {}, true});
+  EXPECT_TRUE(is_frame(locked));
+}
+
+TEST(FrameSolve, DeclinesACondensationThatWouldLoseDigits) {
+  // A hairpin: two chains of 150 short beams joined at their tips, a loop through the tip weld.
+  // K's condition grows as the fourth power of the beams per chain, here beyond what the frame
+  // solve accepts: the factorised mixed system answers.
+  const int beams = 150;
+  const double length = 1.5;
+  Model m;
+  m.add_point("A0", Vec3::Zero());
+  m.add_point("B0", Vec3(0, 0.3, 0));
+  for (int i = 1; i <= beams; ++i) {
+    const std::string a = "A" + std::to_string(i), b = "B" + std::to_string(i);
+    m.add_point(a, Vec3(length * i / beams, 0, 0));
+    m.add_point(b, Vec3(length * i / beams, 0.3, 0));
+    m.add_beam("a" + std::to_string(i), "A" + std::to_string(i - 1), a, kFrameSteel, Section::circle(0.02));
+    m.add_beam("b" + std::to_string(i), "B" + std::to_string(i - 1), b, kFrameSteel, Section::circle(0.02));
+  }
+  m.add_beam("tip_bar", "A" + std::to_string(beams), "B" + std::to_string(beams), kFrameSteel, Section::circle(0.02));
+  m.add_support("clamp_a", "A0", {}, Connection{});
+  m.add_support("clamp_b", "B0", {}, Connection{});
+  m.add_end_effector("tip", "A" + std::to_string(beams), std::string("a" + std::to_string(beams)));
+  const detail::Topology topology = detail::build_topology(m);
+  const detail::Blocks blocks = detail::make_blocks(m, topology);
+  const auto plan = detail::frame_plan(topology, blocks);
+  ASSERT_TRUE(plan);
+  const detail::EndWrenches external = detail::load_cases(m, topology);
+  detail::RowMajorMatX x;
+  EXPECT_FALSE(detail::frame_solve(blocks, topology, *plan, external, x));
+  // With the bar accepted however ill-conditioned, the condensation answers, digits lost.
+  const auto forced = detail::frame_solve(blocks, topology, *plan, external, x, 0.0);
+  ASSERT_TRUE(forced);
+  EXPECT_LT(forced->reciprocal_condition, detail::kFrameLeastRcond);
+  const Result r = solve(m);
+  EXPECT_NE(r.report.solver, "frame");
+  EXPECT_LT(r.report.relative_residual, 1e-13);
+  // Any K below the bar is declined, however well-conditioned: the building's is ~1e-5.
+  const Model frame = building(2, 1, 2);
+  const detail::Topology frame_topology = detail::build_topology(frame);
+  const detail::Blocks frame_blocks = detail::make_blocks(frame, frame_topology);
+  const auto frame_plan = detail::frame_plan(frame_topology, frame_blocks);
+  ASSERT_TRUE(frame_plan);
+  EXPECT_FALSE(detail::frame_solve(frame_blocks, frame_topology, *frame_plan,
+                                   detail::load_cases(frame, frame_topology), x, 1.0));
+}
+
+TEST(FrameSolve, PosesOfAWorkspaceMatchOneShotSolves) {
+  const Model m = loaded_building();
+  Workspace workspace(m);
+  Model moved = m;
+  for (auto& point : moved.points) point.position.x() *= 1.05;  // a longer building, same topology
+  moved.loads.front().wrench *= -2;
+  for (const Model* pose : std::initializer_list<const Model*>{&m, &moved, &m}) {
+    const Result kept = solve(workspace, *pose);
+    ASSERT_EQ(kept.report.solver, "frame");
+    const Result fresh = solve(*pose);
+    expect_same_results(kept, fresh, 1e-15, 1e-14);
+  }
+  // A pose whose link became rigid is not this workspace's frame.
+  Model stiffened = m;
+  stiffened.links.front().kind = RigidLink{};
+  EXPECT_THROW(solve(workspace, stiffened), InputError);
+}
