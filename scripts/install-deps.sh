@@ -7,8 +7,11 @@
 # sanitizer build with g++ (scripts/sanitize.sh) needs nothing more: g++ brings libasan and
 # libubsan.
 set -euo pipefail
+# libopenblas0-serial: CHOLMOD's supernodal Cholesky (the frame solve) spends its time in BLAS,
+# which Debian otherwise provides as the unoptimised reference BLAS (the 960-beam frame: 22 ms
+# against 12 ms); serial, so that BLAS starts no threads of its own beside the caller's.
 packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev libcli11-dev
-          libsuitesparse-dev libmuparser-dev libtbb-dev libcairo2-dev pkg-config
+          libsuitesparse-dev libopenblas0-serial libmuparser-dev libtbb-dev libcairo2-dev pkg-config
           libgtest-dev libgmock-dev)
 for group in "$@"; do
   case "$group" in
