@@ -195,6 +195,7 @@ void print_report(std::ostream& out, const SolveReport& report) {
     out << "not estimated (the tree solve with cuts factorises no sparse system)";
   else
     out << scientific(report.reciprocal_condition, 0, 2);
+  if (report.solver == "frame") out << " of the condensed stiffness";
   if (report.reciprocal_condition > 0) {
     out << "  (condition number about " << scientific(1.0 / report.reciprocal_condition, 0, 1)
         << ')';

@@ -18,7 +18,7 @@
 //                                 tripteron with cuts): make_blocks, the tree solve, its
 //                                 block-by-block check, K = C⁻¹ (what `auto` does)
 //   <robot>/stage:tree_solve      detail::tree_solve of the 1 + 6 load cases
-//   <robot>/stage:tree_check      detail::check_tree_solution: residual of every block
+//   <robot>/stage:tree_check      detail::check_block_by_block: residual of every block
 //   <robot>/dense_lu              the same pipeline with Eigen::PartialPivLU on the assembled
 //                                 system as a dense matrix: the naive baseline
 //   6axis/vjm_floor               closed-form VJM compliance C = Σ J_i·k_i⁻¹·J_iᵀ and K = C⁻¹
@@ -392,7 +392,7 @@ Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Mo
   const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
   const detail::EndWrenches external = detail::load_cases(pose, robot.topology);
   solve_tree(robot, order, blocks, external, scratch);
-  if (!(detail::check_tree_solution(blocks, robot.topology, scratch.x, external, scratch).relative_residual < 1e-14))
+  if (!(detail::check_block_by_block(blocks, robot.topology, scratch.x, external, scratch).relative_residual < 1e-14))
     throw std::runtime_error("bench: a tree solve failed its check");
   const Mat6 c = scratch.x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
   return {c, detail::cartesian_stiffness(c, robot.length, SolveOptions{}.warn_condition).stiffness};
@@ -438,8 +438,8 @@ void stage_tree_check(benchmark::State& state, const Robot& robot, const detail:
   }
   std::size_t p = 0;
   for (auto _ : state) {
-    detail::TreeCheck check =
-        detail::check_tree_solution(robot.blocks[p], robot.topology, solutions[p], loads[p], scratch);
+    detail::BlockCheck check =
+        detail::check_block_by_block(robot.blocks[p], robot.topology, solutions[p], loads[p], scratch);
     benchmark::DoNotOptimize(check);
     p = (p + 1) % robot.pose_count();
   }

@@ -290,9 +290,16 @@ namespace {
 struct TreeFixture {
   static constexpr Index kColumns = 3;
   // `compensated`: the passes carry their running sums in two parts (TreeState), else in one.
+  // Passes in one part neither read nor write the low parts: there they start as NaN, and must
+  // stay so without reaching x.
   explicit TreeFixture(int end_count, bool compensated_ = true)
       : ends(end_count), compensated(compensated_), x(RowMajorMatX::Random(12 * end_count, kColumns)),
-        low(RowMajorMatX::Zero(12 * end_count, kColumns)), external(end_count, kColumns) {}
+        low(12 * end_count, kColumns), external(end_count, kColumns) {
+    reset_low();
+  }
+  void reset_low() { low.setConstant(compensated ? 0.0 : std::nan("")); }
+  // The unknowns the passes mean: both parts where compensated.
+  RowMajorMatX solution() const { return compensated ? RowMajorMatX(x + low) : x; }
   TreeState state() { return TreeState(x, low, external, compensated); }
   // Both passes of `block` toward `toward_root`, then the residual of its rows. What they hand
   // on starts as NaN in both parts (the solve does not zero its unknowns): W at `toward_root`,
@@ -312,8 +319,7 @@ struct TreeFixture {
   }
   void poison(Index first_row) {
     x.middleRows<6>(first_row).setConstant(std::nan(""));
-    // Uncompensated passes neither read nor write the low parts, which stay zero.
-    if (compensated) low.middleRows<6>(first_row).setConstant(std::nan(""));
+    low.middleRows<6>(first_row).setConstant(std::nan(""));
   }
   // Cut unknowns: random values for each load case, which the passes must take as given.
   void cut(Index count) {
@@ -327,7 +333,8 @@ struct TreeFixture {
   // max |equations·x − rhs| over the block's rows but `skipped`, relative to the largest term.
   double residual(const ElementBlock& block, const std::vector<int>& held, const std::vector<Index>& skipped = {}) const {
     const MatX a = equations_of(block, ends);
-    const MatX solution = x + low;
+    if (!compensated) EXPECT_TRUE(low.array().isNaN().all()) << "a pass in one part wrote a low part";
+    const MatX solution = this->solution();
     MatX rhs = MatX::Zero(block.equation_count(), kColumns);
     for (Index c = 0; c < kColumns; ++c) {
       VecX column = VecX::Zero(block.equation_count());
@@ -471,7 +478,7 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
         // on the first end and − on the second), the passes hold every other row. What they hand
         // on starts as NaN.
         f.x = random_start;
-        f.low.setZero();
+        f.reset_low();
         f.poison(wrench_column(toward_root));
         for (int end : c.ends)
           if (end != toward_root) f.poison(deflection_column(end));
@@ -492,7 +499,7 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
         joint.pass_deflection_from_root(toward_root, state);
         EXPECT_LT(f.residual(joint, c.ends), 1e-15) << to_string(c.kinematics.type) << ", toward end " << toward_root;
         // The free motions are the given ones: Δt_k − Δt_root = Λ_pᵀ·q_k.
-        const RowMajorMatX solution = f.x + f.low;
+        const RowMajorMatX solution = f.solution();
         Index motion = 0;
         for (int end : c.ends) {
           if (end == toward_root) continue;
@@ -545,7 +552,7 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
         support->pass_deflection_from_root(toward_root, state);
         EXPECT_LT(f.residual(*support, ends, rows), 1e-15) << "toward end " << toward_root;
         // The reaction is the given one: Σ(W_k − W_ext,k) = R.
-        const RowMajorMatX solution = f.x + f.low;
+        const RowMajorMatX solution = f.solution();
         MatX reaction = MatX::Zero(6, TreeFixture::kColumns);
         for (int end : ends) reaction += solution.middleRows<6>(wrench_column(end)) - f.external.at(end);
         EXPECT_LT((reaction - f.cut_values).cwiseAbs().maxCoeff(), 1e-13);

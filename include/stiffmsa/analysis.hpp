@@ -14,9 +14,11 @@ namespace stiffmsa {
 // robots, chains) without factorising (docs/theory.md §7.1), and one that is a tree with several
 // supports or passive joints (parallel robots whose legs meet at the platform) through a small
 // dense system for its cut reactions and free motions (§7.2), where that system is regular and
-// at most 32 unknowns; others it factorises with KLU, or
-// with Eigen's SparseLU where KLU's ordering predicts heavy fill, as on building frames. The
-// others force that factorisation. The result's report names what was used.
+// at most 32 unknowns; a frame (every link flexible, every connection a weld: a building, a
+// truss with welded joints) by the condensed displacement system of frame programs, where its
+// stiffness keeps about 10 digits (§7.3); others it factorises with KLU, or with Eigen's SparseLU where
+// KLU's ordering predicts heavy fill. The others force that factorisation. The result's report
+// names what was used.
 enum class SolverKind { automatic, sparse_lu, umfpack, klu };
 const char* to_string(SolverKind s);
 std::optional<SolverKind> solver_kind_from_string(const std::string& s);
@@ -27,7 +29,10 @@ bool solver_available(SolverKind s);
 // systems (a cut system whose condition exceeds warn_condition is left to them, but a
 // well-conditioned cut system says nothing of the whole system's condition); its solution is
 // checked against max_relative_residual, and the end effectors' stiffness spread against
-// warn_condition, like any other.
+// warn_condition, like any other. A frame solve (solver "frame") factorises the condensed
+// stiffness, not the mixed system: it is declined below a fixed reciprocal condition of 1e-6
+// (singular_rcond and refinement_steps do not apply), and warn_condition is compared with that
+// stiffness's condition.
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;
   // Below this reciprocal condition estimate of the equilibrated system, it is singular.

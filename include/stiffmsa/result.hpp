@@ -56,9 +56,10 @@ struct SolveReport {
   double relative_residual = 0;    // max over all solves of ‖Ax−b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)
   double equilibrium_error = 0;    // ‖Σ reactions + Σ loads‖ / scale (moments about the origin)
   double reciprocal_condition = 0; // 1-norm estimate for the equilibrated system; 0 where no
-                                   // sparse system was factorised (solver "tree", "tree_with_cuts")
-  std::string solver;              // "tree", "tree_with_cuts", or the sparse LU: "klu", "sparse_lu",
-                                   // "umfpack"
+                                   // sparse system was factorised (solver "tree", "tree_with_cuts");
+                                   // for "frame", that of the condensed stiffness (unit diagonal)
+  std::string solver;              // "tree", "tree_with_cuts", "frame", or the sparse LU: "klu",
+                                   // "sparse_lu", "umfpack"
   std::vector<std::string> notes;  // e.g. free motions accepted, values left null
   std::vector<std::string> warnings;
   // Those warnings that say an accuracy check failed (the residual above

@@ -59,9 +59,9 @@ struct Workspace::Impl {
   // Where links and connections form a tree on the one support, `auto` solves by passing
   // wrenches and deflections along it (solver/tree_solver.hpp) instead of factorising.
   std::optional<detail::TreeOrder> tree;
-  // The pattern_fingerprint of the reference's blocks, once a tree solve needs it: a model whose
-  // blocks write other positions has changed topology, solved on a tree or not.
-  std::optional<std::uint64_t> tree_pattern;
+  // The pattern_fingerprint of the reference's blocks, once a tree or frame solve needs it: a
+  // model whose blocks write other positions has changed topology, however it is solved.
+  std::optional<std::uint64_t> block_pattern;
   // The tree solve's buffers, kept from one pose to the next.
   detail::TreeScratch tree_scratch;
   // Where the model is no tree but a frame (every link flexible, every connection a weld), `auto`
@@ -75,7 +75,9 @@ Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   impl_->topology = detail::build_topology(model, index);
   impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
   impl_->tree = detail::tree_order(impl_->topology);
-  if (!impl_->tree) impl_->frame = detail::frame_plan(impl_->topology, impl_->recorded_blocks);
+  // A tree that the tree solve cannot take (a stiffness-only CAD link) may still be a frame.
+  if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks))
+    impl_->frame = detail::frame_plan(impl_->topology, impl_->recorded_blocks);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -319,10 +321,13 @@ void solve_regular(Problem& problem, Result& result) {
   check_accuracy(problem.options, result);
 }
 
-// The tree solve (solver/tree_solver.hpp), checked against the equations block by block.
-// False, with the result untouched, where its residual fails the check: the factorising solve
-// then decides.
-bool solve_on_tree(Problem& problem, Result& result) {
+// The solves that factorise no mixed system, the tree solve (solver/tree_solver.hpp) and the
+// frame solve (solver/frame_solver.hpp), checked against the equations block by block. False,
+// with the result untouched, where the solve declines or its residual fails the check: the
+// factorising solve then decides.
+enum class BlockSolve { tree, frame };
+
+bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result) {
   const auto& t = problem.ws.topology;
   detail::TreeScratch& scratch = problem.ws.tree_scratch;
   // Whatever the outcome, a long model's buffers are not kept in the workspace.
@@ -331,47 +336,30 @@ bool solve_on_tree(Problem& problem, Result& result) {
     ~Release() { scratch.release_large(); }
   } release{scratch};
   const detail::EndWrenches external = detail::load_cases(problem.model, t);
-  const std::optional<detail::Index> cut_unknowns =
-      detail::tree_solve(problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition, scratch);
-  if (!cut_unknowns) return false;
+  const char* solver = nullptr;
+  double reciprocal_condition = 0;  // of what was factorised: nothing on the tree
+  if (kind == BlockSolve::tree) {
+    const std::optional<detail::Index> cut_unknowns =
+        detail::tree_solve(problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition, scratch);
+    if (!cut_unknowns) return false;
+    solver = *cut_unknowns == 0 ? "tree" : "tree_with_cuts";
+  } else {
+    const std::optional<detail::FrameSolution> solution =
+        detail::frame_solve(problem.blocks, t, *problem.ws.frame, external, scratch.x);
+    if (!solution) return false;
+    solver = "frame";
+    reciprocal_condition = solution->reciprocal_condition;
+  }
   const detail::RowMajorMatX& x = scratch.x;
-  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, scratch);
+  const detail::BlockCheck check = detail::check_block_by_block(problem.blocks, t, x, external, scratch);
   if (!problem.blocks_are_the_reference) {
-    if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.reference_blocks());
-    if (check.pattern != *problem.ws.tree_pattern) detail::throw_topology_changed();
+    if (!problem.ws.block_pattern) problem.ws.block_pattern = detail::pattern_fingerprint(problem.reference_blocks());
+    if (check.pattern != *problem.ws.block_pattern) detail::throw_topology_changed();
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
   result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
-  result.report.solver = *cut_unknowns == 0 ? "tree" : "tree_with_cuts";
-  fill_loads_and_compliance(problem, x, check.relative_residual, result);
-  check_accuracy(problem.options, result);
-  return true;
-}
-
-// The frame solve (solver/frame_solver.hpp), checked against the equations block by block as
-// the tree solve is. False, with the result untouched, where it declines or its residual fails
-// the check: the factorising solve then decides.
-bool solve_as_frame(Problem& problem, Result& result) {
-  const auto& t = problem.ws.topology;
-  detail::TreeScratch& scratch = problem.ws.tree_scratch;
-  struct Release {
-    detail::TreeScratch& scratch;
-    ~Release() { scratch.release_large(); }
-  } release{scratch};
-  const detail::EndWrenches external = detail::load_cases(problem.model, t);
-  const std::optional<detail::FrameSolution> solution =
-      detail::frame_solve(problem.blocks, t, *problem.ws.frame, external, scratch.x);
-  if (!solution) return false;
-  const detail::RowMajorMatX& x = scratch.x;
-  const detail::TreeCheck check = detail::check_tree_solution(problem.blocks, t, x, external, scratch);
-  if (!problem.blocks_are_the_reference) {
-    if (!problem.ws.tree_pattern) problem.ws.tree_pattern = detail::pattern_fingerprint(problem.reference_blocks());
-    if (check.pattern != *problem.ws.tree_pattern) detail::throw_topology_changed();
-  }
-  if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
-  result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
-  result.report.solver = "frame";
-  result.report.reciprocal_condition = solution->reciprocal_condition;
+  result.report.solver = solver;
+  result.report.reciprocal_condition = reciprocal_condition;
   fill_loads_and_compliance(problem, x, check.relative_residual, result);
   check_accuracy(problem.options, result);
   return true;
@@ -575,9 +563,10 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
-      solve_on_tree(problem, result))
+      solve_without_factorising(problem, BlockSolve::tree, result))
     return result;
-  if (options.solver == SolverKind::automatic && ws.frame && solve_as_frame(problem, result)) return result;
+  if (options.solver == SolverKind::automatic && ws.frame && solve_without_factorising(problem, BlockSolve::frame, result))
+    return result;
   detail::Assembler& assembler = ws.pattern(problem.reference_blocks());
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);

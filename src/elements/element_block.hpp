@@ -109,11 +109,11 @@ struct TreeState {
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
   auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }
   // The rows of `target` (a deflection or wrench column) become sign·(rows of `source`) +
-  // `increment`, both parts: the increment is formed from rounded values, the sum is not rounded
-  // where the state is compensated.
+  // `increment`; where the state is compensated, both parts, the increment formed from rounded
+  // values and the sum not rounded.
   void set_sum(Index target, Index source, double sign);
-  void set_copy(Index target, Index source);  // both parts
-  void set_value(Index target, const MatX& value);  // low part zero
+  void set_copy(Index target, Index source);  // both parts where compensated
+  void set_value(Index target, const MatX& value);  // low part zero where compensated
   // W at `toward_root` of link ends joined as one (a joint, or a support that is not the root)
   // from Σ W_k = Σ W_ext,k + R, as a running sum through the first of the other ends. R is a
   // support's reaction, its cut unknowns (`with_reaction`), else zero.

@@ -20,8 +20,8 @@ void LinkBlock::write_equations(Index row, EquationWriter& out) const {
 
 std::optional<Mat12> LinkBlock::end_stiffness() const {
   if (!compliance_) return std::nullopt;
-  // K = C⁻¹ by Cholesky: a link's compliance is symmetric positive definite (make_blocks
-  // checked it); K·D differs from K only in its first three columns' [d×] part.
+  // K = C⁻¹ by Cholesky: a flexible link's compliance is symmetric positive definite (the
+  // beam formulas, validated compliance links, a CAD link's regular K22).
   const Mat6 k = compliance_->llt().solve(Mat6::Identity());
   Mat6 d = Mat6::Identity();
   d.topRightCorner<3, 3>() = skew(d_).transpose();

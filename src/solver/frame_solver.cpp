@@ -15,8 +15,6 @@
 namespace stiffmsa::detail {
 
 std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& blocks) {
-  for (int l = 0; l < topology.link_count; ++l)
-    if (!blocks[static_cast<std::size_t>(l)]->end_stiffness()) return std::nullopt;  // a rigid link
   FramePlan plan;
   plan.node_of_end.assign(static_cast<std::size_t>(topology.end_count()), -1);
   bool supported = false;
@@ -33,17 +31,26 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
     for (int end : group.ends) plan.node_of_end[static_cast<std::size_t>(end)] = plan.nodes;
     ++plan.nodes;
   }
-  if (!supported) return std::nullopt;
+  if (!supported || plan.nodes == 0) return std::nullopt;
+  // Last, as it forms every link's K12: a rigid link has none.
+  for (int l = 0; l < topology.link_count; ++l)
+    if (!blocks[static_cast<std::size_t>(l)]->end_stiffness()) return std::nullopt;
   return plan;
 }
 
 namespace {
 
-// K scaled to a unit diagonal, factorised, as a LinearSolver for the condition estimate.
-// CHOLMOD's supernodal Cholesky where SuiteSparse is built in: a frame's factor has dense
-// columns, which it takes a block at a time (the 960-beam frame: ~5× the simplicial one).
-class ScaledCholesky final : public LinearSolver {
+// The Cholesky factorisation of the (scaled) stiffness, as a LinearSolver for the condition
+// estimate. CHOLMOD's supernodal one where SuiteSparse is built in: a frame's factor has dense
+// column blocks, which it factorises through BLAS (with OpenBLAS ~2× the simplicial one on the
+// 960-beam frame).
+class StiffnessCholesky final : public LinearSolver {
  public:
+#if STIFFMSA_HAVE_SUITESPARSE
+  // The library prints nothing: CHOLMOD would report a matrix that is not positive definite
+  // (a part held by no support) on stdout; the solve's result says it instead.
+  StiffnessCholesky() { cholesky_.cholmod().print = 0; }
+#endif
   void analyze(const SparseMatrix& k) override { cholesky_.analyzePattern(k); }
   bool factorize(const SparseMatrix& k) override {
     cholesky_.factorize(k);
@@ -84,7 +91,8 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
 
   // K = Σ K12 over the links, each of its 6×6 parts where both ends have a node.
   // A pose whose blocks are no frame's (a link made rigid, a weld made a hinge) is declined;
-  // its pattern differs, which the caller's check refuses as a changed topology.
+  // its pattern differs, which the factorising solve's assembler then refuses as a changed
+  // topology.
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const FreeDirections* directions = blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
     if (directions && directions->p != 0) return std::nullopt;
@@ -121,7 +129,7 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
     scale(i) = 1 / std::sqrt(diagonal);
   }
   k = scale.asDiagonal() * k * scale.asDiagonal();
-  ScaledCholesky cholesky;
+  StiffnessCholesky cholesky;
   cholesky.analyze(k);
   if (!cholesky.factorize(k)) return std::nullopt;
   const double inverse_norm = estimate_inverse_norm1(cholesky, n);

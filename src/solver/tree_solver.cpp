@@ -267,7 +267,7 @@ void size_rhs_buffers(VecX& column, RowMajorMatX& rhs, Index most_rows, Index co
 }
 
 template <int Columns>
-TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
+BlockCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                        const EndWrenches& external, TreeScratch& scratch) {
   const Index columns = x.cols();
   const Index most_rows = most_equation_rows(blocks);
@@ -290,7 +290,7 @@ TreeCheck check_blocks(const Blocks& blocks, const Topology& topology, const Row
     }
     residual_norm.add(residual.data(), rows);
   }
-  TreeCheck check;
+  BlockCheck check;
   check.nonzeros = block_residual.nonzeros;
   check.pattern = block_residual.hash;
   x_norm.add(x.data(), x.rows());
@@ -312,7 +312,7 @@ std::uint64_t pattern_fingerprint(const Blocks& blocks) {
   return hash.hash;
 }
 
-TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
+BlockCheck check_block_by_block(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                               const EndWrenches& external, TreeScratch& scratch) {
   // One end effector, 1 + 6 load cases, is the common case.
   if (x.cols() == 7) return check_blocks<7>(blocks, topology, x, external, scratch);
@@ -355,7 +355,7 @@ CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& orde
 void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
                 const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns, bool compensated,
                 RowMajorMatX& x, RowMajorMatX& x_low) {
-  // Not zeroed: the passes set every link end's rows, both parts.
+  // Not zeroed: the passes set every link end's rows (both parts where compensated).
   x.resize(unknowns, external.columns());
   if (compensated) x_low.resize(unknowns, external.columns());
   TreeState state(x, x_low, external, compensated);

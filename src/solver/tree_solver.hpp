@@ -19,7 +19,7 @@
 // motions as redundants, on the paper's equations.
 //
 // Every solution is checked against every block's equations, without assembling them
-// (check_tree_solution).
+// (check_block_by_block).
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -60,7 +60,8 @@ bool passes_tree(const Blocks& blocks);
 EndWrenches load_cases(const Model& model, const Topology& topology);
 
 // What a tree solve and its check write, kept from one solve to the next (a workspace holds
-// one): poses of one model then allocate none of it once the first has sized it. Buffers of
+// one; the frame solve writes its solution to x and checks it the same way): poses of one
+// model then allocate none of it once the first has sized it. Buffers of
 // long models are released after each solve (release_large), so that a workspace kept
 // between solves does not hold hundreds of megabytes.
 struct TreeScratch {
@@ -91,7 +92,7 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
 
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
-struct TreeCheck {
+struct BlockCheck {
   double relative_residual = 0;  // the largest over the columns, as relative_residual() defines it
   long nonzeros = 0;             // nonzero coefficients of the equations
   std::uint64_t pattern = 0;     // pattern_fingerprint of the blocks
@@ -101,7 +102,7 @@ struct TreeCheck {
 std::uint64_t pattern_fingerprint(const Blocks& blocks);
 
 // `x` may be scratch.x: the check writes only the scratch's block buffers.
-TreeCheck check_tree_solution(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
+BlockCheck check_block_by_block(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
                               const EndWrenches& external, TreeScratch& scratch);
 
 }  // namespace stiffmsa::detail
