@@ -9,7 +9,6 @@
 #endif
 
 #include "elements/free_directions.hpp"
-
 #include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
@@ -71,16 +70,6 @@ class StiffnessCholesky final : public LinearSolver {
 #endif
 };
 
-double norm_1(const SparseMatrix& a) {
-  double largest = 0;
-  for (Index j = 0; j < a.outerSize(); ++j) {
-    double column = 0;
-    for (SparseMatrix::InnerIterator e(a, j); e; ++e) column += std::abs(e.value());
-    largest = std::max(largest, column);
-  }
-  return largest;
-}
-
 }  // namespace
 
 std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& topology, const FramePlan& plan,
@@ -132,8 +121,7 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   StiffnessCholesky cholesky;
   cholesky.analyze(k);
   if (!cholesky.factorize(k)) return std::nullopt;
-  const double inverse_norm = estimate_inverse_norm1(cholesky, n);
-  const double rcond = std::isfinite(inverse_norm) && inverse_norm > 0 ? 1 / (norm_1(k) * inverse_norm) : 0.0;
+  const double rcond = estimate_reciprocal_condition(cholesky, k);
   if (!(rcond >= least_rcond)) return std::nullopt;
 
   // F: the external wrenches at each node's ends; u = S·K̂⁻¹·S·F.

@@ -289,10 +289,14 @@ bool FactorizedSystem::factorize(const SparseMatrix& a, double singular_rcond) {
   }
   rcond_ = 0;
   if (!solver_->factorize(scaled_)) return false;
-  const double inverse_norm = estimate_inverse_norm1(*solver_, scaled_.rows());
-  const double a_norm = norm_1(scaled_);
-  rcond_ = (std::isfinite(inverse_norm) && inverse_norm > 0 && a_norm > 0) ? 1.0 / (a_norm * inverse_norm) : 0.0;
+  rcond_ = estimate_reciprocal_condition(*solver_, scaled_);
   return rcond_ >= singular_rcond;
+}
+
+double estimate_reciprocal_condition(const LinearSolver& factors, const SparseMatrix& a) {
+  const double inverse_norm = estimate_inverse_norm1(factors, a.rows());
+  const double a_norm = norm_1(a);
+  return (std::isfinite(inverse_norm) && inverse_norm > 0 && a_norm > 0) ? 1.0 / (a_norm * inverse_norm) : 0.0;
 }
 
 double estimate_inverse_norm1(const LinearSolver& lu, Index n) {

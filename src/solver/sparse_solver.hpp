@@ -32,6 +32,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
 // LAPACK xLACON, with Higham's alternating-sign test vector as a safeguard); +inf when a solve
 // overflows.
 double estimate_inverse_norm1(const LinearSolver& lu, Index n);
+// 1/(‖A‖₁·est‖A⁻¹‖₁) from a factorisation of A; 0 where the estimate overflows or A is zero.
+double estimate_reciprocal_condition(const LinearSolver& factors, const SparseMatrix& a);
 
 // Row and column scaling by powers of two (so scaling itself adds no rounding) that brings
 // every row and column of |A| to a largest entry near 1. From `start` where given (the scaling
