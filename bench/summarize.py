@@ -168,6 +168,11 @@ def frame_table(runs):
             again = f"{again['cpu_us'] / 1e3:.1f}" if again else "–"
             print(f"| frame, {whole.get('links', 0):.0f} beams | {s} | {whole['cpu_us'] / 1e3:.1f} "
                   f"| {again} | {whole.get('unknowns', 0):.0f} |")
+    dense = runs.get("frame/dense_ldlt_of_K")
+    if dense:
+        print(f"| frame, Frame3DD's method: its K dense, LDLᵀ (node deflections within "
+              f"{dense.get('u_diff', 0):.1e} of the library's) | Eigen LDLT | {dense['cpu_us'] / 1e3:.1f} | – "
+              f"| {dense.get('unknowns', 0):.0f} |")
 
 
 def klu_fill_table(runs):
