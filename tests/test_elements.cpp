@@ -149,6 +149,21 @@ TEST(LinkBlock, FlexibleEquationsAreSatisfiedByEveryStateOfEquationOne) {
   EXPECT_EQ(lu.rank(), 12);
 }
 
+// What the frame solve condenses a link to (solver/frame_solver.hpp): a flexible link's K12 of
+// eq. (1), which the test above holds the block's rows to; a stiffness-only link's own K12; a
+// rigid link none.
+TEST(LinkBlock, EndStiffnessIsTheLinksFreeFreeStiffness) {
+  const Vec3 d = kTo - kFrom;
+  const Mat6 C = beam_global_compliance(sample_beam(true), kFrom, kTo);
+  const std::optional<Mat12> k12 = LinkBlock(0, 1, d, C).end_stiffness();
+  ASSERT_TRUE(k12);
+  EXPECT_EQ(*k12, free_free_stiffness(C, d));
+  EXPECT_LT((*k12 - k12->transpose()).cwiseAbs().maxCoeff(), 1e-12 * k12->cwiseAbs().maxCoeff());
+  const Mat12 K = beam_global_stiffness(sample_beam(false), kFrom, kTo);
+  EXPECT_EQ(*StiffnessLinkBlock(0, 1, K).end_stiffness(), K);
+  EXPECT_FALSE(LinkBlock(0, 1, d, std::nullopt).end_stiffness());
+}
+
 TEST(LinkBlock, RigidLinkCarriesRigidMotionsAndBalancedWrenches) {
   const Vec3 d = kTo - kFrom;
   const LinkBlock block(0, 1, d, std::nullopt);

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "assembly/topology.hpp"
-#include "elements/link_blocks.hpp"
 #include "solve_comparison.hpp"
 #include "solver/frame_solver.hpp"
 #include "stiffmsa/stiffmsa.hpp"
@@ -41,6 +40,19 @@ Model beams_side_by_side(const std::vector<Section>& sections) {
   return m;
 }
 
+// A triangle of rods clamped at P0: P0–M–P1 and P0–P1, welded at M and P1 unless told.
+Model clamped_triangle() {
+  Model m;
+  m.add_point("P0", Vec3::Zero());
+  m.add_point("M", Vec3(0.5, 0, 0));
+  m.add_point("P1", Vec3(1, 0.4, 0));
+  m.add_beam("a", "P0", "M", kFrameSteel, Section::circle(0.03));
+  m.add_beam("b", "M", "P1", kFrameSteel, Section::circle(0.03));
+  m.add_beam("c", "P0", "P1", kFrameSteel, Section::circle(0.03));
+  m.add_support("clamp", "P0", {}, Connection{});
+  return m;
+}
+
 double relative_difference(const Mat6& a, const Mat6& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
 
 }  // namespace
@@ -60,45 +72,13 @@ TEST(FrameSolve, ABuildingFrameMatchesTheFactorisedSolveInEveryNumber) {
   EXPECT_LT(frame.report.equilibrium_error, 1e-12);
 }
 
-TEST(FrameSolve, LinkStiffnessMapsTheLinksDeflectionsToTheWrenchesItsEquationsHold) {
-  // [W_i; W_j] = K12·[Δt_i; Δt_j] satisfies the link block's own rows for any deflections.
-  const Model m = beams_side_by_side({Section::tube(0.06, 0.004)});
-  const detail::Topology topology = detail::build_topology(m);
-  const detail::Blocks blocks = detail::make_blocks(m, topology);
-  const detail::ElementBlock& link = *blocks.front();
-  const Mat12 k12 = *link.end_stiffness();
-  EXPECT_LT((k12 - k12.transpose()).cwiseAbs().maxCoeff(), 1e-12 * k12.cwiseAbs().maxCoeff());
-  const Eigen::Matrix<double, 12, 1> deflections = Eigen::Matrix<double, 12, 1>::Random() * 1e-3;
-  const Eigen::Matrix<double, 12, 1> wrenches = k12 * deflections;
-  VecX x(24);
-  x << deflections.head<6>(), wrenches.head<6>(), deflections.tail<6>(), wrenches.tail<6>();
-  struct Rows final : detail::CoefficientWriter<Rows> {
-    MatX a = MatX::Zero(12, 24);
-    void put(detail::Index row, detail::Index column, double value) { a(row, column) += value; }
-  } rows;
-  link.write_equations(0, rows);
-  // Each row relative to the size of its terms.
-  const VecX residual = rows.a * x;
-  const VecX scale = rows.a.cwiseAbs() * x.cwiseAbs();
-  for (detail::Index i = 0; i < 12; ++i) EXPECT_LT(std::abs(residual(i)), 1e-14 * scale(i)) << "row " << i;
-  // A rigid link has none: it cannot be condensed.
-  EXPECT_FALSE(detail::LinkBlock(0, 1, Vec3(1, 0, 0), std::nullopt).end_stiffness());
-}
-
 TEST(FrameSolve, FreeEndsAndLockedActuatorsAreNodesOfTheFrame) {
-  // The triangle of beams clamped at P0, with a bracket sticking out of P1 to a free end that
-  // carries the load, and a locked actuator at M.
-  Model m;
-  m.add_point("P0", Vec3::Zero());
-  m.add_point("M", Vec3(0.5, 0, 0));
-  m.add_point("P1", Vec3(1, 0.4, 0));
+  // The triangle with a bracket sticking out of P1 to a free end that carries the load, and a
+  // locked actuator at M.
+  Model m = clamped_triangle();
   m.add_point("E", Vec3(1.2, 0.4, 0.3));
-  m.add_beam("a", "P0", "M", kFrameSteel, Section::circle(0.03));
-  m.add_beam("b", "M", "P1", kFrameSteel, Section::circle(0.03));
-  m.add_beam("c", "P0", "P1", kFrameSteel, Section::circle(0.03));
   m.add_beam("bracket", "P1", "E", kFrameSteel, Section::circle(0.02));
   m.add_joint("brake", "M", {"a", "b"}, Connection{Kinematics::revolute(Vec3::UnitZ()), {}, {}, true});
-  m.add_support("clamp", "P0", {}, Connection{});
   m.add_load("E", std::nullopt, wrench(30, -200, 80, 0, 4, 0));
   m.add_end_effector("tool", "E");
   const Result frame = solve(m);
@@ -192,17 +172,9 @@ TEST(FrameSolve, PlanCoversOnlyFramesOfFlexibleLinksAndWelds) {
   Model elastic_support = m;
   elastic_support.supports.front().connection = Connection{Kinematics::spherical(), MatX(1e8 * Eigen::Matrix3d::Identity())};
   EXPECT_FALSE(is_frame(elastic_support));
-  // A triangle of beams clamped at P0: welded at M, a frame; spliced there by a spring, none.
-  Model triangle;
-  triangle.add_point("P0", Vec3::Zero());
-  triangle.add_point("M", Vec3(0.5, 0, 0));
-  triangle.add_point("P1", Vec3(1, 0.4, 0));
-  triangle.add_beam("a", "P0", "M", kFrameSteel, Section::circle(0.03));
-  triangle.add_beam("b", "M", "P1", kFrameSteel, Section::circle(0.03));
-  triangle.add_beam("c", "P0", "P1", kFrameSteel, Section::circle(0.03));
-  triangle.add_support("clamp", "P0", {}, Connection{});
-  EXPECT_TRUE(is_frame(triangle));
-  Model spliced = triangle;
+  // The triangle: welded at M, a frame; spliced there by a spring, none.
+  EXPECT_TRUE(is_frame(clamped_triangle()));
+  Model spliced = clamped_triangle();
   spliced.add_joint("splice", "M", {"a", "b"}, Connection{Kinematics::revolute(Vec3::UnitZ()), MatX::Constant(1, 1, 1e5)});
   EXPECT_FALSE(is_frame(spliced));
   Model locked = m;  // a locked actuator is held rigidly: still a weld

@@ -1,6 +1,6 @@
 #include "elements/link_blocks.hpp"
 
-#include <Eigen/Cholesky>
+#include "elements/cad_link.hpp"
 
 namespace stiffmsa::detail {
 
@@ -20,15 +20,7 @@ void LinkBlock::write_equations(Index row, EquationWriter& out) const {
 
 std::optional<Mat12> LinkBlock::end_stiffness() const {
   if (!compliance_) return std::nullopt;
-  // K = C⁻¹ by Cholesky: a flexible link's compliance is symmetric positive definite (the
-  // beam formulas, validated compliance links, a CAD link's regular K22).
-  const Mat6 k = compliance_->llt().solve(Mat6::Identity());
-  Mat6 d = Mat6::Identity();
-  d.topRightCorner<3, 3>() = skew(d_).transpose();
-  const Mat6 kd = k * d;
-  Mat12 k12;
-  k12 << d.transpose() * kd, -(d.transpose() * k), -kd, k;
-  return k12;
+  return free_free_stiffness(*compliance_, d_);
 }
 
 // W_i + Dᵀ·W_j = 0 solved for the end toward the root: W_i = −W_j − [0; d×F_j], or

@@ -23,7 +23,7 @@ class LinkBlock final : public ElementBlock {
       : end_i_(end_i), end_j_(end_j), d_(d), compliance_(std::move(compliance)) {}
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  // [[DᵀKD, −DᵀK], [−KD, K]] with K = C⁻¹ where the link is flexible.
+  // free_free_stiffness(C, d) where the link is flexible.
   std::optional<Mat12> end_stiffness() const override;
   bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;

@@ -13,16 +13,22 @@
 
 namespace stiffmsa::detail {
 
+namespace {
+// Whether a connection block welds its link ends: no free direction (a locked actuator is held
+// so); a free end, which has no directions, holds one end alone.
+bool welds(const ElementBlock& connection) {
+  const FreeDirections* directions = connection.directions();
+  return !directions || directions->p == 0;
+}
+}  // namespace
+
 std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& blocks) {
   FramePlan plan;
   plan.node_of_end.assign(static_cast<std::size_t>(topology.end_count()), -1);
   bool supported = false;
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const ConnectionGroup& group = topology.groups[g];
-    // A joint's or support's own free directions: none is a weld (a locked actuator is held so).
-    const FreeDirections* directions = blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
-    const bool welded = directions ? directions->p == 0 : group.kind == ConnectionGroup::Kind::free_end;
-    if (!welded) return std::nullopt;
+    if (!welds(*blocks[static_cast<std::size_t>(topology.link_count) + g])) return std::nullopt;
     if (group.kind == ConnectionGroup::Kind::support) {
       supported = true;
       continue;  // its ends stay at −1: held in place
@@ -82,10 +88,8 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   // A pose whose blocks are no frame's (a link made rigid, a weld made a hinge) is declined;
   // its pattern differs, which the factorising solve's assembler then refuses as a changed
   // topology.
-  for (std::size_t g = 0; g < topology.groups.size(); ++g) {
-    const FreeDirections* directions = blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
-    if (directions && directions->p != 0) return std::nullopt;
-  }
+  for (std::size_t g = 0; g < topology.groups.size(); ++g)
+    if (!welds(*blocks[static_cast<std::size_t>(topology.link_count) + g])) return std::nullopt;
   std::vector<Mat12> link_stiffness;
   link_stiffness.reserve(static_cast<std::size_t>(topology.link_count));
   std::vector<Eigen::Triplet<double>> entries;

@@ -6,15 +6,14 @@
 // support, K·u = F with K = Σ K12 of the links (paper eq. 1) symmetric positive definite, and a
 // sparse Cholesky factorisation (CHOLMOD's supernodal one; Eigen's simplicial LDLᵀ where
 // stiffmsa is built without SuiteSparse) of 6 unknowns per connection instead of an LU of 24
-// per link. The link ends' wrenches follow link by link,
-// [W_i; W_j] = K12·[Δt_i; Δt_j], and the whole solution is checked against every block's
-// equations like the tree solve's (check_block_by_block).
+// per link. The link ends' wrenches follow link by link, [W_i; W_j] = K12·[Δt_i; Δt_j], and
+// the whole solution is checked against every block's equations like the tree solve's
+// (check_block_by_block).
 //
 // Condensing squares what the mixed system keeps apart: K's condition grows as the links get
 // shorter and more numerous (a 10 000-link chain's loses every digit, as bench/README.md
-// records),
-// and a backward-stable Cholesky leaves a small residual however many digits it lost, so the
-// check alone cannot see it. The solve therefore estimates K's condition (Hager's estimate on
+// records), and a backward-stable Cholesky leaves a small residual however many digits it
+// lost, so the check alone cannot see it. The solve therefore estimates K's condition (Hager's estimate on
 // the factors, K scaled to a unit diagonal so that units do not count) and declines below
 // kFrameLeastRcond; the factorising solve then decides. Trees are solved on the tree before
 // this is tried.

@@ -61,9 +61,9 @@ EndWrenches load_cases(const Model& model, const Topology& topology);
 
 // What a tree solve and its check write, kept from one solve to the next (a workspace holds
 // one; the frame solve writes its solution to x and checks it the same way): poses of one
-// model then allocate none of it once the first has sized it. Buffers of
-// long models are released after each solve (release_large), so that a workspace kept
-// between solves does not hold hundreds of megabytes.
+// model then allocate none of it once the first has sized it. Buffers of long models are
+// released after each solve (release_large), so that a workspace kept between solves does not
+// hold hundreds of megabytes.
 struct TreeScratch {
   RowMajorMatX x;      // the solution
   RowMajorMatX x_low;  // the passes' low parts (see TreeState)
@@ -81,10 +81,10 @@ struct TreeScratch {
 // Solves into scratch.x (unknowns × external.columns(), the mixed system's layout) the
 // unknowns under the external wrenches of each column, with the preloads added to kLoadCase;
 // returns the number of cut unknowns solved for. Running sums are carried in two parts where
-// the tree is at least `compensated_from_depth` links deep. Nullopt, for the factorising solve to decide,
-// where there are more than `most_cut_unknowns` cut unknowns or their system's equilibrated
-// reciprocal condition estimate is below `least_rcond` (a mechanism, a structure held rigidly
-// twice over, or nearly so); scratch.x then holds nothing of this model's.
+// the tree is at least `compensated_from_depth` links deep. Nullopt, for the factorising solve
+// to decide, where there are more than `most_cut_unknowns` cut unknowns or their system's
+// equilibrated reciprocal condition estimate is below `least_rcond` (a mechanism, a structure
+// held rigidly twice over, or nearly so); scratch.x then holds nothing of this model's.
 std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
                                 const EndWrenches& external, double least_rcond, TreeScratch& scratch,
                                 Index most_cut_unknowns = kMostCutUnknowns,
