@@ -22,6 +22,7 @@ class ConstraintJointBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
+  bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
   // A passive joint is cut: each end beyond the root's takes its free motion q_k (p unknowns)
   // as given, and leaves its Λ_p·W_k rows.
@@ -51,6 +52,7 @@ class ElasticJointBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
+  bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
   bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
@@ -75,6 +77,7 @@ class SupportBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
+  bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
   // Every support passes. At the root, a passive one is cut: its free motion (p unknowns) is
   // taken as given and its Λ_p rows are left. Any other support closes a loop through the

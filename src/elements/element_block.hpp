@@ -129,8 +129,10 @@ class ElementBlock {
   // hold (only connection blocks — joints, supports, free ends — hold link ends' loads).
   virtual void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
                                    VecX& rhs) const;
-  // Right-hand side of the block's preload, if any.
+  // Right-hand side of the block's preload, if any (has_preload: whether there is one to add,
+  // so that a caller can skip the rows of the many blocks without).
   virtual void add_preload(Index /*first_row*/, VecX& /*rhs*/) const {}
+  virtual bool has_preload() const { return false; }
   // A joint's or support's free and constrained directions in this pose (the results read them
   // back rather than recomputing them); null for other blocks.
   virtual const FreeDirections* directions() const { return nullptr; }

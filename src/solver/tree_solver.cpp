@@ -69,7 +69,10 @@ Index width(Index runtime) {
 // The largest |entry| of each column over the rows added so far, +inf once any entry of the
 // column is not finite (a maximum alone would drop a NaN coefficient, residual or unknown, and
 // the check pass them): v·0 is 0 for a finite v and NaN for an infinite or NaN one, so a sum of
-// them marks the column without a branch, and the loops vectorise.
+// them marks the column without a branch, and the loops vectorise. Where k is known, rows are
+// taken two at a time, as one run of 2k values (whole vector registers even for an odd k), into
+// accumulators that are reduced only when a maximum is read: the check adds a few rows of every
+// block, and a reduction per call cost more than the rows.
 template <int Columns>
 class ColumnMaxima {
  public:
@@ -77,17 +80,12 @@ class ColumnMaxima {
   // `rows` rows of the columns, stored by rows one after the other.
   void add(const double* values, Index rows) {
     if constexpr (Columns != Eigen::Dynamic) {
-      // Two rows at a time, as one run of 2k values: whole vector registers even for an odd k.
-      using Pair = Eigen::Array<double, 2 * Columns, 1>;
-      Pair largest = Pair::Zero(), marks = Pair::Zero();
       Index i = 0;
       for (; i + 1 < rows; i += 2, values += 2 * Columns) {
         const Eigen::Map<const Pair> two_rows(values);
-        largest = largest.max(two_rows.abs());
-        marks += two_rows * 0.0;
+        pair_largest_ = pair_largest_.max(two_rows.abs());
+        pair_marks_ += two_rows * 0.0;
       }
-      largest_ = largest_.max(largest.template head<Columns>()).max(largest.template tail<Columns>());
-      marks_ += marks.template head<Columns>() + marks.template tail<Columns>();
       if (i < rows) {
         const Eigen::Map<const Values> last_row(values);
         largest_ = largest_.max(last_row.abs());
@@ -102,12 +100,22 @@ class ColumnMaxima {
         }
     }
   }
-  double operator()(Index column) const { return marks_(column) == 0 ? largest_(column) : INFINITY; }
+  double operator()(Index column) const {
+    double largest = largest_(column), marks = marks_(column);
+    if constexpr (Columns != Eigen::Dynamic) {
+      largest = std::max({largest, pair_largest_(column), pair_largest_(Columns + column)});
+      marks += pair_marks_(column) + pair_marks_(Columns + column);
+    }
+    return marks == 0 ? largest : INFINITY;
+  }
 
  private:
   using Values = Eigen::Array<double, Columns, 1>;  // on the stack where k is known
+  using Pair = Eigen::Array<double, Columns == Eigen::Dynamic ? 1 : 2 * Columns, 1>;
   Values largest_;
   Values marks_;
+  Pair pair_largest_ = Pair::Zero();
+  Pair pair_marks_ = Pair::Zero();
 };
 
 // FNV-1a over the written positions, a block of them at a time: (row, column, rows, columns)
@@ -238,12 +246,15 @@ bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology, co
   const Index rows = block.equation_count();
   auto block_column = column.head(rows);
   auto block_rhs = rhs.topRows(rows);
-  block_column.setZero();
-  block.add_preload(0, column);
-  bool any_rhs = !block_column.isZero(0);
-  if (any_rhs) {
-    block_rhs.setZero();
-    block_rhs.col(kLoadCase) = block_column;
+  bool any_rhs = false;
+  if (block.has_preload()) {
+    block_column.setZero();
+    block.add_preload(0, column);
+    any_rhs = !block_column.isZero(0);
+    if (any_rhs) {
+      block_rhs.setZero();
+      block_rhs.col(kLoadCase) = block_column;
+    }
   }
   if (k >= static_cast<std::size_t>(topology.link_count))
     for (int end : topology.groups[k - static_cast<std::size_t>(topology.link_count)].ends) {
