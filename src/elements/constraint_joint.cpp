@@ -16,7 +16,7 @@ void ConstraintJointBlock::write_equations(Index row, EquationWriter& out) const
     if (rigid)
       out.add_identity(at, column, 6, sign);
     else
-      out.add_block(at, column, sign * lr);
+      out.add_block(at, column, lr, sign);
   };
   for (std::size_t k = 1; k < ends_.size(); ++k) {
     write_constrained(row, deflection_column(ends_[0]), 1.0);

@@ -20,11 +20,11 @@ void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
   out.add_identity(row, wrench_column(end_2_), 6);
   row += 6;
   out.add_block(row, deflection_column(end_1_), lr);
-  out.add_block(row, deflection_column(end_2_), -lr);
+  out.add_block(row, deflection_column(end_2_), lr, -1.0);
   row += lr.rows();
   out.add_block(row, wrench_column(end_1_), lp);
   out.add_block(row, deflection_column(end_1_), spring_);
-  out.add_block(row, deflection_column(end_2_), -spring_);
+  out.add_block(row, deflection_column(end_2_), spring_, -1.0);
 }
 
 void ElasticJointBlock::add_external_wrench(Index row, int end_id, const Vec6& wrench,

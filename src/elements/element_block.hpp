@@ -18,25 +18,39 @@ struct FreeDirections;
 inline Index deflection_column(int end_id) { return 12 * static_cast<Index>(end_id); }
 inline Index wrench_column(int end_id) { return 12 * static_cast<Index>(end_id) + 6; }
 
-// A block of coefficients as an element writes it: at most 12×6 (a CAD stiffness link's half
-// of K12), held on the stack so that writing a pose allocates nothing.
-using CoefficientBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 6>;
+// A block of coefficients as an element writes it, at most 12×6 (a CAD stiffness link's half
+// of K12): seen in place where the element holds it by columns, else evaluated on the stack,
+// so that writing a pose copies and allocates nothing it need not.
+using CoefficientMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 6>;
+using CoefficientBlock = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 
-// Receives a block's coefficients, a dense block or a scaled identity at a time, so that a
-// writer pays one virtual call per block the element writes, not per coefficient. Every call
-// sequence of an element depends only on the topology (see above).
+// Receives a block's coefficients, a dense block or an identity at a time, each times a scale
+// (a sign, mostly), so that a writer pays one virtual call per block the element writes, not
+// per coefficient. Every call sequence of an element depends only on the topology (see above).
 class EquationWriter {
  public:
   virtual ~EquationWriter() = default;
-  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block) = 0;
+  // Coefficients scale·block(i, j) at (row + i, column + j).
+  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block, double scale) = 0;
   virtual void add_identity(Index row, Index column, Index size, double scale) = 0;
 
   template <class Derived>
-  void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block) {
+  void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block, double scale = 1.0) {
     static_assert(Derived::MaxRowsAtCompileTime != Eigen::Dynamic && Derived::MaxRowsAtCompileTime <= 12 &&
                       Derived::MaxColsAtCompileTime != Eigen::Dynamic && Derived::MaxColsAtCompileTime <= 6,
                   "an element writes blocks of at most 12x6 coefficients");
-    add_coefficients(row, column, CoefficientBlock(block));
+    constexpr bool in_place = (Derived::Flags & Eigen::DirectAccessBit) && !(Derived::Flags & Eigen::RowMajorBit);
+    if constexpr (in_place) {
+      add_coefficients(row, column,
+                       CoefficientBlock(block.derived().data(), block.rows(), block.cols(),
+                                        Eigen::OuterStride<>(block.derived().outerStride())),
+                       scale);
+    } else {
+      const CoefficientMatrix values(block);
+      add_coefficients(row, column,
+                       CoefficientBlock(values.data(), values.rows(), values.cols(), Eigen::OuterStride<>(values.rows())),
+                       scale);
+    }
   }
   void add_identity(Index row, Index column, Index size) { add_identity(row, column, size, 1.0); }
 };
@@ -47,9 +61,9 @@ template <class Derived>
 class CoefficientWriter : public EquationWriter {
  public:
   using EquationWriter::add_identity;
-  void add_coefficients(Index row, Index column, const CoefficientBlock& block) override {
+  void add_coefficients(Index row, Index column, const CoefficientBlock& block, double scale) override {
     for (Index i = 0; i < block.rows(); ++i)
-      for (Index j = 0; j < block.cols(); ++j) self().put(row + i, column + j, block(i, j));
+      for (Index j = 0; j < block.cols(); ++j) self().put(row + i, column + j, scale * block(i, j));
   }
   void add_identity(Index row, Index column, Index size, double scale) override {
     for (Index i = 0; i < size; ++i) self().put(row + i, column + i, scale);

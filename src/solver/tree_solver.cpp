@@ -141,7 +141,7 @@ class PositionHash {
 
 class PatternHash final : public EquationWriter, public PositionHash {
  public:
-  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients) override {
+  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients, double) override {
     block(row, column, coefficients);
   }
   void add_identity(Index row, Index column, Index size, double) override { identity(row, column, size); }
@@ -169,7 +169,7 @@ class BlockResidual final : public EquationWriter, public PositionHash {
   auto residual() { return residual_.topRows(rows_); }
   auto row_sums() const { return row_sums_.head(rows_); }
 
-  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients) override {
+  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients, double scale) override {
     block(row, column, coefficients);
     const Index rows = coefficients.rows(), columns = coefficients.cols();
     eigen_assert(row >= 0 && row + rows <= rows_ && column >= 0 && column + columns <= x_.rows());
@@ -183,7 +183,7 @@ class BlockResidual final : public EquationWriter, public PositionHash {
         using Row = Eigen::Array<double, 1, Columns>;
         Row sums = Row::Zero();
         for (Index j = 0; j < columns; ++j) {
-          const double value = coefficients(i, j);
+          const double value = scale * coefficients(i, j);
           // Most of a joint's Λ_r and of a link's [d×] are zeros: a row of k products saved each.
           if (value == 0) continue;
           ++block_nonzeros;
@@ -193,7 +193,7 @@ class BlockResidual final : public EquationWriter, public PositionHash {
         Eigen::Map<Row>(out) -= sums;
       } else {
         for (Index j = 0; j < columns; ++j) {
-          const double value = coefficients(i, j);
+          const double value = scale * coefficients(i, j);
           block_nonzeros += value != 0;
           magnitude += std::abs(value);
           for (Index c = 0; c < k; ++c) out[c] -= value * in[j * k + c];
