@@ -18,7 +18,8 @@
 # Environment: BENCH_CPU (core to pin to, default 0), BENCH_DATE (default today), BENCH_RUN
 #   (a suffix for the result files, e.g. run1), BUILD_DIR (default build-bench), SKIP_CHAIN=1,
 #   SKIP_CLI=1, SKIP_SWEEP=1 to leave parts 2, 3 and 4 out; BENCH_SWEEP_CPUS (cores for part 4,
-#   default 0,1), SWEEP_REPEATS (default 7).
+#   default 0,1), SWEEP_REPEATS (default 7); FRAME3DD, the path of a frame3dd program built
+#   elsewhere, adds Frame3DD against `stiffmsa solve` on the frame to part 3.
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -73,6 +74,12 @@ if [[ -z "${SKIP_CLI:-}" ]]; then
   echo "== 3b. the same chain file read with load_model, then solved (stiffmsa_chain)"
   "${pin[@]}" "$build/bench/stiffmsa_chain" "$build/chain-100000.yaml" auto --once \
     | tee -a "$out-chain.jsonl"
+  # Frame3DD is not packaged for Debian: measured only where FRAME3DD names a frame3dd program.
+  if [[ -n "${FRAME3DD:-}" ]]; then
+    echo "== 3c. the frame: stiffmsa solve against Frame3DD, whole process (bench/frame3dd_compare.py)"
+    python3 "$root/bench/frame3dd_compare.py" "$FRAME3DD" --stiffmsa "$build/stiffmsa" --runs 7 \
+      --cpu "$cpu" | tee "$out-frame3dd.txt"
+  fi
 fi
 
 if [[ -z "${SKIP_SWEEP:-}" ]]; then

@@ -25,12 +25,14 @@
 //   chain/solve/S/N               stiffmsa::solve(model) from scratch, N beam links
 //   chain/resolve/S/N             stiffmsa::solve(Workspace&, model), workspace reused (N ≤ 10 000)
 //   frame/solve/S, frame/resolve/S  the same for a space frame of 960 beams
-//   frame/dense_ldlt_of_K         Frame3DD's method on the same frame: the condensed stiffness
-//                                 K (6 unknowns per free node) stored dense, LDLᵀ-factorised
-//                                 (Eigen's blocked, vectorised LDLT, faster than Frame3DD's
-//                                 loops) and solved for the loads: a lower bound of Frame3DD's
-//                                 solve; counter u_diff = largest node deflection difference
-//                                 from the library's, relative to the largest
+//   frame/dense_ldlt_of_K         the condensed stiffness K of the same frame (6 unknowns per
+//                                 free node) stored dense and LDLᵀ-factorised entry by entry
+//                                 (Eigen's LDLT), then solved for the loads: the dense method
+//                                 the issue supposed of Frame3DD, which in fact skips the zeros
+//                                 ahead of each column's first entry (a profile LDLᵀ) and is
+//                                 measured itself by bench/frame3dd_compare.py; counter u_diff =
+//                                 largest node deflection difference from the library's,
+//                                 relative to the largest
 //   <model>/klu_fill/O/tol:T      KLU's bare numeric factorisation of the equilibrated matrix
 //                                 with ordering O (amd: the library's, colamd) and pivot
 //                                 tolerance T: 1 (the library's) or 0.001 (KLU's default);
@@ -543,8 +545,9 @@ void frame_solve(benchmark::State& state, SolverKind kind) {
   state.counters["residual"] = result.report.relative_residual;
 }
 
-// Frame3DD stores the stiffness matrix of its nodes' 6 displacements dense and factorises it
-// (LDLᵀ); the same K, from the element blocks and the frame solve's plan, solved the same way.
+// The stiffness matrix of the nodes' 6 displacements stored dense and factorised whole (LDLᵀ),
+// as a frame program without sparsity would; the same K as the frame solve's, from the element
+// blocks and its plan. (Frame3DD stores K dense too, but skips each column's leading zeros.)
 void frame_dense_ldlt(benchmark::State& state) {
   const Model& model = frame_model();
   const detail::Topology topology = detail::build_topology(model);

@@ -170,7 +170,7 @@ def frame_table(runs):
                   f"| {again} | {whole.get('unknowns', 0):.0f} |")
     dense = runs.get("frame/dense_ldlt_of_K")
     if dense:
-        print(f"| frame, Frame3DD's method: its K dense, LDLᵀ (node deflections within "
+        print(f"| frame, K dense, LDLᵀ of every entry (node deflections within "
               f"{dense.get('u_diff', 0):.1e} of the library's) | Eigen LDLT | {dense['cpu_us'] / 1e3:.1f} | – "
               f"| {dense.get('unknowns', 0):.0f} |")
 
