@@ -60,6 +60,23 @@ const Vec3 kFrom(0.2, -0.1, 0.3), kTo(0.9, 0.4, 0.1);
 
 }  // namespace
 
+// A block held by columns reaches the writer in place (a view with the block's stride), any
+// other expression evaluated first; either way as scale × its coefficients, where the call puts it.
+TEST(EquationWriter, WritesBlocksInPlaceOrEvaluatedTimesTheirScale) {
+  Mat6 m;
+  for (Index j = 0; j < 6; ++j)
+    for (Index i = 0; i < 6; ++i) m(i, j) = 1 + i + 10 * j;  // every entry distinct
+  DenseWriter writer(12, 1);
+  writer.add_block(1, 2, m.bottomRows(4), -1.0);                 // in place: a 4×6 view, stride 6
+  writer.add_block(7, 8, m.topLeftCorner<3, 3>().transpose(), 2.0);  // row-major: evaluated
+  writer.add_block(10, 0, m.block<2, 2>(1, 4));                  // in place, scale 1
+  MatX expected = MatX::Zero(12, 12);
+  expected.block(1, 2, 4, 6) = -m.bottomRows(4);
+  expected.block(7, 8, 3, 3) = 2.0 * m.topLeftCorner<3, 3>().transpose();
+  expected.block(10, 0, 2, 2) = m.block<2, 2>(1, 4);
+  EXPECT_EQ(writer.matrix, expected);
+}
+
 TEST(BeamElement, LocalStiffnessIsSymmetricWithSixRigidBodyModes) {
   for (bool shear : {false, true}) {
     const BeamConstants c = beam_constants(sample_beam(shear), 0.8);
