@@ -43,15 +43,17 @@ import sys
 import tempfile
 import time
 
+import make_models  # beside this file
+
 BENCH = os.path.dirname(os.path.abspath(__file__))
 
 
 def write_models(directory, size):
-    make_models = os.path.join(BENCH, "make_models.py")
-    for name, args in [("frame.yaml", ["frame"] + size), ("frame.3dd", ["frame3dd"] + size),
-                       ("frame_mm.fmm", ["frame3dd"] + size + ["mm"])]:
+    for name, lines in [("frame.yaml", make_models.frame(*size)),
+                        ("frame.3dd", make_models.frame3dd(*size)),
+                        ("frame_mm.fmm", make_models.frame3dd(*size, mm=True))]:
         with open(os.path.join(directory, name), "w") as f:
-            subprocess.run([sys.executable, make_models] + args, stdout=f, check=True)
+            f.write("\n".join(lines) + "\n")
 
 
 def run(command, directory, cpu, env=None):
@@ -152,7 +154,7 @@ def main():
     directory = args.keep or tempfile.mkdtemp(prefix="frame3dd_compare")
     os.makedirs(directory, exist_ok=True)
     try:
-        size = [str(n) for n in args.size]
+        size = args.size
         write_models(directory, size)
         env = dict(os.environ, FRAME3DD_OUTDIR=directory)
         f3dd_mm = [frame3dd, "-i", "frame_mm.fmm", "-o", "frame_mm.out", "-q"]
@@ -186,7 +188,7 @@ def main():
         if not args.keep:
             shutil.rmtree(directory, ignore_errors=True)
 
-    print(f"frame {'x'.join(size)}: {len(reference)} nodes; {args.runs} runs each, alternating, "
+    print(f"frame {'x'.join(map(str, size))}: {len(reference)} nodes; {args.runs} runs each, alternating, "
           f"pinned to CPU {args.cpu}; whole process, wall time")
     print("| program | best s | median s | peak MiB |")
     print("| --- | ---: | ---: | ---: |")
