@@ -4,6 +4,8 @@
 // digits must be left to the factorising solve.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <iterator>
 #include <string>
 
 #include "assembly/topology.hpp"
@@ -266,4 +268,20 @@ TEST(FrameSolve, PosesOfAWorkspaceMatchOneShotSolves) {
   Model stiffened = m;
   stiffened.links.front().kind = RigidLink{};
   EXPECT_THROW(solve(workspace, stiffened), InputError);
+}
+
+// CHOLMOD fills each large supernode of its factor in an OpenMP team of 4 threads, whatever the
+// cores: the frame solve runs that work on the calling thread, so that a frame on 2 cores, or a
+// sweep whose workers each solve one, does not have more threads than cores waiting on each
+// other. The runtime would keep its team's threads alive after the solve: none may appear.
+TEST(FrameSolve, FactorisesOnTheCallingThreadAlone) {
+  const auto threads = [] {
+    const std::filesystem::directory_iterator tasks("/proc/self/task");
+    return std::distance(begin(tasks), end(tasks));
+  };
+  const Model m = building(5, 5, 10);  // 960 beams: supernodes above CHOLMOD's 1 024-entry threshold
+  const auto before = threads();
+  const Result result = solve(m);
+  ASSERT_EQ(result.report.solver, "frame");
+  EXPECT_EQ(threads(), before);
 }

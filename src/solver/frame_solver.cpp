@@ -7,6 +7,9 @@
 #if STIFFMSA_HAVE_SUITESPARSE
 #include <Eigen/CholmodSupport>
 #endif
+#if STIFFMSA_HAVE_OPENMP_RUNTIME
+#include <omp.h>
+#endif
 
 #include "elements/free_directions.hpp"
 #include "solver/sparse_solver.hpp"
@@ -45,6 +48,28 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
 
 namespace {
 
+// CHOLMOD's supernodal factorisation zeroes and fills each large supernode in an OpenMP team of
+// a fixed 4 threads (its CHOLMOD_OMP_NUM_THREADS), whatever the cores and OMP_NUM_THREADS: on
+// 2 cores, or in a sweep whose workers each solve, the threads outnumber the cores and wait on
+// one another (the 960-beam frame's whole process 49 ms unpinned, 36 ms with the regions run
+// on one thread). While this lives, OpenMP regions started by the calling thread are inactive
+// and run on it; max-active-levels is an ICV of the calling thread's task, so other threads of
+// the program keep theirs.
+#if STIFFMSA_HAVE_OPENMP_RUNTIME
+class OpenMPOnCallingThread {
+ public:
+  OpenMPOnCallingThread() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+  ~OpenMPOnCallingThread() { omp_set_max_active_levels(levels_); }
+  OpenMPOnCallingThread(const OpenMPOnCallingThread&) = delete;
+  OpenMPOnCallingThread& operator=(const OpenMPOnCallingThread&) = delete;
+
+ private:
+  int levels_;
+};
+#else
+struct OpenMPOnCallingThread {};
+#endif
+
 // The Cholesky factorisation of the (scaled) stiffness, as a LinearSolver for the condition
 // estimate. CHOLMOD's supernodal one where SuiteSparse is built in: a frame's factor has dense
 // column blocks, which it factorises through BLAS (with OpenBLAS ~2× the simplicial one on the
@@ -58,6 +83,7 @@ class StiffnessCholesky final : public LinearSolver {
 #endif
   void analyze(const SparseMatrix& k) override { cholesky_.analyzePattern(k); }
   bool factorize(const SparseMatrix& k) override {
+    const OpenMPOnCallingThread one_thread{};
     cholesky_.factorize(k);
     // Positive definite: the factorisation succeeds (a mechanism or a bad stiffness fails it).
     return cholesky_.info() == Eigen::Success && positive_pivots();
