@@ -127,34 +127,41 @@ int main(int argc, char** argv) {
         if (result.threads != threads) std::cerr << "stiffmsa_sweep: asked for " << threads << " threads, got " << result.threads << "\n";
       }
 
-    // Where one pose goes, on one thread: building every member with one builder (what each
-    // sweep thread does), then solving the members already built with one workspace.
+    // Where one pose goes, on one thread: building every member with one builder into one
+    // model (what each sweep thread does), then solving the members, kept aside untimed, with
+    // one workspace.
     const auto values = full_values(family, poses);
     auto start = Clock::now();
     stiffmsa::ModelFamily::Builder build = family.make_builder();
     const double make_builder_s = seconds_since(start);
     std::vector<double> build_s, solve_s;
-    std::vector<stiffmsa::Model> members;
+    stiffmsa::Model member;
     for (int r = 0; r < repeats; ++r) {
-      std::vector<stiffmsa::Model> built;
-      built.reserve(values.size());
       start = Clock::now();
       for (const auto& v : values) {
         try {
-          built.push_back(build(v));
+          build(v, member);
         } catch (const stiffmsa::InputError&) {
           // an invalid pose (e.g. out of reach): the sweep pays for the attempt too
         }
       }
       build_s.push_back(seconds_since(start));
-      members = std::move(built);
+    }
+    std::vector<stiffmsa::Model> members;
+    members.reserve(values.size());
+    for (const auto& v : values) {
+      try {
+        build(v, member);
+        members.push_back(member);
+      } catch (const stiffmsa::InputError&) {
+      }
     }
     stiffmsa::Workspace workspace(family.build(family.default_values()));
     for (int r = 0; r < repeats; ++r) {
       start = Clock::now();
-      for (const stiffmsa::Model& member : members) {
+      for (const stiffmsa::Model& built : members) {
         try {
-          stiffmsa::solve(workspace, member, options.solve);
+          stiffmsa::solve(workspace, built, options.solve);
         } catch (const stiffmsa::SingularModelError&) {
           // a singular or free-moving pose: the sweep pays for the attempt too
         }

@@ -102,9 +102,10 @@ TEST(ParametricFile, FamilyListsParametersWithUnitsAndLocations) {
 TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
   auto build = family.make_builder();
+  Model m;  // handed back at every call, as a sweep does
   for (double length : {0.3, 0.8, 1.7}) {
     const std::vector<double> values{length, 0.03, 250};
-    const Model m = build(values);
+    build(values, m);
     EXPECT_EQ(m.points[1].position(0), length / 2);
     EXPECT_EQ(m.points[2].position(0), length);
     EXPECT_EQ(m.loads[0].wrench(1), -250.0);
@@ -118,9 +119,12 @@ TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
 TEST(ParametricFile, BuilderKeepsNoStateBetweenMembers) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
   auto build = family.make_builder();
-  const Model first = build(std::vector<double>{0.4, 0.02, 100});
-  build(std::vector<double>{2.0, 0.05, 7});
-  const Model again = build(std::vector<double>{0.4, 0.02, 100});
+  Model member;
+  build(std::vector<double>{0.4, 0.02, 100}, member);
+  const Model first = member;
+  build(std::vector<double>{2.0, 0.05, 7}, member);
+  build(std::vector<double>{0.4, 0.02, 100}, member);
+  const Model& again = member;
   EXPECT_EQ(first.points[2].position, again.points[2].position);
   EXPECT_EQ(first.loads[0].wrench, again.loads[0].wrench);
 }
@@ -351,10 +355,11 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
                                   read_text("tripteron-parametric.yaml"), with("E: 2.1e11", "E: 2.1e301")}) {
     const ModelFamily family = parse_model_family(text, "p.yaml");
     auto build = family.make_builder();
+    Model member;
     for (int pose = 0; pose < 5; ++pose) {
       std::vector<double> values = family.default_values();
       for (double& v : values) v *= 1 + nudge(random);
-      const Model member = build(values);
+      build(values, member);
       const Model read = parse_model(with_defaults(text, family, values), "p.yaml");
       EXPECT_EQ(numbers_of(member), numbers_of(read)) << family.name() << " pose " << pose;
       ASSERT_EQ(member.points.size(), read.points.size());
@@ -362,6 +367,40 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
       EXPECT_EQ(numbers_of(member).size(), numbers_of(family.build(family.default_values())).size());
     }
   }
+}
+
+// A builder writes only the numbers into the model it made at its previous call: any other
+// model, a fresh one or one the caller emptied, gets the whole member, and a member that failed
+// its checks leaves nothing behind for the next.
+TEST(ParametricFile, ABuilderRefillsOnlyTheModelItMadeAndFillsAnyOtherWhole) {
+  const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
+  const std::vector<double> long_one{1.5, 0.04, 30}, short_one{0.3, 0.01, 900};
+  const Model expected_long = family.build(long_one), expected_short = family.build(short_one);
+  const auto expect_member = [](const Model& member, const Model& expected) {
+    EXPECT_EQ(numbers_of(member), numbers_of(expected));
+    ASSERT_EQ(member.links.size(), expected.links.size());
+    for (std::size_t i = 0; i < member.links.size(); ++i) {
+      EXPECT_EQ(member.links[i].name, expected.links[i].name);
+      EXPECT_EQ(member.links[i].from, expected.links[i].from);
+      EXPECT_EQ(member.links[i].origin.of("section").line, expected.links[i].origin.of("section").line);
+    }
+    EXPECT_EQ(member.loads.size(), expected.loads.size());
+  };
+  auto build = family.make_builder();
+  Model kept;
+  build(long_one, kept);
+  expect_member(kept, expected_long);
+  build(short_one, kept);  // refilled in place
+  expect_member(kept, expected_short);
+  Model other;
+  build(long_one, other);  // not the model of the previous call
+  expect_member(other, expected_long);
+  kept = Model{};  // the same object, emptied by its owner
+  build(short_one, kept);
+  expect_member(kept, expected_short);
+  EXPECT_THROW(build(std::vector<double>{0.0, 0.02, 100}, kept), InputError);  // zero-length links
+  build(long_one, kept);
+  expect_member(kept, expected_long);
 }
 
 TEST(ParametricFile, ExpressionFailureOfAMemberNamesItsKey) {

@@ -199,9 +199,9 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SweepWithEverySolver,
 TEST(Sweep, ABuilderThatThrowsFailsOnlyItsPose) {
   const ModelFamily base = parse_model_family(kTwoBarTruss, "truss.yaml");
   const ModelFamily family("picky", base.parameters(), [&base] {
-    return ModelFamily::Builder([build = base.make_builder()](std::span<const double> v) mutable {
+    return ModelFamily::Builder([build = base.make_builder()](std::span<const double> v, Model& member) mutable {
       if (v[0] == 0.25) throw std::runtime_error("no model at h = 0.25");
-      return build(v);
+      build(v, member);
     });
   });
   const SweepResult s = sweep(family, grid_poses({{"h", 0.25, 0.5, 2}}));
@@ -263,7 +263,9 @@ TEST(Sweep, TopologyChangeIsAnInvalidPose) {
     m.add_support("clamp", "a", {}, Connection{});
     return m;
   };
-  const ModelFamily family("grows", {{"n", 0, "", {}}}, [make] { return ModelFamily::Builder(make); });
+  const ModelFamily family("grows", {{"n", 0, "", {}}}, [make] {
+    return ModelFamily::Builder([make](std::span<const double> v, Model& member) { member = make(v); });
+  });
   const SweepResult s = sweep(family, grid_poses({{"n", 0, 1, 2}}));
   EXPECT_EQ(s.results[0].status, PoseStatus::ok) << s.results[0].message;
   EXPECT_EQ(s.results[1].status, PoseStatus::invalid);

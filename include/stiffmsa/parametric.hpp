@@ -22,10 +22,14 @@ struct Parameter {
 
 class ModelFamily {
  public:
-  // Builds the member for one value per parameter, in parameter order; throws InputError
-  // when those values make an invalid model. A builder may keep caches between calls and is
-  // used by one thread at a time; each thread of a sweep makes its own.
-  using Builder = std::function<Model(std::span<const double> values)>;
+  // Writes into `member` the member for one value per parameter, in parameter order; throws
+  // InputError when those values make an invalid model. The caller hands one builder the same
+  // model at every call and changes it in no other way, so that a builder may keep in it what
+  // all members share and write only the numbers that differ (a sweep then builds its members
+  // without allocating). At the first call `member` may hold anything. A builder may keep
+  // caches between calls and is used by one thread at a time; each thread of a sweep makes its
+  // own.
+  using Builder = std::function<void(std::span<const double> values, Model& member)>;
   using BuilderFactory = std::function<Builder()>;
 
   ModelFamily(std::string name, std::vector<Parameter> parameters, BuilderFactory make_builder);
@@ -43,7 +47,7 @@ class ModelFamily {
   // parameter.
   Builder make_builder() const;
   // One member; for many, make a builder once.
-  Model build(std::span<const double> values) const { return make_builder()(values); }
+  Model build(std::span<const double> values) const;
 
  private:
   std::string name_;

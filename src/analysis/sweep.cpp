@@ -115,12 +115,12 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
 
 // Builds, solves and measures one pose; every failure that belongs to the pose becomes its
 // status.
-PoseResult solve_one(ModelFamily::Builder& build, Workspace& workspace, std::span<const double> values,
+PoseResult solve_one(ModelFamily::Builder& build, Model& member, Workspace& workspace, std::span<const double> values,
                      const SweepOptions& options) {
   PoseResult pose;
   try {
-    const Model model = build(values);
-    return measure(solve(workspace, model, options.solve), options);
+    build(values, member);
+    return measure(solve(workspace, member, options.solve), options);
   } catch (const InputError& e) {
     pose.status = PoseStatus::invalid;
     pose.message = one_line(e);
@@ -166,6 +166,7 @@ PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
 
 struct Worker {
   ModelFamily::Builder build;
+  Model member;  // the builder's, from pose to pose
   Workspace workspace;
   PoseValues values;
 };
@@ -202,7 +203,7 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   const std::size_t threads = std::min(
       max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency()) : options.threads);
   tbb::enumerable_thread_specific<Worker> workers(
-      [&] { return Worker{family.make_builder(), take_workspace(), defaults}; });
+      [&] { return Worker{family.make_builder(), Model{}, take_workspace(), defaults}; });
 
   std::atomic<std::size_t> done{0};
   std::mutex progress_lock;
@@ -219,7 +220,7 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
       Worker& worker = workers.local();
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         worker.values.set(poses.pose(i));
-        sweep_result.results[i] = solve_one(worker.build, worker.workspace, worker.values.all, options);
+        sweep_result.results[i] = solve_one(worker.build, worker.member, worker.workspace, worker.values.all, options);
       }
       report_progress(done += range.size());
     });

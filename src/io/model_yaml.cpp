@@ -1456,13 +1456,25 @@ std::optional<NumberBindings> bind_numbers(const YamlNode& root, const std::stri
   return bindings;
 }
 
-// A builder that evaluates the expressions for the member's values and writes them into a copy
-// of the member at the defaults, then validates it: the file is not read again.
+// Whether `member` has the entities of `reference`, in number: a model the caller made afresh
+// (an empty one, at a builder's first call) has not.
+bool same_entity_counts(const Model& member, const Model& reference) {
+  return member.points.size() == reference.points.size() && member.links.size() == reference.links.size() &&
+         member.joints.size() == reference.joints.size() && member.supports.size() == reference.supports.size() &&
+         member.loads.size() == reference.loads.size() && member.end_effectors.size() == reference.end_effectors.size();
+}
+
+// A builder that evaluates the expressions for the member's values and writes them into the
+// member, then validates it: the file is not read again. The member at the defaults is copied
+// into the caller's model at the first call only; after that, the caller handing back the model
+// of the previous call (Builder's contract), only the numbers the expressions fill are written:
+// names, references and source locations are the same in every member, and copying them per
+// member cost more than solving a 3-RPR pose.
 ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bindings,
                                        std::vector<std::string> names, std::vector<std::string> derived_names) {
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
-  auto site_values = std::make_shared<std::vector<double>>(bindings->sites.size());
-  return [bindings, expressions, site_values](std::span<const double> values) {
+  return [bindings, expressions, site_values = std::vector<double>(bindings->sites.size()),
+          last_member = static_cast<const Model*>(nullptr)](std::span<const double> values, Model& member) mutable {
     expressions->set_values(values);
     std::vector<Diagnostic> defects;
     const auto report = [&](const ExpressionSite& site, const detail::ExpressionEvaluator::Outcome& outcome) {
@@ -1475,21 +1487,24 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
       const auto outcome = expressions->evaluate(bindings->sites[k].text);
       report(bindings->sites[k], outcome);
       all_values = all_values && outcome.error.empty();
-      (*site_values)[k] = outcome.value;
+      site_values[k] = outcome.value;
     }
     // A value that is missing without a defect of its own follows from a derived value's,
     // which is reported: defects is never empty here.
     if (!all_values) throw InputError(std::move(defects));
-    Model member = bindings->reference;
+    if (&member != last_member || !same_entity_counts(member, bindings->reference)) {
+      last_member = nullptr;  // until the copy below is whole
+      member = bindings->reference;
+      last_member = &member;
+    }
     auto next = bindings->filled.begin();
     std::size_t index = 0;
     detail::for_each_number(member, [&](double& value) {
-      for (; next != bindings->filled.end() && next->first == index; ++next) value = (*site_values)[next->second];
+      for (; next != bindings->filled.end() && next->first == index; ++next) value = site_values[next->second];
       ++index;
     });
     auto member_defects = find_defects(member);
     if (!member_defects.empty()) throw InputError(std::move(member_defects));
-    return member;
   };
 }
 
@@ -1500,8 +1515,8 @@ ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, 
                                        std::vector<std::string> derived_names) {
   auto own_tree = std::make_shared<const detail::YamlTree>(parse_tree(*text, file_name, limits));
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
-  return [own_tree, expressions, file_name](std::span<const double> values) {
-    return read_checked(own_tree->root(), file_name, expressions.get(), values);
+  return [own_tree, expressions, file_name](std::span<const double> values, Model& member) {
+    member = read_checked(own_tree->root(), file_name, expressions.get(), values);
   };
 }
 

@@ -29,10 +29,17 @@ std::vector<double> ModelFamily::default_values() const {
 }
 
 ModelFamily::Builder ModelFamily::make_builder() const {
-  return [count = parameters_.size(), name = name_, build = make_builder_()](std::span<const double> values) mutable {
+  return [count = parameters_.size(), name = name_, build = make_builder_()](std::span<const double> values,
+                                                                             Model& member) mutable {
     check_value_count(name, count, values.size());
-    return build(values);
+    build(values, member);
   };
+}
+
+Model ModelFamily::build(std::span<const double> values) const {
+  Model member;
+  make_builder()(values, member);
+  return member;
 }
 
 ModelFamily ModelFamily::with_defaults(std::span<const double> values) const {
