@@ -11,6 +11,7 @@
 #include "assembly/topology.hpp"
 #include "solve_comparison.hpp"
 #include "solver/frame_solver.hpp"
+#include "stiffmsa/config.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
 using namespace stiffmsa;
@@ -275,6 +276,8 @@ TEST(FrameSolve, PosesOfAWorkspaceMatchOneShotSolves) {
 // sweep whose workers each solve one, does not have more threads than cores waiting on each
 // other. The runtime would keep its team's threads alive after the solve: none may appear.
 TEST(FrameSolve, FactorisesOnTheCallingThreadAlone) {
+  if (!STIFFMSA_HAVE_OPENMP_RUNTIME) GTEST_SKIP() << "built without libgomp's API (CMakeLists.txt)";
+  if (!std::filesystem::is_directory("/proc/self/task")) GTEST_SKIP() << "threads are counted in /proc/self/task";
   const auto threads = [] {
     const std::filesystem::directory_iterator tasks("/proc/self/task");
     return std::distance(begin(tasks), end(tasks));
@@ -283,5 +286,5 @@ TEST(FrameSolve, FactorisesOnTheCallingThreadAlone) {
   const auto before = threads();
   const Result result = solve(m);
   ASSERT_EQ(result.report.solver, "frame");
-  EXPECT_EQ(threads(), before);
+  EXPECT_LE(threads(), before);  // a thread of the test runner's may end meanwhile; none may start
 }

@@ -116,7 +116,7 @@ TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
   }
 }
 
-TEST(ParametricFile, BuilderKeepsNoStateBetweenMembers) {
+TEST(ParametricFile, BuilderLeavesNoNumberOfAnEarlierMember) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
   auto build = family.make_builder();
   Model member;
@@ -395,6 +395,11 @@ TEST(ParametricFile, ABuilderRefillsOnlyTheModelItMadeAndFillsAnyOtherWhole) {
   Model other;
   build(long_one, other);  // not the model of the previous call
   expect_member(other, expected_long);
+  Model renamed = expected_short;  // the entities of a member, not the model of the previous call
+  renamed.links[0].name = "renamed";
+  renamed.points[0].position.x() = 7;
+  build(long_one, renamed);
+  expect_member(renamed, expected_long);
   kept = Model{};  // the same object, emptied by its owner
   build(short_one, kept);
   expect_member(kept, expected_short);

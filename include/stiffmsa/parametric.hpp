@@ -23,12 +23,14 @@ struct Parameter {
 class ModelFamily {
  public:
   // Writes into `member` the member for one value per parameter, in parameter order; throws
-  // InputError when those values make an invalid model. The caller hands one builder the same
-  // model at every call and changes it in no other way, so that a builder may keep in it what
-  // all members share and write only the numbers that differ (a sweep then builds its members
-  // without allocating). At the first call `member` may hold anything. A builder may keep
-  // caches between calls and is used by one thread at a time; each thread of a sweep makes its
-  // own.
+  // InputError when those values make an invalid model (`member` then holds no member; the
+  // next call writes a whole one). The caller hands one builder the same model at every call
+  // and changes it in no other way in between (a model shared by two builders breaks this):
+  // a builder may then keep in it what all members share and write only the numbers that
+  // differ, so that a sweep builds its members without copying the model. Any model other than
+  // the one of its previous call, an empty one at the first call for instance, is filled
+  // whole. A builder may keep caches between calls and is used by one thread at a time; each
+  // thread of a sweep makes its own.
   using Builder = std::function<void(std::span<const double> values, Model& member)>;
   using BuilderFactory = std::function<Builder()>;
 

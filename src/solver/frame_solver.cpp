@@ -51,10 +51,12 @@ namespace {
 // CHOLMOD's supernodal factorisation zeroes and fills each large supernode in an OpenMP team of
 // a fixed 4 threads (its CHOLMOD_OMP_NUM_THREADS), whatever the cores and OMP_NUM_THREADS: on
 // 2 cores, or in a sweep whose workers each solve, the threads outnumber the cores and wait on
-// one another (the 960-beam frame's whole process 49 ms unpinned, 36 ms with the regions run
-// on one thread). While this lives, OpenMP regions started by the calling thread are inactive
-// and run on it; max-active-levels is an ICV of the calling thread's task, so other threads of
-// the program keep theirs.
+// one another (the 960-beam frame's command on 2 cores 46 → 33 ms without them, bench/README.md
+// round 9). While this lives, OpenMP regions started by the calling thread are inactive and run
+// on it. max-active-levels must be an ICV of the calling thread's task, as in libgomp from
+// GCC 11 (CMakeLists.txt), so that other threads of the program keep theirs. With a BLAS built
+// on OpenMP (not the serial OpenBLAS that scripts/install-deps.sh installs), its threads inside
+// CHOLMOD would be held to the calling thread too.
 #if STIFFMSA_HAVE_OPENMP_RUNTIME
 class OpenMPOnCallingThread {
  public:
@@ -83,7 +85,7 @@ class StiffnessCholesky final : public LinearSolver {
 #endif
   void analyze(const SparseMatrix& k) override { cholesky_.analyzePattern(k); }
   bool factorize(const SparseMatrix& k) override {
-    const OpenMPOnCallingThread one_thread{};
+    [[maybe_unused]] const OpenMPOnCallingThread one_thread{};
     cholesky_.factorize(k);
     // Positive definite: the factorisation succeeds (a mechanism or a bad stiffness fails it).
     return cholesky_.info() == Eigen::Success && positive_pivots();
