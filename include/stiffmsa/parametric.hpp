@@ -23,8 +23,8 @@ struct Parameter {
 class ModelFamily {
  public:
   // Writes into `member` the member for one value per parameter, in parameter order; throws
-  // InputError when those values make an invalid model (`member` then holds no member; the
-  // next call writes a whole one). The caller hands one builder the same model at every call
+  // InputError when those values make an invalid model (`member` then holds no valid member;
+  // the next call writes a valid one over it). The caller hands one builder the same model at every call
   // and changes it in no other way in between (a model shared by two builders breaks this):
   // a builder may then keep in it what all members share and write only the numbers that
   // differ, so that a sweep builds its members without copying the model. Any model other than
