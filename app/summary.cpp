@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace stiffmsa::cli {
 namespace {
@@ -108,6 +109,48 @@ void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection) 
   out << "   magnitude " << scientific(d.tail<3>().norm()) << " rad\n";
 }
 
+// The stiffness on the directions an end effector can move in, where others are held rigidly:
+// a direction that is a coordinate axis is labelled by it (dx and Fx, ...), any other d1, d2, ...
+void print_reduced_stiffness(std::ostream& out, const ReducedStiffness& reduced) {
+  const Eigen::Index count = reduced.matrix.rows();
+  std::vector<std::string> motion(static_cast<std::size_t>(count)), wrench(motion.size());
+  bool all_axes = true;
+  for (Eigen::Index k = 0; k < count; ++k) {
+    Eigen::Index axis = 0;
+    const double largest = reduced.directions.row(k).cwiseAbs().maxCoeff(&axis);
+    // The library writes a direction along a coordinate axis exactly.
+    const bool on_axis = largest == 1.0 && reduced.directions.row(k).cwiseAbs().sum() == 1.0;
+    all_axes &= on_axis;
+    // Appended, not "d" + number: GCC 12 warns falsely (-Wrestrict) on that sum.
+    std::string numbered = "d";
+    numbered += std::to_string(k + 1);
+    motion[static_cast<std::size_t>(k)] = on_axis ? deflection_labels[static_cast<std::size_t>(axis)] : numbered;
+    wrench[static_cast<std::size_t>(k)] = on_axis ? wrench_labels[static_cast<std::size_t>(axis)] : numbered;
+  }
+  const std::string indent = "    ";
+  out << "  Stiffness on the " << count << " directions not held rigidly (reduced_stiffness)\n";
+  if (!all_axes) {
+    out << indent << "directions (unit motions, [m] and [rad]):\n" << indent << "  ";
+    for (const char* label : deflection_labels) out << pad_left(label, number_width);
+    out << '\n';
+    for (Eigen::Index k = 0; k < count; ++k) {
+      out << indent << pad_left(motion[static_cast<std::size_t>(k)], 2);
+      for (int c = 0; c < 6; ++c) out << scientific(reduced.directions(k, c), number_width);
+      out << '\n';
+    }
+  }
+  out << indent << "units as in the stiffness: N/m, N/rad in force rows; N·m/m, N·m/rad in moment rows"
+      << (all_axes ? "" : " (mixed along a direction that both moves and turns)") << '\n'
+      << indent << "  ";
+  for (const auto& label : motion) out << pad_left(label, number_width);
+  out << '\n';
+  for (Eigen::Index r = 0; r < count; ++r) {
+    out << indent << pad_left(wrench[static_cast<std::size_t>(r)], 2);
+    for (Eigen::Index c = 0; c < count; ++c) out << scientific(reduced.matrix(r, c), number_width);
+    out << '\n';
+  }
+}
+
 void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
   out << "\nEnd effector " << e.name << " (point " << e.point << ", link " << e.link << ", end "
       << to_string(e.end) << ")\n";
@@ -127,6 +170,7 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
                        *e.stiffness, wrench_labels, deflection_labels);
   } else if (e.compliance) {
     out << "  Stiffness: unbounded (the end effector is held rigidly in some direction)\n";
+    if (e.reduced_stiffness) print_reduced_stiffness(out, *e.reduced_stiffness);
   } else {
     out << "  Stiffness: undetermined\n";
   }
@@ -253,8 +297,8 @@ void print_input_error(std::ostream& err, const InputError& error) {
 }
 
 void print_singular_model_error(std::ostream& err, const SingularModelError& error) {
+  // what() holds the summary and its details, one per line.
   print_error(err, error.what());
-  for (const std::string& detail : error.details()) err << "  " << detail << '\n';
 }
 
 }  // namespace stiffmsa::cli

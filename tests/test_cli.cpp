@@ -233,6 +233,81 @@ TEST_F(Cli, MechanismCannotBeSolved) {
   EXPECT_FALSE(fs::exists(json));
 }
 
+TEST_F(Cli, MechanismMessageIsASentenceThenItsCausesOnce) {
+  const fs::path model = write_model("floating.yaml", unsupported_model);
+  const CliRun r = run("solve " + shell_quoted(model.string()));
+  EXPECT_EQ(r.exit_code, exit_cannot_solve) << r.out << r.err;
+  EXPECT_EQ(r.err, std::string(error_prefix) +
+                       "the model is a mechanism with 6 free motions and carries loads or preloads, which a "
+                       "mechanism cannot hold (only an unloaded one is solved)\n"
+                       "  the model has no support: nothing holds it, so it can move as a whole; add one under "
+                       "`supports:`\n");
+}
+
+// A planar 3R arm of rigid links; its three elastic revolute axes are along z at O, A and B.
+constexpr const char* planar_3r_model = R"(format: stiffmsa/1
+name: planar-3r
+points:
+  O: [0, 0, 0]
+  A: [0.4, 0.1, 0]
+  B: [0.7, 0.35, 0]
+  E: [0.8, 0.6, 0]
+links:
+  l1: {type: rigid, from: O, to: A}
+  l2: {type: rigid, from: A, to: B}
+  l3: {type: rigid, from: B, to: E}
+joints:
+  j2: {type: revolute, at: A, links: [l1, l2], axis: [0, 0, 1], stiffness: 2.0e4}
+  j3: {type: revolute, at: B, links: [l2, l3], axis: [0, 0, 1], stiffness: 1.0e4}
+supports:
+  j1: {type: revolute, at: O, axis: [0, 0, 1], stiffness: 3.0e4}
+end_effectors:
+  tip: {at: E}
+)";
+
+TEST_F(Cli, RigidPlanarArmGetsItsInPlaneStiffness) {
+  // K_plane = J⁻ᵀ·diag(k)·J⁻¹ on x, y, rz, J's columns [−(E − P_i)_y, (E − P_i)_x, 1] (z × (E − P_i), 1).
+  const fs::path model = write_model("planar-3r.yaml", planar_3r_model);
+  const fs::path json = folder_ / "result.json";
+  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(r.out, "  Stiffness: unbounded (the end effector is held rigidly in some direction)\n"
+                              "  Stiffness on the 3 directions not held rigidly (reduced_stiffness)\n"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "                dx           dy           rz\n    Fx")) << r.out;
+
+  const nlohmann::json result = nlohmann::json::parse(read_file(json));
+  const auto& tip = result["end_effectors"]["tip"];
+  EXPECT_TRUE(tip["stiffness"].is_null());
+  const nlohmann::json axes = {{1.0, 0.0, 0.0, 0.0, 0.0, 0.0}, {0.0, 1.0, 0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0, 0.0, 1.0}};
+  EXPECT_EQ(tip["reduced_stiffness"]["directions"], axes);
+  const double points[3][2] = {{0, 0}, {0.4, 0.1}, {0.7, 0.35}}, k[3] = {3.0e4, 2.0e4, 1.0e4};
+  double J[3][3];
+  for (int i = 0; i < 3; ++i) {
+    J[0][i] = -(0.6 - points[i][1]);
+    J[1][i] = 0.8 - points[i][0];
+    J[2][i] = 1;
+  }
+  // J⁻¹ by cofactors, then K = J⁻ᵀ·diag(k)·J⁻¹.
+  double inverse[3][3];
+  const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                     J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+      inverse[i][j] = (J[r0][c0] * J[r1][c1] - J[r0][c1] * J[r1][c0]) / det;
+    }
+  double largest = 0, worst = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double expected = 0;
+      for (int i = 0; i < 3; ++i) expected += inverse[i][a] * k[i] * inverse[i][b];
+      largest = std::max(largest, std::abs(expected));
+      worst = std::max(worst, std::abs(tip["reduced_stiffness"]["matrix"][a][b].get<double>() - expected));
+    }
+  EXPECT_LT(worst / largest, 1e-9);
+}
+
 TEST_F(Cli, CheckPrintsTheSystemSize) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
   const CliRun r = run("check " + shell_quoted(model.string()));

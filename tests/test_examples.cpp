@@ -442,6 +442,40 @@ TEST(Planar2rExample, RigidLinkVariantIsTheVirtualJointModel) {
   expect_deflection(*ee.deflection, expected, total_load(model));
 }
 
+TEST(Planar2rExample, RigidLinkVariantHasItsStiffnessOnTheDirectionsItCanMoveIn) {
+  // C = J·K⁻¹·Jᵀ with J = [J_shoulder J_elbow] (6×2) is held rigidly along z, rx, ry and along
+  // the in-plane direction that neither joint moves, so its stiffness is null. The reduced
+  // stiffness spans J's columns with orthonormal directions T, and Tᵀ·K_r·T is the
+  // pseudo-inverse of C: J·(JᵀJ)⁻¹·K·(JᵀJ)⁻¹·Jᵀ.
+  Model model = load_example("planar-2r.yaml");
+  make_links_rigid(model);
+  const Result result = stiffmsa::solve(model);
+  const EndEffectorResult& ee = end_effector(result, "tool");
+  ASSERT_FALSE(ee.stiffness);
+  ASSERT_TRUE(ee.reduced_stiffness);
+  const MatX& T = ee.reduced_stiffness->directions;
+  ASSERT_EQ(T.rows(), 2);
+  ASSERT_EQ(T.cols(), 6);
+  EXPECT_LT((T * T.transpose() - MatX::Identity(2, 2)).cwiseAbs().maxCoeff(), kTolerance);
+  for (int held : {2, 3, 4}) EXPECT_EQ(T.col(held).cwiseAbs().maxCoeff(), 0.0) << held;
+
+  const Vec3 tip = position(model, "tip");
+  Eigen::Matrix<double, 6, 2> J;
+  Eigen::Vector2d k;
+  int column = 0;
+  for (const char* name : {"shoulder_joint", "elbow_joint"}) {
+    const NamedConnection j = connection(model, name);
+    J.col(column) = joint_twist(j, tip);
+    k(column++) = scalar_stiffness(*j.connection);
+  }
+  const Eigen::Matrix2d gram_inverse = (J.transpose() * J).inverse();
+  const Mat6 expected = J * gram_inverse * k.asDiagonal() * gram_inverse * J.transpose();
+  // T spans J's columns: projecting them on T leaves them whole.
+  EXPECT_LT(reference::relative_difference(MatX(T.transpose() * T * J), MatX(J)), kTolerance);
+  const Mat6 reconstructed = T.transpose() * ee.reduced_stiffness->matrix * T;
+  EXPECT_LT(reference::relative_difference(reconstructed, expected), kTolerance);
+}
+
 // ---- industrial-6axis.yaml ----------------------------------------------------------------
 
 TEST(Industrial6AxisExample, ComplianceIsJointsAndLinksInSeries) {
@@ -588,6 +622,51 @@ TEST(Planar3rprExample, RigidLegVariantIsTheTextbookJacobianFormula) {
   expect_held_rigidly(*ee.compliance, {2, 3, 4});
   EXPECT_FALSE(ee.stiffness);
   expect_deflection(*ee.deflection, expected, total_load(model));
+}
+
+TEST(Planar3rprExample, RigidLinkVariantHasItsInPlaneStiffnessAndPartlyDeterminedReactions) {
+  // Rigid legs pinned about z at both ends hold the platform out of plane three times over:
+  // z, rx, ry are held rigidly (stiffness null) and the out-of-plane wrenches in the legs are
+  // undetermined. In the plane, each leg is its actuator alone: K_plane = Jᵀ·diag(k)·J on the
+  // directions x, y, rz, which are coordinate axes, written exactly.
+  Model model = load_example("planar-3rpr.yaml");
+  make_links_rigid(model);
+  const Result result = stiffmsa::solve(model);
+  const EndEffectorResult& ee = end_effector(result, "platform");
+  ASSERT_FALSE(ee.stiffness);
+  ASSERT_TRUE(ee.reduced_stiffness);
+  MatX axes = MatX::Zero(3, 6);
+  for (int r = 0; r < 3; ++r) axes(r, kInPlane[r]) = 1;
+  EXPECT_EQ(ee.reduced_stiffness->directions, axes);
+
+  Eigen::Vector3d k;
+  for (int i = 0; i < 3; ++i)
+    k(i) = scalar_stiffness(*connection(model, "actuator_" + std::to_string(i + 1)).connection);
+  const Eigen::Matrix3d J = rpr_jacobian(model);
+  const Eigen::Matrix3d expected = J.transpose() * k.asDiagonal() * J;
+  EXPECT_LT(reference::relative_difference(Eigen::Matrix3d(ee.reduced_stiffness->matrix), expected), kTolerance);
+
+  // Each base reaction is null, but its in-plane part is the leg's force: the ground pulls a
+  // leg in tension f_i by −f_i·u_i, with Jᵀ·f = [Fx, Fy, Mz] of the load. The note gives them
+  // with 6 digits.
+  const Vec6 load = total_load(model);
+  const Eigen::Vector3d f = J.transpose().lu().solve(Eigen::Vector3d(load(0), load(1), load(5)));
+  for (int i = 0; i < 3; ++i) {
+    const std::string n = std::to_string(i + 1);
+    EXPECT_FALSE(result.supports[static_cast<std::size_t>(i)].reaction);
+    const std::string head = "the reaction of support 'base_" + n +
+                             "' is null, as the rigid model does not determine all of it; its determined components are Fx = ";
+    std::string note;
+    for (const auto& candidate : result.report.notes)
+      if (candidate.starts_with(head)) note = candidate;
+    ASSERT_FALSE(note.empty()) << n;
+    const Vec3 u = (position(model, "P" + n) - position(model, "B" + n)).normalized();
+    const auto value_after = [&](const std::string& label) { return std::stod(note.substr(note.find(label) + label.size())); };
+    EXPECT_NEAR(value_after("Fx = "), -f(i) * u.x(), 1e-5 * std::abs(f(i))) << note;
+    EXPECT_NEAR(value_after("Fy = "), -f(i) * u.y(), 1e-5 * std::abs(f(i))) << note;
+    EXPECT_NEAR(value_after("Mz = "), 0.0, 1e-9 * std::abs(f(i))) << note;
+    EXPECT_EQ(note.find("Fz"), std::string::npos) << note;
+  }
 }
 
 // ---- gough-stewart-6ups.yaml --------------------------------------------------------------

@@ -40,7 +40,9 @@ class InputError : public Error {
   std::vector<Diagnostic> diagnostics_;
 };
 
-// The model is valid but cannot be solved: it is a mechanism, or numerically singular.
+// The model is valid but cannot be solved: it is a mechanism, or numerically singular. what()
+// is the summary followed by the details, one per line indented by two spaces: the whole
+// story, for a caller that prints only what().
 class SingularModelError : public Error {
  public:
   enum class Cause {
@@ -49,10 +51,14 @@ class SingularModelError : public Error {
   };
   SingularModelError(Cause cause, std::string summary, std::vector<std::string> details);
   Cause cause() const { return cause_; }
+  // The first line of what(): a sentence saying what is wrong.
+  const std::string& summary() const { return summary_; }
+  // What moves and what lets it (the culprits), and how to stop it.
   const std::vector<std::string>& details() const { return details_; }
 
  private:
   Cause cause_;
+  std::string summary_;
   std::vector<std::string> details_;
 };
 

@@ -41,6 +41,16 @@ struct SupportResult {
   std::optional<Vec6> reaction;  // applied by the ground to the link end (or group)
 };
 
+// Where an end effector is held rigidly in some directions (its stiffness is unbounded, null),
+// the stiffness on the directions it can move in (model-format.md, theory.md §9): T's rows are
+// orthonormal motions [Δp; Δφ] spanning the range of the compliance C (unit coordinate axes
+// where the held directions are coordinate axes, as in a planar robot), and K_r = (T·C·Tᵀ)⁻¹:
+// the wrench components T·W per unit motion q, for the motion Δt = Tᵀ·q.
+struct ReducedStiffness {
+  MatX directions;  // r×6, r < 6
+  MatX matrix;      // r×r
+};
+
 struct EndEffectorResult {
   std::string name;
   std::string point;
@@ -49,6 +59,8 @@ struct EndEffectorResult {
   std::optional<Mat6> compliance;  // Δt_e per unit wrench at e
   std::optional<Mat6> stiffness;   // eq. (21); nullopt where unbounded or undetermined
   std::optional<Vec6> deflection;  // under the model's loads and preloads
+  // Given where `stiffness` is null because some directions are held rigidly and others not.
+  std::optional<ReducedStiffness> reduced_stiffness;
 };
 
 // How the solve went: accuracy checks and notes for the user.

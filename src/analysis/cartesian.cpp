@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <algorithm>
 #include <limits>
 
@@ -62,6 +63,44 @@ CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, do
   result.spread = values(0) > 0 ? values(5) / values(0) : std::numeric_limits<double>::infinity();
   if (values(5) > 0 && values(0) * kRigidSpread > values(5)) result.stiffness = Mat6(compliance.fullPivLu().inverse());
   return result;
+}
+
+std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double length) {
+  Vec6 weights;
+  weights << 1, 1, 1, length, length, length;
+  const Mat6 weighted = weights.asDiagonal() * compliance * weights.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Mat6> eigen(0.5 * (weighted + weighted.transpose()));
+  const Vec6& values = eigen.eigenvalues();
+  const double largest = values(5);
+  if (!(largest > 0)) return std::nullopt;
+  Eigen::Index held = 0;
+  while (values(held) * kRigidSpread <= largest) ++held;  // stops at 5 at the latest
+  if (held == 0) return std::nullopt;
+  const Eigen::Index moving = 6 - held;
+  // A coordinate axis whose own compliance is at rounding level is held: it takes no part in
+  // the directions. Where those axes are all that is held (a planar robot: z, rx, ry), the
+  // directions are the other axes exactly, and K_r is the inverse of C's block on them.
+  std::vector<int> moving_axes, held_axes;
+  for (int axis = 0; axis < 6; ++axis) (weighted(axis, axis) * kRigidSpread > largest ? moving_axes : held_axes).push_back(axis);
+  ReducedStiffness reduced;
+  reduced.directions = MatX::Zero(moving, 6);
+  if (static_cast<Eigen::Index>(moving_axes.size()) == moving) {
+    for (Eigen::Index k = 0; k < moving; ++k) reduced.directions(k, moving_axes[static_cast<std::size_t>(k)]) = 1;
+  } else {
+    // The range of C is W⁻¹ times that of Ĉ = W·C·W; an orthonormal basis of it, each
+    // direction signed so that its largest entry is positive.
+    MatX span = weights.cwiseInverse().asDiagonal() * eigen.eigenvectors().rightCols(moving);
+    for (int axis : held_axes) span.row(axis).setZero();
+    const Eigen::HouseholderQR<MatX> qr(span);
+    reduced.directions = (qr.householderQ() * MatX::Identity(6, moving)).transpose();
+    for (Eigen::Index k = 0; k < moving; ++k) {
+      Eigen::Index at = 0;
+      reduced.directions.row(k).cwiseAbs().maxCoeff(&at);
+      if (reduced.directions(k, at) < 0) reduced.directions.row(k) *= -1;
+    }
+  }
+  reduced.matrix = MatX(reduced.directions * compliance * reduced.directions.transpose()).fullPivLu().inverse();
+  return reduced;
 }
 
 }  // namespace detail

@@ -1,7 +1,7 @@
 #pragma once
 #include <optional>
 
-#include "stiffmsa/model.hpp"
+#include "stiffmsa/result.hpp"
 
 namespace stiffmsa::detail {
 
@@ -24,5 +24,10 @@ struct CartesianStiffness {
   double spread = 0;
 };
 CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, double spread_threshold);
+
+// Where the compliance holds some directions rigidly (the same test as above: eigenvalues of Ĉ
+// within 1e-14 of the largest), the stiffness on the others; nullopt where no direction or
+// every direction is held.
+std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double length);
 
 }  // namespace stiffmsa::detail

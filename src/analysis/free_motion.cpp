@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <numeric>
 #include <sstream>
 
 #include "stiffmsa/config.hpp"
@@ -20,6 +21,12 @@ namespace {
 // Above this many unknowns the null spaces are not computed densely.
 constexpr Index kDenseLimit = 2400;
 constexpr double kNegligible = kNegligibleNullEntry;
+// A connection, link or end effector takes part in a free motion where its motion there
+// exceeds this fraction of the largest motion of a link end in it (rotations weighed by the
+// model's size): below it, the null vector's rounding.
+constexpr double kTakesPart = 1e-6;
+// Two points closer than this fraction of the model's size stand at the same place.
+constexpr double kSamePlace = 1e-9;
 
 double weighted_norm(const Vec6& t, double length) { return t.head<3>().norm() + length * t.tail<3>().norm(); }
 
@@ -29,53 +36,215 @@ std::string list(const std::vector<std::string>& names) {
   return text;
 }
 
+std::string counted(std::size_t count, const char* singular, const char* plural) {
+  return count == 1 ? singular : plural;
+}
+
 MatX deflection_rows(const MatX& v, int ends) {
   MatX rows(6 * static_cast<Index>(ends), v.cols());
   for (int e = 0; e < ends; ++e) rows.middleRows<6>(6 * e) = v.middleRows<6>(deflection_column(e));
   return rows;
 }
 
-std::string describe_motion(const Model& model, const Topology& topology, const VecX& motion, double length) {
-  auto deflection = [&](int end) -> Vec6 { return motion.segment<6>(deflection_column(end)); };
-  double largest = 0;
-  for (int end = 0; end < topology.end_count(); ++end) largest = std::max(largest, weighted_norm(deflection(end), length));
-  const double significant = 1e-6 * largest;
+// The link ends that no support reaches through links, joints, supports and welds: per end, the
+// number of its unsupported part, or −1 where a support holds its part.
+std::vector<int> unsupported_parts(const Topology& topology) {
+  std::vector<int> root(static_cast<std::size_t>(topology.end_count()));
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int end) {
+    while (root[static_cast<std::size_t>(end)] != end) end = root[static_cast<std::size_t>(end)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(end)])];
+    return end;
+  };
+  auto join = [&](int a, int b) { root[static_cast<std::size_t>(find(a))] = find(b); };
+  for (int link = 0; link < topology.link_count; ++link) join(2 * link, 2 * link + 1);
+  for (const auto& group : topology.groups)
+    for (int end : group.ends) join(end, group.ends.front());
+  std::vector<bool> supported(root.size(), false);
+  for (const auto& group : topology.groups)
+    if (group.kind == ConnectionGroup::Kind::support) supported[static_cast<std::size_t>(find(group.ends.front()))] = true;
+  std::vector<int> part(root.size(), -1), number(root.size(), -1);
+  int parts = 0;
+  for (int end = 0; end < topology.end_count(); ++end) {
+    const int r = find(end);
+    if (supported[static_cast<std::size_t>(r)]) continue;
+    if (number[static_cast<std::size_t>(r)] < 0) number[static_cast<std::size_t>(r)] = parts++;
+    part[static_cast<std::size_t>(end)] = number[static_cast<std::size_t>(r)];
+  }
+  return part;
+}
 
-  std::vector<std::string> joints, links, effectors;
-  for (const auto& group : topology.groups) {
-    if (group.kind != ConnectionGroup::Kind::joint) continue;
-    const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
-    const auto directions = free_directions(joint.connection.kinematics);
-    if (directions.free().rows() == 0 || joint.connection.stiffness || joint.connection.actuated) continue;
-    const MatX projector = directions.free().transpose() * directions.gram().inverse() * directions.free();
-    for (std::size_t k = 1; k < group.ends.size(); ++k) {
-      const Vec6 relative = projector * (deflection(group.ends[k]) - deflection(group.ends.front()));
-      if (weighted_norm(relative, length) > significant) {
-        joints.push_back("'" + joint.name + "' (" + to_string(joint.connection.kinematics.type) + " at " + joint.at + ")");
+// What holds no part of the model: said once per part, with the likely cause where there is one
+// (a link end alone at a point that stands where another point is: two names, two points).
+std::vector<std::string> describe_unsupported_parts(const Model& model, const Topology& topology,
+                                                    const std::vector<int>& part, double length) {
+  const int parts = 1 + *std::max_element(part.begin(), part.end());
+  if (parts == 0) return {};
+  if (model.supports.empty())
+    return {"the model has no support: nothing holds it, so it can move as a whole; add one under `supports:`"};
+  std::vector<std::string> lines;
+  for (int p = 0; p < parts; ++p) {
+    std::vector<std::string> causes, links;
+    for (int link = 0; link < topology.link_count; ++link)
+      if (part[static_cast<std::size_t>(2 * link)] == p) links.push_back("'" + model.links[static_cast<std::size_t>(link)].name + "'");
+    for (const auto& group : topology.groups) {
+      if (group.kind != ConnectionGroup::Kind::free_end || part[static_cast<std::size_t>(group.ends.front())] != p) continue;
+      const int end = group.ends.front();
+      const Point& own = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])];
+      for (std::size_t other = 0; other < topology.end_points.size(); ++other) {
+        const Point& there = model.points[static_cast<std::size_t>(topology.end_points[other])];
+        if (part[other] == p || there.name == own.name || (there.position - own.position).norm() > kSamePlace * length) continue;
+        causes.push_back("link '" + model.links[static_cast<std::size_t>(end / 2)].name + "' is connected to nothing at its " +
+                         (end % 2 == 0 ? "start" : "end") + ": its point '" + own.name + "' stands where point '" +
+                         there.name + "' is, but points are told apart by name, not by coordinates");
         break;
       }
     }
+    if (causes.empty())
+      lines.push_back(counted(links.size(), "link ", "links ") + list(links) +
+                      (links.size() == 1 ? " is" : " are") +
+                      " held by no support: no joint, support or shared point joins them to a supported part, so "
+                      "they can move as a whole");
+    else
+      lines.insert(lines.end(), causes.begin(), causes.end());
   }
+  return lines;
+}
+
+// A passive joint or support (no stiffness, not actuated, some free direction): what lets a
+// free motion happen.
+struct PassiveConnection {
+  std::string label;                       // "support 'motor2' (revolute at B2)"
+  std::vector<std::pair<int, int>> moves;  // (end, reference end; −1: the ground)
+  Mat6 projector;                          // onto the free directions
+};
+
+std::vector<PassiveConnection> passive_connections(const Model& model, const Topology& topology, const std::vector<int>& part) {
+  std::vector<PassiveConnection> passive;
+  for (const auto kind : {ConnectionGroup::Kind::support, ConnectionGroup::Kind::joint}) {
+    for (const auto& group : topology.groups) {
+      if (group.kind != kind || part[static_cast<std::size_t>(group.ends.front())] >= 0) continue;
+      const bool support = kind == ConnectionGroup::Kind::support;
+      const std::size_t source = static_cast<std::size_t>(group.source);
+      const std::string& name = support ? model.supports[source].name : model.joints[source].name;
+      const std::string& at = support ? model.supports[source].at : model.joints[source].at;
+      const Connection& connection = support ? model.supports[source].connection : model.joints[source].connection;
+      const auto directions = free_directions(connection.kinematics);
+      if (directions.free().rows() == 0 || connection.stiffness || connection.actuated) continue;
+      PassiveConnection c;
+      c.label = std::string(support ? "support" : "joint") + " '" + name + "' (" + to_string(connection.kinematics.type) + " at " + at + ")";
+      c.projector = directions.free().transpose() * directions.gram().inverse() * directions.free();
+      if (support)
+        c.moves.emplace_back(group.ends.front(), -1);
+      else
+        for (std::size_t k = 1; k < group.ends.size(); ++k) c.moves.emplace_back(group.ends[k], group.ends.front());
+      passive.push_back(std::move(c));
+    }
+  }
+  return passive;
+}
+
+// The motion a passive connection lets happen in each column of `motions`, rotations weighed
+// by `length`: 6 rows per moving end.
+MatX passive_motion_rows(const std::vector<PassiveConnection>& passive, const MatX& motions, double length) {
+  Index rows = 0;
+  for (const auto& c : passive) rows += 6 * static_cast<Index>(c.moves.size());
+  MatX g(rows, motions.cols());
+  Vec6 weights;
+  weights << 1, 1, 1, length, length, length;
+  Index row = 0;
+  for (const auto& c : passive)
+    for (const auto& [end, reference] : c.moves) {
+      MatX relative = motions.middleRows<6>(deflection_column(end));
+      if (reference >= 0) relative -= motions.middleRows<6>(deflection_column(reference));
+      g.middleRows<6>(row) = weights.asDiagonal() * (c.projector * relative);
+      row += 6;
+    }
+  return g;
+}
+
+// Another basis of the same free motions, row-reduced (Gauss–Jordan) by the motions of the
+// passive connections in their order: each motion moves as few of them as the structure
+// allows, so that independent mechanisms (two legs, each with a passive joint) get a motion
+// each rather than mixtures of both.
+MatX separated_motions(const MatX& motions, const MatX& passive_rows) {
+  MatX a = passive_rows.transpose();
+  MatX combination = MatX::Identity(motions.cols(), motions.cols());
+  const double scale = a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
+  Index row = 0;
+  for (Index column = 0; column < a.cols() && row < a.rows(); ++column) {
+    Index pivot = 0;
+    const double largest = a.col(column).tail(a.rows() - row).cwiseAbs().maxCoeff(&pivot);
+    if (largest <= kTakesPart * scale) continue;
+    pivot += row;
+    a.row(row).swap(a.row(pivot));
+    combination.row(row).swap(combination.row(pivot));
+    const double p = a(row, column);
+    a.row(row) /= p;
+    combination.row(row) /= p;
+    for (Index other = 0; other < a.rows(); ++other) {
+      if (other == row) continue;
+      const double factor = a(other, column);
+      a.row(other) -= factor * a.row(row);
+      combination.row(other) -= factor * combination.row(row);
+    }
+    ++row;
+  }
+  return motions * combination.transpose();
+}
+
+// One free motion in the user's terms: the passive joints and supports that let it happen, the
+// links and end effectors it moves. Parts that no support holds are described once elsewhere.
+std::string describe_motion(const Model& model, const Topology& topology, const std::vector<PassiveConnection>& passive,
+                            const std::vector<int>& part, const VecX& motion, double length, const char* pronoun) {
+  auto deflection = [&](int end) -> Vec6 { return motion.segment<6>(deflection_column(end)); };
+  double largest = 0;
+  for (int end = 0; end < topology.end_count(); ++end)
+    if (part[static_cast<std::size_t>(end)] < 0) largest = std::max(largest, weighted_norm(deflection(end), length));
+  const double significant = kTakesPart * largest;
+
+  std::vector<std::string> supports, joints, links, effectors;
+  for (const auto& c : passive)
+    for (const auto& [end, reference] : c.moves) {
+      const Vec6 relative = c.projector * (deflection(end) - (reference >= 0 ? deflection(reference) : Vec6::Zero()));
+      if (weighted_norm(relative, length) <= significant) continue;
+      (c.label.starts_with("support") ? supports : joints).push_back(c.label);
+      break;
+    }
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l);
+    if (part[static_cast<std::size_t>(from)] >= 0) continue;
     if (weighted_norm(deflection(from), length) > significant || weighted_norm(deflection(from + 1), length) > significant)
       links.push_back("'" + model.links[l].name + "'");
   }
-  for (std::size_t e = 0; e < model.end_effectors.size(); ++e)
-    if (weighted_norm(deflection(topology.effector_ends[e]), length) > significant)
+  for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
+    const int end = topology.effector_ends[e];
+    if (part[static_cast<std::size_t>(end)] < 0 && weighted_norm(deflection(end), length) > significant)
       effectors.push_back("'" + model.end_effectors[e].name + "'");
+  }
 
+  const bool one = std::string_view(pronoun) == "it";
   std::ostringstream text;
-  if (!joints.empty())
-    text << (joints.size() == 1 ? "joint " : "joints ") << list(joints) << " can move freely";
-  else
-    text << (links.size() == 1 ? "link " : "links ") << list(links) << " can move without resistance";
-  if (!joints.empty() && !links.empty()) text << ", moving " << (links.size() == 1 ? "link " : "links ") << list(links);
+  std::vector<std::string> culprits;
+  auto passive_list = [&](std::vector<std::string>& labels, const char* noun, const char* nouns) {
+    if (labels.empty()) return;
+    for (auto& label : labels) label = label.substr(label.find(' ') + 1);
+    culprits.push_back(std::string("passive ") + (labels.size() == 1 ? noun : nouns) + " " + list(labels));
+  };
+  passive_list(supports, "support", "supports");
+  passive_list(joints, "joint", "joints");
+  if (!culprits.empty()) {
+    text << culprits.front() << (culprits.size() > 1 ? " and " + culprits.back() : "")
+         << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (one ? "it" : "them") << " happen";
+    if (!links.empty()) text << "; " << pronoun << (one ? " moves " : " move ") << counted(links.size(), "link ", "links ") << list(links);
+  } else {
+    text << counted(links.size(), "link ", "links ") << list(links) << " can move without resistance";
+  }
   if (effectors.empty())
-    text << "; it moves no end effector (an idle motion: accept it with `options: {accept_idle_motions: true}` "
-            "in the model or --accept-idle-motions)";
+    text << "; " << pronoun << (one ? " moves no end effector (an idle motion: accept it" : " move no end effector (idle motions: accept them")
+         << " with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
   else
-    text << "; it moves end effector" << (effectors.size() == 1 ? " " : "s ") << list(effectors);
+    text << (links.empty() || culprits.empty() ? "; " + std::string(pronoun) + (one ? " moves" : " move") : " and")
+         << " end effector" << (effectors.size() == 1 ? " " : "s ") << list(effectors);
   return text.str();
 }
 
@@ -92,6 +261,60 @@ std::string describe_redundancy(const Model& model, const MatX& redundancies) {
        << "): a rigid model does not determine the internal wrenches in the loop through "
        << (links.size() == 1 ? "link " : "links ") << list(links) << "; they are reported as null";
   return text.str();
+}
+
+
+// The free motions, each said once: the parts that no support holds, then the motions of the
+// supported part (in the basis of separated_motions; motions told alike share a line), then
+// what stops them.
+void describe_motions(const Model& model, const Topology& topology, const MatX& motions, double length,
+                      std::vector<std::string>& lines) {
+  const std::vector<int> part = unsupported_parts(topology);
+  const std::vector<std::string> unsupported = describe_unsupported_parts(model, topology, part, length);
+  lines.insert(lines.end(), unsupported.begin(), unsupported.end());
+
+  // The motions that move a supported link end: a basis from the right singular vectors of
+  // their rows there.
+  MatX all = deflection_rows(motions, topology.end_count());
+  for (Index row = 0; row < all.rows(); ++row)
+    if (row % 6 >= 3) all.row(row) *= length;
+  MatX supported = all;
+  for (int end = 0; end < topology.end_count(); ++end)
+    if (part[static_cast<std::size_t>(end)] >= 0) supported.middleRows<6>(6 * end).setZero();
+  const Eigen::JacobiSVD<MatX> svd(supported, Eigen::ComputeThinV);
+  Index count = 0;
+  for (Index i = 0; i < svd.singularValues().size(); ++i) count += svd.singularValues()(i) > kTakesPart * all.norm();
+  if (count == 0) return;
+  const std::vector<PassiveConnection> passive = passive_connections(model, topology, part);
+  const MatX basis = motions * svd.matrixV().leftCols(count);
+  const MatX separated = separated_motions(basis, passive_motion_rows(passive, basis, length));
+
+  // Motions told alike, in order of their first: their numbers and one of them.
+  std::vector<std::pair<std::string, std::vector<Index>>> alike;
+  for (Index c = 0; c < count; ++c) {
+    std::string text = describe_motion(model, topology, passive, part, separated.col(c), length, "it");
+    auto same = std::find_if(alike.begin(), alike.end(), [&](const auto& a) { return a.first == text; });
+    if (same == alike.end())
+      alike.emplace_back(std::move(text), std::vector<Index>{c});
+    else
+      same->second.push_back(c);
+  }
+  bool passive_named = false;
+  for (const auto& [text, numbers] : alike) {
+    passive_named |= text.starts_with("passive ");
+    if (numbers.size() == 1) {
+      lines.push_back("free motion " + std::to_string(numbers.front() + 1) + ": " + text);
+      continue;
+    }
+    std::string label = "free motions ";
+    for (std::size_t i = 0; i < numbers.size(); ++i)
+      label += (i == 0 ? "" : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i] + 1);
+    lines.push_back(label + ": " +
+                    describe_motion(model, topology, passive, part, separated.col(numbers.front()), length, "they"));
+  }
+  if (passive_named)
+    lines.push_back("to stop a free motion, give a joint or support that lets it happen a `stiffness:` (elastic) "
+                    "or `actuated: true` (a motor, locked where it stands)");
 }
 
 }  // namespace
@@ -184,14 +407,7 @@ SingularStructure analyse_singular_structure(const Model& model, const Topology&
   s.redundancies = spaces->column_scale.asDiagonal() * (null_basis * v.rightCols(v.cols() - motion_count));
 
   const double length = characteristic_length(model);
-  if (motion_count > 0) {
-    std::ostringstream head;
-    head << motion_count << (motion_count == 1 ? " free motion" : " free motions") << " (degrees of freedom)";
-    s.descriptions.push_back(head.str());
-    for (Index c = 0; c < motion_count; ++c)
-      s.descriptions.push_back("free motion " + std::to_string(c + 1) + ": " +
-                               describe_motion(model, topology, s.motions.col(c), length));
-  }
+  if (motion_count > 0) describe_motions(model, topology, s.motions, length, s.descriptions);
   if (s.redundancies.cols() > 0) s.descriptions.push_back(describe_redundancy(model, s.redundancies));
   return s;
 }

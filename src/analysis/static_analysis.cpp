@@ -2,6 +2,7 @@
 // compliance and Cartesian stiffness (paper eqs. 20–21) at every end effector.
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -301,9 +302,14 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
     const detail::CartesianStiffness cartesian = detail::cartesian_stiffness(compliance, length, problem.options.warn_condition);
     r.stiffness = cartesian.stiffness;
     if (!r.stiffness) {
-      result.report.notes.push_back("end effector '" + r.name +
-                                    "' is held rigidly in some direction (or is so nearly a mechanism that double "
-                                    "precision cannot tell): its stiffness is unbounded (null)");
+      r.reduced_stiffness = detail::reduced_stiffness(compliance, length);
+      result.report.notes.push_back(
+          "end effector '" + r.name +
+          "' is held rigidly in some direction (or is so nearly a mechanism that double precision cannot tell): its "
+          "stiffness is unbounded (null)" +
+          (r.reduced_stiffness ? message("; reduced_stiffness gives it on the ", r.reduced_stiffness->matrix.rows(),
+                                         " directions it can move in")
+                               : std::string()));
     } else if (cartesian.spread > problem.options.warn_condition) {
       result.report.warnings.push_back(message("end effector '", r.name, "': its stiffness differs by a factor ",
                                                cartesian.spread,
@@ -405,6 +411,25 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
   return false;
 }
 
+// A wrench that a rigid model leaves undetermined (its `variation` across the family of internal
+// wrenches, 6×k, is not negligible against `negligible`) may still have some components that do
+// not vary: a planar robot's in-plane reactions where only its out-of-plane ones are shared out
+// among over-constrained legs. A note names them with their values; the wrench is null.
+void note_determined_components(const std::string& whose, const Vec6& wrench, const MatX& variation, double length,
+                                double negligible, std::vector<std::string>& notes) {
+  static constexpr std::array<const char*, 6> components = {"Fx", "Fy", "Fz", "Mx", "My", "Mz"};
+  std::string determined;
+  int count = 0;
+  for (int c = 0; c < 6; ++c) {
+    const double varies = variation.row(c).cwiseAbs().maxCoeff() / (c < 3 ? 1.0 : length);
+    if (varies > negligible) continue;
+    determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ", wrench(c), c < 3 ? " N" : " N·m");
+  }
+  if (count > 0)
+    notes.push_back(whose + " is null, as the rigid model does not determine all of it; its determined " +
+                    (count == 1 ? "component is " : "components are ") + determined);
+}
+
 // A singular system whose null space leaves every end effector in place: over-constrained rigid
 // loops (deflections unique, some wrenches not) and, where accepted, idle motions (some link
 // ends' deflections not unique). The system bordered with the dependencies of its equations
@@ -450,12 +475,21 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
       if (group.kind == detail::ConnectionGroup::Kind::joint &&
           undetermined(redundancies.middleRows<6>(wrench_column(group.ends.front())))) {
         auto& joint = result.joints[static_cast<std::size_t>(group.source)];
+        if (joint.wrench)
+          note_determined_components("the wrench of joint '" + joint.name + "'", *joint.wrench,
+                                     redundancies.middleRows<6>(wrench_column(group.ends.front())), length,
+                                     1e-8 * largest, result.report.notes);
         joint.wrench.reset();
         joint.effort.reset();
       } else if (group.kind == detail::ConnectionGroup::Kind::support) {
         MatX sum = MatX::Zero(6, redundancies.cols());
         for (int end : group.ends) sum += redundancies.middleRows<6>(wrench_column(end));
-        if (undetermined(sum)) result.supports[static_cast<std::size_t>(group.source)].reaction.reset();
+        auto& support = result.supports[static_cast<std::size_t>(group.source)];
+        if (!undetermined(sum)) continue;
+        if (support.reaction)
+          note_determined_components("the reaction of support '" + support.name + "'", *support.reaction, sum, length,
+                                     1e-8 * largest, result.report.notes);
+        support.reaction.reset();
       }
     }
   }
@@ -518,12 +552,20 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
   return Mat6(x.middleRows<6>(n));
 }
 
+// "the model is a mechanism with 3 free motions", the count where the analysis found it.
+std::string mechanism(const detail::SingularStructure& structure) {
+  const Index count = structure.motions.cols();
+  if (!structure.analysed || count == 0) return "the model is a mechanism";
+  return message("the model is a mechanism with ", count, count == 1 ? " free motion" : " free motions");
+}
+
 void solve_free_structure(Problem& problem, const detail::SingularStructure& structure, Result& result) {
   const std::vector<std::string>& details = structure.descriptions;
+  const bool one = structure.motions.cols() == 1;
   if (problem.loaded)
-    throw SingularModelError(SingularModelError::Cause::free_motion, "the model is a mechanism: it can move freely, and a loaded or preloaded structure must "
-                             "not (unloaded, it would still get the stiffness of an end effector that stops every "
-                             "free motion)",
+    throw SingularModelError(SingularModelError::Cause::free_motion,
+                             mechanism(structure) + " and carries loads or preloads, which a mechanism cannot hold "
+                             "(only an unloaded one is solved)",
                              details);
   bool any = false;
   for (std::size_t e = 0; e < problem.model.end_effectors.size(); ++e) {
@@ -536,10 +578,16 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
     result.report.reciprocal_condition = std::max(result.report.reciprocal_condition, rcond);
   }
   if (!any)
-    throw SingularModelError(SingularModelError::Cause::free_motion, "the model is a mechanism: no end effector holds its free motions", details);
+    throw SingularModelError(SingularModelError::Cause::free_motion,
+                             mechanism(structure) + (one ? ", and no end effector stops it" : ", and no end effector stops them"),
+                             details);
   result.report.notes.push_back(
       "the structure can move freely; only the stiffness of the end effectors that stop every free motion "
       "is reported, everything else is null");
+  if (problem.model.supports.empty())
+    result.report.warnings.push_back("the model has no support: nothing holds it, so the stiffness of its end effectors "
+                                     "is zero (it measures only what holds the end effector against the rest of the "
+                                     "model); add a support under `supports:`");
   for (const auto& d : details) result.report.notes.push_back(d);
   check_accuracy(problem.options, result);
 }

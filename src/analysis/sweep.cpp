@@ -78,8 +78,8 @@ std::string one_line(const InputError& e) {
 }
 
 std::string one_line(const SingularModelError& e) {
-  std::string text = e.what();
-  if (!e.details().empty()) text += ": " + e.details().front();
+  std::string text = e.summary();
+  if (!e.details().empty()) text += "; " + e.details().front();
   return text;
 }
 

@@ -169,6 +169,15 @@ void write_result(ResultWriter& out, const Result& result) {
               out.member("compliance", or_null(out, e.compliance, mat6));
               out.member("stiffness", or_null(out, e.stiffness, mat6));
               out.member("deflection", or_null(out, e.deflection, vector));
+              // Only where the stiffness is null because some directions are held rigidly.
+              if (e.reduced_stiffness)
+                out.member("reduced_stiffness", [&] {
+                  out.object([&] {
+                    for (const auto& [key, m] : {std::pair{"directions", &e.reduced_stiffness->directions},
+                                                 std::pair{"matrix", &e.reduced_stiffness->matrix}})
+                      out.member(key, [&, m = m] { out.list(m->rows(), [&](Eigen::Index r) { out.vector(m->row(r)); }); });
+                  });
+                });
             });
           });
       });

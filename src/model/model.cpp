@@ -40,8 +40,19 @@ InputError::InputError(SourceLocation location, std::string key_path, std::strin
     : InputError(std::vector<Diagnostic>{
           Diagnostic{std::move(location), std::move(key_path), std::move(message)}}) {}
 
+namespace {
+std::string summary_and_details(const std::string& summary, const std::vector<std::string>& details) {
+  std::string text = summary;
+  for (const std::string& detail : details) text += "\n  " + detail;
+  return text;
+}
+}  // namespace
+
 SingularModelError::SingularModelError(Cause cause, std::string summary, std::vector<std::string> details)
-    : Error(std::move(summary)), cause_(cause), details_(std::move(details)) {}
+    : Error(summary_and_details(summary, details)),
+      cause_(cause),
+      summary_(std::move(summary)),
+      details_(std::move(details)) {}
 
 const SourceLocation& Origin::of(const std::string& key) const {
   auto it = key_locations.find(key);
