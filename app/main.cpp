@@ -14,6 +14,7 @@
 #include "stiffmsa/stiffmsa.hpp"
 #include "summary.hpp"
 #include "sweep_command.hpp"
+#include "view_command.hpp"
 
 namespace {
 
@@ -24,6 +25,7 @@ using namespace stiffmsa::cli;
 struct SolveCommand {
   std::string model_file;
   std::string json_file;  // empty: no result file
+  std::string vtk_file;   // empty: no ParaView file
   std::string solver = "auto";
   bool accept_idle_motions = false;
   std::vector<std::string> settings;  // parametric models: "name=value"
@@ -63,6 +65,7 @@ int run_solve(const SolveCommand& command) {
     json_file = command.json_file;
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
+  if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
   const SolveOptions options = solve_options(command.solver, command.accept_idle_motions);
   // Without --set the file is read once, as any model; with it, as a family.
   const Model model = [&] {
@@ -73,13 +76,14 @@ int run_solve(const SolveCommand& command) {
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
+  if (!command.vtk_file.empty()) write_vtk(model, result, command.vtk_file);
   print_solve_summary(std::cout, result, json_file);
   return exit_success;
 }
 
 int run_check(const CheckCommand& command) {
   const Model model = load_model(command.model_file, command.limits);
-  print_check_summary(std::cout, model.name, check(model));
+  print_check_summary(std::cout, model, check(model));
   return exit_success;
 }
 
@@ -137,6 +141,8 @@ int run(int argc, char** argv) {
       app.add_subcommand("solve", "Solve a model and print the stiffness of its end effectors");
   solve_app->add_option("MODEL", solve_command.model_file, "Model file (YAML or JSON)")->required();
   solve_app->add_option("--json", solve_command.json_file, "Write the result file to this path");
+  solve_app->add_option("--vtk", solve_command.vtk_file,
+                        "Write a ParaView file: OUT.vtu, or OUT.pvd with a .vtu per load case beside it");
   add_solver_option(*solve_app, solve_command.solver);
   solve_app->add_flag("--accept-idle-motions", solve_command.accept_idle_motions,
                       "Solve despite free motions that move no end effector (the spin of a "
@@ -168,6 +174,8 @@ int run(int argc, char** argv) {
   sweep_app->add_flag("--full", sweep_command.full, "Also write the 36 compliance and 36 stiffness entries per end effector");
   sweep_app->add_flag("--plot", sweep_command.plot,
                       "Draw PNG and SVG maps (2-D grid) or line plots (1-D grid) beside the CSV");
+  sweep_app->add_flag("--view", sweep_command.view,
+                      "Write an HTML map beside the CSV: the pose under the mouse with its values (and ellipsoids with --full)");
   sweep_app->add_option("--plot-column", sweep_command.plot_columns,
                         "A column to plot (repeatable); default: E.k_trans_min and E.deflection_trans of "
                         "every end effector E");
@@ -180,6 +188,9 @@ int run(int argc, char** argv) {
                       "Solve despite free motions that move no end effector");
   add_limit_options(*sweep_app, sweep_command.limits);
 
+  ViewCommand view_command;
+  CLI::App* view_app = add_view_subcommand(app, view_command);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -191,6 +202,7 @@ int run(int argc, char** argv) {
   }
 
   if (solve_app->parsed()) return run_solve(solve_command);
+  if (view_app->parsed()) return run_view(view_command);
   if (sweep_app->parsed()) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions);
     return run_sweep(sweep_command);

@@ -1,9 +1,12 @@
 #include "summary.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <string_view>
+#include <unordered_map>
 #include <vector>
 
 namespace stiffmsa::cli {
@@ -254,6 +257,70 @@ void print_system_size(std::ostream& out, const SystemSize& size) {
       << size.nonzeros << " non-zeros\n";
 }
 
+// "(0, 0, 1)", the numbers as the user would write them.
+std::string vector_text(const Vec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", v.x() + 0.0, v.y() + 0.0, v.z() + 0.0);
+  return buffer;
+}
+
+std::string pad_right(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
+}
+
+const char* link_kind_name(const LinkKind& kind) {
+  constexpr std::array<const char*, 4> names = {"beam", "rigid", "matrix", "compliance"};
+  return names[kind.index()];
+}
+
+// What a joint or support does along its free directions, and the axes it is given.
+std::string connection_text(const Connection& c) {
+  const Kinematics& k = c.kinematics;
+  std::string text = to_string(k.type);
+  text += c.actuated ? ", actuated" : c.stiffness ? ", elastic" : k.type == JointType::rigid ? "" : ", passive";
+  switch (k.type) {
+    case JointType::revolute:
+    case JointType::prismatic:
+    case JointType::cylindrical: text += ", axis " + vector_text(k.axis); break;
+    case JointType::universal: text += ", axes " + vector_text(k.axis) + " and " + vector_text(k.axis_b); break;
+    case JointType::planar: text += ", normal " + vector_text(k.normal); break;
+    default: break;
+  }
+  return text;
+}
+
+// Each link's length and each joint's and support's axes, in the user's names: a link in the
+// wrong place, an axis typed wrong or millimetres for metres show without a solve.
+void print_geometry(std::ostream& out, const Model& model) {
+  std::size_t width = 4;
+  for (const Link& link : model.links) width = std::max(width, link.name.size());
+  for (const Joint& joint : model.joints) width = std::max(width, joint.name.size());
+  for (const Support& support : model.supports) width = std::max(width, support.name.size());
+  width = std::min<std::size_t>(width, 24) + 2;
+  std::unordered_map<std::string_view, const Point*> points;  // a 100 000-link chain, looked up once each
+  for (const Point& point : model.points) points.emplace(point.name, &point);
+  const auto find = [&](const std::string& name) -> const Point* {
+    const auto found = points.find(name);
+    return found == points.end() ? nullptr : found->second;
+  };
+  if (!model.links.empty()) out << "\nLinks (length in m):\n";
+  for (const Link& link : model.links) {
+    const Point* from = find(link.from);
+    const Point* to = find(link.to);
+    const double length = from && to ? (to->position - from->position).norm() : 0.0;
+    char number[32];
+    std::snprintf(number, sizeof number, "%.6g", length);
+    out << "  " << pad_right(link.name, width) << pad_right(link_kind_name(link.kind), 12) << pad_right(number, 13)
+        << link.from << " -> " << link.to << '\n';
+  }
+  if (!model.joints.empty()) out << "\nJoints:\n";
+  for (const Joint& joint : model.joints)
+    out << "  " << pad_right(joint.name, width) << "at " << joint.at << ": " << connection_text(joint.connection) << '\n';
+  if (!model.supports.empty()) out << "\nSupports:\n";
+  for (const Support& support : model.supports)
+    out << "  " << pad_right(support.name, width) << "at " << support.at << ": " << connection_text(support.connection) << '\n';
+}
+
 }  // namespace
 
 void print_solve_summary(std::ostream& out, const Result& result,
@@ -279,9 +346,10 @@ void print_solve_summary(std::ostream& out, const Result& result,
   if (result_file) out << "\nResult written to " << result_file->string() << '\n';
 }
 
-void print_check_summary(std::ostream& out, const std::string& model_name, const SystemSize& size) {
-  out << "Model: " << model_name << " is valid\n";
+void print_check_summary(std::ostream& out, const Model& model, const SystemSize& size) {
+  out << "Model: " << model.name << " is valid\n";
   print_system_size(out, size);
+  print_geometry(out, model);
 }
 
 void print_error(std::ostream& err, std::string_view message) {

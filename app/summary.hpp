@@ -23,7 +23,9 @@ enum ExitCode : int {
 void print_solve_summary(std::ostream& out, const Result& result,
                          const std::optional<std::filesystem::path>& result_file);
 
-void print_check_summary(std::ostream& out, const std::string& model_name, const SystemSize& size);
+// The model's name and system size, then each link's length and each joint's and support's
+// kind and axes.
+void print_check_summary(std::ostream& out, const Model& model, const SystemSize& size);
 
 // "stiffmsa: error: <message>"
 void print_error(std::ostream& err, std::string_view message);

@@ -287,6 +287,9 @@ int run_sweep(const SweepCommand& command) {
                                ? csv.parent_path() / (csv.stem().string() + ".summary.json")
                                : fs::path(command.summary_file);
   check_files(command, csv, summary);
+  const fs::path view = csv.parent_path() / (csv.stem().string() + ".html");
+  if (command.view && (same_file(view, command.model_file) || same_file(view, csv)))
+    throw UsageError("--view would write '" + view.string() + "' over an input or the CSV; name the CSV otherwise");
 
   const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
   const PoseTable poses = command.poses_file.empty() ? grid_poses(std::move(axes)) : read_pose_table(command.poses_file);
@@ -315,6 +318,10 @@ int run_sweep(const SweepCommand& command) {
   if (command.plot) {
     const auto plots = write_plots(result, command);
     files.insert(files.end(), plots.begin(), plots.end());
+  }
+  if (command.view) {
+    write_sweep_view(result, view);
+    files.push_back(view);
   }
   print_sweep_summary(std::cout, result, files);
   return exit_success;

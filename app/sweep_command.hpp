@@ -18,6 +18,7 @@ struct SweepCommand {
   std::vector<std::string> settings;  // "name=value": parameters held at other than defaults
   bool full = false;
   bool plot = false;
+  bool view = false;  // an HTML map beside the CSV (docs/viewer.md)
   std::vector<std::string> plot_columns;  // empty: k_trans_min and deflection_trans per end effector
   std::size_t threads = 0;
   bool quiet = false;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages stiffmsa builds with. Safe to run again; needs root (or sudo).
-#   usage: scripts/install-deps.sh [fuzz] [bench]
+#   usage: scripts/install-deps.sh [fuzz] [bench] [viewer]
 # With `bench`, also Google Benchmark, valgrind (instruction counts) and GNU time (bench/run.sh,
 # bench/compare.sh, bench/pose_loop.cpp under callgrind); perf for bench/profile.py is not included.
 # With `fuzz`, also clang and its sanitizer and libFuzzer runtimes (scripts/fuzz.sh). The
@@ -13,11 +13,15 @@ set -euo pipefail
 packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev libcli11-dev
           libsuitesparse-dev libopenblas0-serial libmuparser-dev libtbb-dev libcairo2-dev pkg-config
           libgtest-dev libgmock-dev)
+# libjs-three: three.js r111 (Debian 12's 111+dfsg1-3), built into the viewer's pages.
+packages+=(libjs-three)
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
     bench) packages+=(libbenchmark-dev valgrind time python3) ;;
-    *) echo "install-deps.sh: unknown group '$group' (known: fuzz, bench)" >&2; exit 2 ;;
+    # The viewer's tests: its pages in headless Chromium, its ParaView files read by meshio.
+    viewer) packages+=(chromium python3 python3-meshio python3-numpy) ;;
+    *) echo "install-deps.sh: unknown group '$group' (known: fuzz, bench, viewer)" >&2; exit 2 ;;
   esac
 done
 missing=()

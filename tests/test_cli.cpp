@@ -569,3 +569,48 @@ TEST_F(Cli, SummaryNamesTheSolverAndWhyNoConditionIsEstimated) {
   EXPECT_TRUE(contains(forced.out, "(solver sparse_lu)")) << forced.out;
   EXPECT_TRUE(contains(forced.out, "(condition number about")) << forced.out;
 }
+
+// ---- view, --vtk and check's geometry (docs/viewer.md) ------------------------------------
+
+TEST_F(Cli, ViewWritesOnePageBesideTheModel) {
+  const fs::path model = write_model("cantilever.yaml", cantilever_model);
+  const CliRun r = run("view " + shell_quoted(model.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  const std::string page = read_file(folder_ / "cantilever.html");
+  EXPECT_TRUE(contains(page, "id=\"stiffmsa-data\"")) << page.substr(0, 200);
+  EXPECT_TRUE(contains(r.out, "cantilever.html")) << r.out;
+}
+
+TEST_F(Cli, ViewRefusesToWriteOverTheModel) {
+  const fs::path model = write_model("cantilever.yaml", cantilever_model);
+  const CliRun r = run("view " + shell_quoted(model.string()) + " -o " + shell_quoted(model.string()));
+  EXPECT_EQ(r.exit_code, exit_invalid_input);
+  EXPECT_EQ(read_file(model), cantilever_model);
+}
+
+TEST_F(Cli, ViewOfAMechanismStillShowsTheModel) {
+  const fs::path model = write_model("floating.yaml", unsupported_model);
+  const fs::path page = folder_ / "floating.html";
+  const CliRun r = run("view " + shell_quoted(model.string()) + " -o " + shell_quoted(page.string()));
+  EXPECT_EQ(r.exit_code, exit_cannot_solve) << r.err;
+  EXPECT_TRUE(contains(read_file(page), "\"solved\":false"));
+}
+
+TEST_F(Cli, SolveWritesAParaViewFileAndRefusesAnotherExtension) {
+  const fs::path model = write_model("cantilever.yaml", cantilever_model);
+  const CliRun r = run("solve " + shell_quoted(model.string()) + " --vtk " + shell_quoted((folder_ / "c.vtu").string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(read_file(folder_ / "c.vtu"), "<VTKFile type=\"UnstructuredGrid\""));
+  const CliRun wrong = run("solve " + shell_quoted(model.string()) + " --vtk " + shell_quoted((folder_ / "c.vtk").string()));
+  EXPECT_EQ(wrong.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(wrong.err, ".vtu")) << wrong.err;
+}
+
+TEST_F(Cli, CheckListsLinkLengthsAndJointAxes) {
+  const CliRun r = run("check " + example_path("planar-3rpr.yaml"));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(r.out, "Links (length in m):")) << r.out;
+  EXPECT_TRUE(contains(r.out, "platform_1     rigid       0.120341     centre -> P1")) << r.out;
+  EXPECT_TRUE(contains(r.out, "pin_1          at P1: revolute, passive, axis (0, 0, 1)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "actuator_1     at M1: prismatic, actuated, axis (")) << r.out;
+}

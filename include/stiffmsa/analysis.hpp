@@ -92,4 +92,14 @@ struct PrincipalStiffness {
 };
 PrincipalStiffness principal_stiffness(const Mat6& compliance);
 
+// The principal axes of a 3×3 block of a compliance matrix (the translational one draws the
+// compliance ellipsoid): compliances ascending, their unit directions as columns, and the
+// stiffness along each (+inf where principal_stiffness gives +inf).
+struct PrincipalAxes {
+  Vec3 compliance;
+  Mat3 directions;
+  Vec3 stiffness;
+};
+PrincipalAxes principal_axes(const Mat3& compliance_block);
+
 }  // namespace stiffmsa

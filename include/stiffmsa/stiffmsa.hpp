@@ -1,11 +1,15 @@
 #pragma once
 // The whole public API of stiffmsa.
 #include "stiffmsa/analysis.hpp"
+#include "stiffmsa/deformed_shape.hpp"
 #include "stiffmsa/errors.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/io/plot.hpp"
 #include "stiffmsa/io/result_file.hpp"
 #include "stiffmsa/io/sweep_file.hpp"
+#include "stiffmsa/io/sweep_view.hpp"
+#include "stiffmsa/io/view_html.hpp"
+#include "stiffmsa/io/vtk_file.hpp"
 #include "stiffmsa/model.hpp"
 #include "stiffmsa/parametric.hpp"
 #include "stiffmsa/result.hpp"

@@ -106,17 +106,31 @@ std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double
 }  // namespace detail
 
 namespace {
+// A principal compliance below this fraction of the block's largest is a rigidly held direction.
+constexpr double kRigidComplianceFraction = 1e-12;
+
+// The stiffness along each principal compliance c (ascending), +inf where rigidly held.
+Vec3 stiffness_along(const Vec3& c) {
+  Vec3 k;
+  for (int i = 0; i < 3; ++i)
+    k(i) = (c(i) > kRigidComplianceFraction * std::max(c(2), 0.0) && c(i) > 0) ? 1.0 / c(i)
+                                                                              : std::numeric_limits<double>::infinity();
+  return k;
+}
+
 Vec3 block_stiffness(const Mat3& compliance_block) {
   const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()),
                                                   Eigen::EigenvaluesOnly);
-  const Vec3& c = eigen.eigenvalues();
-  Vec3 k;
-  for (int i = 0; i < 3; ++i)
-    k(i) = (c(i) > 1e-12 * std::max(c(2), 0.0) && c(i) > 0) ? 1.0 / c(i) : std::numeric_limits<double>::infinity();
+  Vec3 k = stiffness_along(eigen.eigenvalues());
   std::sort(k.data(), k.data() + 3);
   return k;
 }
 }  // namespace
+
+PrincipalAxes principal_axes(const Mat3& compliance_block) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
+  return {eigen.eigenvalues(), eigen.eigenvectors(), stiffness_along(eigen.eigenvalues())};
+}
 
 PrincipalStiffness principal_stiffness(const Mat6& compliance) {
   return {block_stiffness(compliance.topLeftCorner<3, 3>()), block_stiffness(compliance.bottomRightCorner<3, 3>())};

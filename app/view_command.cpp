@@ -1,0 +1,82 @@
+#include "view_command.hpp"
+
+#include <cstdio>
+#include <iostream>
+
+#include "summary.hpp"
+#include "sweep_command.hpp"
+
+namespace stiffmsa::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// "x = 0.1 m" per parameter of a parametric model, at the values the page shows.
+std::vector<std::string> parameter_texts(const ModelFamily& family, const std::vector<double>& values) {
+  std::vector<std::string> texts;
+  for (std::size_t k = 0; k < family.parameters().size(); ++k) {
+    const Parameter& parameter = family.parameters()[k];
+    char number[32];
+    std::snprintf(number, sizeof number, "%.6g", values[k]);
+    texts.push_back(parameter.name + " = " + number + (parameter.unit.empty() ? "" : " " + parameter.unit));
+  }
+  return texts;
+}
+
+}  // namespace
+
+CLI::App* add_view_subcommand(CLI::App& app, ViewCommand& command) {
+  CLI::App* view = app.add_subcommand(
+      "view", "Write an HTML page that shows the model in 3-D with its deformed shape and ellipsoids");
+  view->add_option("MODEL", command.model_file, "Model file (YAML or JSON)")->required();
+  view->add_option("-o,--output", command.html_file, "The page to write (default: MODEL with .html)");
+  view->add_option("--scale", command.scale,
+                   "Magnification of the deformed shape (default: the largest displacement drawn as a tenth of "
+                   "the model); the page has a slider too")
+      ->check(CLI::PositiveNumber);
+  view->add_option("--set", command.settings, "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
+  view->add_option("--solver", command.solver, "As for solve")
+      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
+      ->capture_default_str();
+  view->add_flag("--accept-idle-motions", command.accept_idle_motions, "As for solve");
+  view->add_option("--max-file-size", command.limits.max_file_bytes, "As for solve")->transform(CLI::AsSizeValue(true));
+  view->add_option("--max-entities", command.limits.max_entities, "As for solve");
+  return view;
+}
+
+int run_view(const ViewCommand& command) {
+  fs::path html_file = command.html_file;
+  if (html_file.empty()) html_file = fs::path(command.model_file).replace_extension(".html");
+  if (same_file(command.model_file, html_file))
+    throw UsageError("the page '" + html_file.string() + "' is the model file; choose another name with -o");
+
+  SolveOptions solve_options;
+  solve_options.solver = solver_kind_from_string(command.solver).value_or(SolverKind::automatic);
+  solve_options.accept_idle_motions = command.accept_idle_motions;
+  if (!solver_available(solve_options.solver))
+    throw UsageError("solver '" + command.solver + "' is not available in this build of stiffmsa; use --solver auto");
+
+  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+  const std::vector<double> values = family.default_values();
+  const Model model = family.build(values);
+
+  ModelViewOptions options;
+  options.scale = command.scale;
+  options.parameters = parameter_texts(family, values);
+  // A model that cannot be solved is still worth seeing: a mechanism often shows why.
+  std::optional<Result> result;
+  int code = exit_success;
+  try {
+    result = solve(model, solve_options);
+  } catch (const SingularModelError& e) {
+    options.not_solved = e.what();
+    print_singular_model_error(std::cerr, e);
+    code = exit_cannot_solve;
+  }
+  write_model_view(model, result ? &*result : nullptr, options, html_file);
+  std::cout << "View of " << model.name << " written to " << html_file.string() << '\n';
+  return code;
+}
+
+}  // namespace stiffmsa::cli

@@ -1,0 +1,27 @@
+#pragma once
+// The deformed shape between a link's ends, from the deflections a solve gives at the ends: what
+// the viewer draws and the VTK file carries along each link.
+#include "stiffmsa/model.hpp"
+
+namespace stiffmsa {
+
+// The small motion of one point of a link's centre line: displacement and rotation (global).
+struct CentreLineMotion {
+  Vec3 displacement = Vec3::Zero();
+  Vec3 rotation = Vec3::Zero();
+};
+
+// The motion of the point at the fraction `xi` (0 at `from`, 1 at `to`) of the straight line
+// between a link's ends, given the deflections Δt = [Δp; Δφ] of both ends.
+// A beam (`bends`) carries no load between its ends, so an Euler–Bernoulli beam bends exactly
+// as the cubic (Hermite) shape functions say: transverse displacement cubic with the end
+// slopes Δφ × e, axial displacement and twist linear (a Timoshenko beam's shear adds a part
+// the cubic leaves out). A rigid link moves rigidly, which is the linear interpolation of its
+// ends; a CAD link's interior is unknown and is drawn by the same straight chord.
+CentreLineMotion centre_line_motion(bool bends, const Vec3& from, const Vec3& to, const Vec6& from_deflection,
+                                    const Vec6& to_deflection, double xi);
+
+// Whether a link kind bends along its length (beams) or is drawn as a chord between its ends.
+bool bends(const LinkKind& kind);
+
+}  // namespace stiffmsa
