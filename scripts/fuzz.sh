@@ -19,8 +19,9 @@ bash scripts/install-deps.sh fuzz
 cxx=clang++-14
 command -v "$cxx" >/dev/null || cxx=clang++
 
+source scripts/build-cache.sh
 # RelWithDebInfo: fast executions with line numbers in the stacks (assertions off, as shipped).
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S . -B "$build" -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_COMPILER="$cxx" \
   -DSTIFFMSA_SANITIZE=address,undefined -DSTIFFMSA_BUILD_FUZZERS=ON \
   -DSTIFFMSA_BUILD_TESTS=OFF -DSTIFFMSA_BUILD_EXAMPLES=OFF

@@ -10,7 +10,8 @@ example="${1:-examples/planar-2r.yaml}"
 name="$(basename "${example%.*}")"
 
 bash scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+source scripts/build-cache.sh
+cmake -S . -B build -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Release
 # Only the command: the example does not need the tests built.
 cmake --build build -j2 --target stiffmsa_cli
 build/stiffmsa solve "$example" --json "build/${name}-result.json"

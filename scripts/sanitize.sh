@@ -25,7 +25,8 @@ export LSAN_OPTIONS="$common:suppressions=$root/scripts/lsan-suppressions.txt:pr
 
 # Debug with -O1: sanitizers at a bearable speed, with assert(), Eigen's index checks and
 # libstdc++'s container checks switched on.
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug \
+source scripts/build-cache.sh
+cmake -S . -B "$build" -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_COMPILER=g++ \
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g -D_GLIBCXX_ASSERTIONS" \
   -DSTIFFMSA_SANITIZE=address,undefined \
