@@ -474,6 +474,10 @@ TEST(Planar2rExample, RigidLinkVariantHasItsStiffnessOnTheDirectionsItCanMoveIn)
   EXPECT_LT(reference::relative_difference(MatX(T.transpose() * T * J), MatX(J)), kTolerance);
   const Mat6 reconstructed = T.transpose() * ee.reduced_stiffness->matrix * T;
   EXPECT_LT(reference::relative_difference(reconstructed, expected), kTolerance);
+  EXPECT_EQ(result.report.notes.front(),
+            "end effector 'tool' is held rigidly in some direction (or is so nearly a mechanism that double precision "
+            "cannot tell): its stiffness is unbounded (null); reduced_stiffness gives it on the 2 directions it can "
+            "move in");
 }
 
 // ---- industrial-6axis.yaml ----------------------------------------------------------------
