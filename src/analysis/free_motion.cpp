@@ -81,7 +81,7 @@ std::vector<int> unsupported_parts(const Topology& topology) {
 // (a link end alone at a point that stands where another point is: two names, two points).
 std::vector<std::string> describe_unsupported_parts(const Model& model, const Topology& topology,
                                                     const std::vector<int>& part, double length) {
-  const int parts = 1 + *std::max_element(part.begin(), part.end());
+  const int parts = part.empty() ? 0 : 1 + *std::max_element(part.begin(), part.end());
   if (parts == 0) return {};
   if (model.supports.empty())
     return {"the model has no support: nothing holds it, so it can move as a whole; add one under `supports:`"};
