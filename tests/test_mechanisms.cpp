@@ -183,6 +183,34 @@ TEST(MechanismCulprits, MotionsOfOneJointShareOneLine) {
       << error.what();
 }
 
+TEST(MechanismCulprits, MotionThatNoEndEffectorStopsIsRefusedUnloaded) {
+  // The end effector on the wrist's first link: the passive last joint turns the flange, which
+  // no end effector holds, so not even an unloaded solve has anything to report.
+  Model model = stiffmsa::parse_model(ur5_like(kElastic, ""), "ur5.yaml");
+  model.loads.clear();
+  model.end_effectors[0].at = "wrist_2";
+  model.end_effectors[0].link = "wrist_link_1";
+  const SingularModelError error = refusal(model);
+  EXPECT_EQ(error.summary(), "the model is a mechanism with 1 free motion, and no end effector stops it");
+  ASSERT_EQ(error.details().size(), 2u) << error.what();
+  EXPECT_EQ(error.details()[0],
+            "free motion 1: passive joint 'wrist_3_joint' (revolute at wrist_3) lets it happen; it moves link "
+            "'flange'; it moves no end effector (an idle motion: accept it with `options: {accept_idle_motions: "
+            "true}` in the model or --accept-idle-motions)")
+      << error.what();
+
+  auto& wrist = model.joints.back().connection;
+  wrist.kinematics = stiffmsa::Kinematics::spherical();
+  const SingularModelError three = refusal(model);
+  EXPECT_EQ(three.summary(), "the model is a mechanism with 3 free motions, and no end effector stops them");
+  ASSERT_EQ(three.details().size(), 2u) << three.what();
+  EXPECT_EQ(three.details()[0],
+            "free motions 1, 2 and 3: passive joint 'wrist_3_joint' (spherical at wrist_3) lets them happen; they "
+            "move link 'flange'; they move no end effector (idle motions: accept them with `options: "
+            "{accept_idle_motions: true}` in the model or --accept-idle-motions)")
+      << three.what();
+}
+
 // A planar arm whose forearm starts at a point of its own, at the elbow's coordinates: meant to
 // be welded to the upper arm, it is joined to nothing.
 constexpr const char* kDetachedForearm = R"(format: stiffmsa/1
@@ -254,6 +282,28 @@ TEST(MechanismCulprits, UnloadedModelWithoutSupportWarnsThatItsStiffnessIsZero) 
   Model held = stiffmsa::parse_model(unsupported_rod(""), "f.yaml");
   held.add_support("clamp", "O", {}, {});
   EXPECT_TRUE(stiffmsa::solve(held).report.warnings.empty());
+}
+
+TEST(MechanismCulprits, PartThatNoSupportReachesIsNamedOnce) {
+  // A stray link between points of its own, beside a supported rod.
+  Model model = stiffmsa::parse_model(unsupported_rod("loads:\n  - {at: E, wrench: [0, -100, 0, 0, 0, 0]}\n"), "f.yaml");
+  model.add_support("clamp", "O", {}, {});
+  model.add_point("S1", Vec3(0, 1, 0));
+  model.add_point("S2", Vec3(0, 2, 0));
+  model.add_rigid_link("stray", "S1", "S2");
+  const SingularModelError error = refusal(model);
+  EXPECT_EQ(error.summary(),
+            "the model is a mechanism with 6 free motions and carries loads or preloads, which a mechanism cannot "
+            "hold (only an unloaded one is solved)");
+  ASSERT_EQ(error.details().size(), 1u) << error.what();
+  EXPECT_EQ(error.details()[0],
+            "link 'stray' is held by no support: no joint, support or shared point joins it to a supported part, so "
+            "it can move as a whole");
+  model.add_point("S3", Vec3(0, 3, 0));
+  model.add_rigid_link("stray_2", "S2", "S3");
+  EXPECT_EQ(refusal(model).details()[0],
+            "links 'stray', 'stray_2' are held by no support: no joint, support or shared point joins them to a "
+            "supported part, so they can move as a whole");
 }
 
 }  // namespace

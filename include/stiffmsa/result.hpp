@@ -42,7 +42,7 @@ struct SupportResult {
 };
 
 // Where an end effector is held rigidly in some directions (its stiffness is unbounded, null),
-// the stiffness on the directions it can move in (model-format.md, theory.md §9): T's rows are
+// the stiffness on the directions it can move in (model-format.md, theory.md §8.1): T's rows are
 // orthonormal motions [Δp; Δφ] spanning the range of the compliance C (unit coordinate axes
 // where the held directions are coordinate axes, as in a planar robot), and K_r = (T·C·Tᵀ)⁻¹:
 // the wrench components T·W per unit motion q, for the motion Δt = Tᵀ·q.

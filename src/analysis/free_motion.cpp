@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <numeric>
 #include <sstream>
 
@@ -36,9 +37,7 @@ std::string list(const std::vector<std::string>& names) {
   return text;
 }
 
-std::string counted(std::size_t count, const char* singular, const char* plural) {
-  return count == 1 ? singular : plural;
-}
+std::string counted(std::size_t count, const char* singular, const char* plural) { return count == 1 ? singular : plural; }
 
 MatX deflection_rows(const MatX& v, int ends) {
   MatX rows(6 * static_cast<Index>(ends), v.cols());
@@ -51,8 +50,13 @@ MatX deflection_rows(const MatX& v, int ends) {
 std::vector<int> unsupported_parts(const Topology& topology) {
   std::vector<int> root(static_cast<std::size_t>(topology.end_count()));
   std::iota(root.begin(), root.end(), 0);
+  // Path halving keeps the trees shallow: a chain of 100 000 links stays linear.
   auto find = [&](int end) {
-    while (root[static_cast<std::size_t>(end)] != end) end = root[static_cast<std::size_t>(end)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(end)])];
+    while (root[static_cast<std::size_t>(end)] != end) {
+      int& up = root[static_cast<std::size_t>(end)];
+      up = root[static_cast<std::size_t>(up)];
+      end = up;
+    }
     return end;
   };
   auto join = [&](int a, int b) { root[static_cast<std::size_t>(find(a))] = find(b); };
@@ -77,7 +81,7 @@ std::vector<int> unsupported_parts(const Topology& topology) {
 // (a link end alone at a point that stands where another point is: two names, two points).
 std::vector<std::string> describe_unsupported_parts(const Model& model, const Topology& topology,
                                                     const std::vector<int>& part, double length) {
-  const int parts = 1 + *std::max_element(part.begin(), part.end());
+  const int parts = part.empty() ? 0 : 1 + *std::max_element(part.begin(), part.end());
   if (parts == 0) return {};
   if (model.supports.empty())
     return {"the model has no support: nothing holds it, so it can move as a whole; add one under `supports:`"};
@@ -100,10 +104,12 @@ std::vector<std::string> describe_unsupported_parts(const Model& model, const To
       }
     }
     if (causes.empty())
-      lines.push_back(counted(links.size(), "link ", "links ") + list(links) +
-                      (links.size() == 1 ? " is" : " are") +
-                      " held by no support: no joint, support or shared point joins them to a supported part, so "
-                      "they can move as a whole");
+      lines.push_back(links.size() == 1 ? "link " + links.front() +
+                                              " is held by no support: no joint, support or shared point joins it "
+                                              "to a supported part, so it can move as a whole"
+                                        : "links " + list(links) +
+                                              " are held by no support: no joint, support or shared point joins "
+                                              "them to a supported part, so they can move as a whole");
     else
       lines.insert(lines.end(), causes.begin(), causes.end());
   }
@@ -113,7 +119,8 @@ std::vector<std::string> describe_unsupported_parts(const Model& model, const To
 // A passive joint or support (no stiffness, not actuated, some free direction): what lets a
 // free motion happen.
 struct PassiveConnection {
-  std::string label;                       // "support 'motor2' (revolute at B2)"
+  bool support = false;
+  std::string label;                       // "'motor2' (revolute at B2)"
   std::vector<std::pair<int, int>> moves;  // (end, reference end; −1: the ground)
   Mat6 projector;                          // onto the free directions
 };
@@ -131,7 +138,8 @@ std::vector<PassiveConnection> passive_connections(const Model& model, const Top
       const auto directions = free_directions(connection.kinematics);
       if (directions.free().rows() == 0 || connection.stiffness || connection.actuated) continue;
       PassiveConnection c;
-      c.label = std::string(support ? "support" : "joint") + " '" + name + "' (" + to_string(connection.kinematics.type) + " at " + at + ")";
+      c.support = support;
+      c.label = "'" + name + "' (" + to_string(connection.kinematics.type) + " at " + at + ")";
       c.projector = directions.free().transpose() * directions.gram().inverse() * directions.free();
       if (support)
         c.moves.emplace_back(group.ends.front(), -1);
@@ -192,10 +200,12 @@ MatX separated_motions(const MatX& motions, const MatX& passive_rows) {
   return motions * combination.transpose();
 }
 
-// One free motion in the user's terms: the passive joints and supports that let it happen, the
-// links and end effectors it moves. Parts that no support holds are described once elsewhere.
+// One free motion (`several`: alike motions) in the user's terms: the passive joints and
+// supports that let it happen, the links and end effectors it moves. Parts that no support holds
+// are described once elsewhere. `names_passive` tells whether it names a joint or support.
 std::string describe_motion(const Model& model, const Topology& topology, const std::vector<PassiveConnection>& passive,
-                            const std::vector<int>& part, const VecX& motion, double length, const char* pronoun) {
+                            const std::vector<int>& part, const VecX& motion, double length, bool several,
+                            bool& names_passive) {
   auto deflection = [&](int end) -> Vec6 { return motion.segment<6>(deflection_column(end)); };
   double largest = 0;
   for (int end = 0; end < topology.end_count(); ++end)
@@ -207,7 +217,7 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
     for (const auto& [end, reference] : c.moves) {
       const Vec6 relative = c.projector * (deflection(end) - (reference >= 0 ? deflection(reference) : Vec6::Zero()));
       if (weighted_norm(relative, length) <= significant) continue;
-      (c.label.starts_with("support") ? supports : joints).push_back(c.label);
+      (c.support ? supports : joints).push_back(c.label);
       break;
     }
   for (std::size_t l = 0; l < model.links.size(); ++l) {
@@ -222,29 +232,26 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
       effectors.push_back("'" + model.end_effectors[e].name + "'");
   }
 
-  const bool one = std::string_view(pronoun) == "it";
-  std::ostringstream text;
+  const char* subject = several ? "they" : "it";
+  const char* moves = several ? " move" : " moves";
   std::vector<std::string> culprits;
-  auto passive_list = [&](std::vector<std::string>& labels, const char* noun, const char* nouns) {
-    if (labels.empty()) return;
-    for (auto& label : labels) label = label.substr(label.find(' ') + 1);
-    culprits.push_back(std::string("passive ") + (labels.size() == 1 ? noun : nouns) + " " + list(labels));
-  };
-  passive_list(supports, "support", "supports");
-  passive_list(joints, "joint", "joints");
-  if (!culprits.empty()) {
-    text << culprits.front() << (culprits.size() > 1 ? " and " + culprits.back() : "")
-         << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (one ? "it" : "them") << " happen";
-    if (!links.empty()) text << "; " << pronoun << (one ? " moves " : " move ") << counted(links.size(), "link ", "links ") << list(links);
+  if (!supports.empty()) culprits.push_back(counted(supports.size(), "passive support ", "passive supports ") + list(supports));
+  if (!joints.empty()) culprits.push_back(counted(joints.size(), "passive joint ", "passive joints ") + list(joints));
+  names_passive = !culprits.empty();
+  std::ostringstream text;
+  if (names_passive) {
+    text << culprits.front() << (culprits.size() == 2 ? " and " + culprits.back() : "") << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (several ? "them" : "it") << " happen";
+    if (!links.empty()) text << "; " << subject << moves << " " << counted(links.size(), "link ", "links ") << list(links);
   } else {
     text << counted(links.size(), "link ", "links ") << list(links) << " can move without resistance";
   }
   if (effectors.empty())
-    text << "; " << pronoun << (one ? " moves no end effector (an idle motion: accept it" : " move no end effector (idle motions: accept them")
+    text << "; " << subject << moves
+         << (several ? " no end effector (idle motions: accept them" : " no end effector (an idle motion: accept it")
          << " with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
   else
-    text << (links.empty() || culprits.empty() ? "; " + std::string(pronoun) + (one ? " moves" : " move") : " and")
-         << " end effector" << (effectors.size() == 1 ? " " : "s ") << list(effectors);
+    text << (names_passive && !links.empty() ? " and" : "; " + std::string(subject) + moves) << " end effector"
+         << (effectors.size() == 1 ? " " : "s ") << list(effectors);
   return text.str();
 }
 
@@ -291,17 +298,18 @@ void describe_motions(const Model& model, const Topology& topology, const MatX& 
 
   // Motions told alike, in order of their first: their numbers and one of them.
   std::vector<std::pair<std::string, std::vector<Index>>> alike;
+  bool passive_named = false;
   for (Index c = 0; c < count; ++c) {
-    std::string text = describe_motion(model, topology, passive, part, separated.col(c), length, "it");
+    bool names_passive = false;
+    std::string text = describe_motion(model, topology, passive, part, separated.col(c), length, false, names_passive);
+    passive_named |= names_passive;
     auto same = std::find_if(alike.begin(), alike.end(), [&](const auto& a) { return a.first == text; });
     if (same == alike.end())
       alike.emplace_back(std::move(text), std::vector<Index>{c});
     else
       same->second.push_back(c);
   }
-  bool passive_named = false;
   for (const auto& [text, numbers] : alike) {
-    passive_named |= text.starts_with("passive ");
     if (numbers.size() == 1) {
       lines.push_back("free motion " + std::to_string(numbers.front() + 1) + ": " + text);
       continue;
@@ -309,8 +317,9 @@ void describe_motions(const Model& model, const Topology& topology, const MatX& 
     std::string label = "free motions ";
     for (std::size_t i = 0; i < numbers.size(); ++i)
       label += (i == 0 ? "" : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i] + 1);
+    bool names_passive = false;
     lines.push_back(label + ": " +
-                    describe_motion(model, topology, passive, part, separated.col(numbers.front()), length, "they"));
+                    describe_motion(model, topology, passive, part, separated.col(numbers.front()), length, true, names_passive));
   }
   if (passive_named)
     lines.push_back("to stop a free motion, give a joint or support that lets it happen a `stiffness:` (elastic) "

@@ -242,7 +242,7 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
     const auto& effector = model.end_effectors[e];
     const int end = ws.topology.effector_ends[e];
     result.end_effectors.push_back({effector.name, effector.at, model.links[static_cast<std::size_t>(end / 2)].name,
-                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt});
+                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt, std::nullopt});
   }
   return result;
 }
@@ -418,12 +418,22 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
 void note_determined_components(const std::string& whose, const Vec6& wrench, const MatX& variation, double length,
                                 double negligible, std::vector<std::string>& notes) {
   static constexpr std::array<const char*, 6> components = {"Fx", "Fy", "Fz", "Mx", "My", "Mz"};
+  // A determined component below this fraction of the determined ones (moments divided by the
+  // length) is rounding, and shown as 0.
+  constexpr double kRoundOff = 1e-12;
+  std::array<bool, 6> fixed{};
+  double scale = 0;
+  for (int c = 0; c < 6; ++c) {
+    const double per_length = c < 3 ? 1.0 : 1.0 / length;
+    fixed[static_cast<std::size_t>(c)] = variation.row(c).cwiseAbs().maxCoeff() * per_length <= negligible;
+    if (fixed[static_cast<std::size_t>(c)]) scale = std::max(scale, std::abs(wrench(c)) * per_length);
+  }
   std::string determined;
   int count = 0;
   for (int c = 0; c < 6; ++c) {
-    const double varies = variation.row(c).cwiseAbs().maxCoeff() / (c < 3 ? 1.0 : length);
-    if (varies > negligible) continue;
-    determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ", wrench(c), c < 3 ? " N" : " N·m");
+    if (!fixed[static_cast<std::size_t>(c)]) continue;
+    const double value = std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < kRoundOff * scale ? 0.0 : wrench(c);
+    determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ", value, c < 3 ? " N" : " N·m");
   }
   if (count > 0)
     notes.push_back(whose + " is null, as the rigid model does not determine all of it; its determined " +
