@@ -7,6 +7,7 @@
 #include "stiffmsa/io/result_file.hpp"
 #include "stiffmsa/io/sweep_file.hpp"
 #include "stiffmsa/model.hpp"
+#include "stiffmsa/number_text.hpp"
 #include "stiffmsa/parametric.hpp"
 #include "stiffmsa/result.hpp"
 #include "stiffmsa/sweep.hpp"

@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "stiffmsa/analysis.hpp"
@@ -67,20 +68,46 @@ CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, do
 }  // namespace detail
 
 namespace {
-Vec3 block_stiffness(const Mat3& compliance_block) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()),
-                                                  Eigen::EigenvaluesOnly);
+// Below this fraction of the largest compliance of a block, a compliance is rounding: the
+// direction is held rigidly.
+constexpr double kRigidCompliance = 1e-12;
+
+double stiffness_of(double compliance, double largest) {
+  return (compliance > kRigidCompliance * std::max(largest, 0.0) && compliance > 0)
+             ? 1.0 / compliance
+             : std::numeric_limits<double>::infinity();
+}
+
+// Eigenvalues of the block's inverse, ascending, with their eigenvectors: the compliance's
+// eigenvalues descending, inverted.
+void block_stiffness(const Mat3& compliance_block, Vec3& values, Mat3& directions) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
   const Vec3& c = eigen.eigenvalues();
-  Vec3 k;
-  for (int i = 0; i < 3; ++i)
-    k(i) = (c(i) > 1e-12 * std::max(c(2), 0.0) && c(i) > 0) ? 1.0 / c(i) : std::numeric_limits<double>::infinity();
-  std::sort(k.data(), k.data() + 3);
-  return k;
+  for (int i = 0; i < 3; ++i) {
+    values(i) = stiffness_of(c(2 - i), c(2));
+    Vec3 direction = eigen.eigenvectors().col(2 - i);
+    Eigen::Index largest = 0;
+    direction.cwiseAbs().maxCoeff(&largest);
+    directions.col(i) = direction(largest) < 0 ? Vec3(-direction) : direction;
+  }
 }
 }  // namespace
 
 PrincipalStiffness principal_stiffness(const Mat6& compliance) {
-  return {block_stiffness(compliance.topLeftCorner<3, 3>()), block_stiffness(compliance.bottomRightCorner<3, 3>())};
+  PrincipalStiffness principal;
+  block_stiffness(compliance.topLeftCorner<3, 3>(), principal.translational, principal.translational_directions);
+  block_stiffness(compliance.bottomRightCorner<3, 3>(), principal.rotational, principal.rotational_directions);
+  return principal;
+}
+
+DirectionalStiffness directional_stiffness(const Mat6& compliance, const Vec3& direction) {
+  const double length = direction.norm();
+  if (!std::isfinite(length) || length == 0)
+    throw UsageError("the direction of a directional stiffness must be a finite, non-zero vector");
+  const Vec3 u = direction / length;
+  const Mat3 translational = compliance.topLeftCorner<3, 3>(), rotational = compliance.bottomRightCorner<3, 3>();
+  return {u, stiffness_of(u.dot(translational * u), translational.diagonal().maxCoeff()),
+          stiffness_of(u.dot(rotational * u), rotational.diagonal().maxCoeff())};
 }
 
 const char* to_string(SolverKind s) {

@@ -72,8 +72,7 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
     text << (links.size() == 1 ? "link " : "links ") << list(links) << " can move without resistance";
   if (!joints.empty() && !links.empty()) text << ", moving " << (links.size() == 1 ? "link " : "links ") << list(links);
   if (effectors.empty())
-    text << "; it moves no end effector (an idle motion: accept it with `options: {accept_idle_motions: true}` "
-            "in the model or --accept-idle-motions)";
+    text << "; it moves no end effector " << kAcceptIdleMotionHint;
   else
     text << "; it moves end effector" << (effectors.size() == 1 ? " " : "s ") << list(effectors);
   return text.str();
