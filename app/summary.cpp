@@ -210,11 +210,11 @@ void print_largest(std::ostream& out, const std::string& title, const Largest& l
   const auto round_off = [&](double value) { return value <= kRoundOffWrench * scale; };
   out << '\n';
   if (round_off(largest.force * lever))
-    out << "  force:  none (every force is round-off)\n";
+    out << "  force:  none (every force is zero or round-off)\n";
   else
     out << "  force:  " << scientific(largest.force, number_width) << " N    at " << largest.force_at << '\n';
   if (round_off(largest.moment))
-    out << "  moment: none (every moment is round-off)\n";
+    out << "  moment: none (every moment is zero or round-off)\n";
   else
     out << "  moment: " << scientific(largest.moment, number_width) << " N·m  at " << largest.moment_at << '\n';
   if (largest.undetermined > 0) {

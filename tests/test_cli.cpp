@@ -524,11 +524,11 @@ TEST_F(Cli, SolveWarnsOfImplausibleValuesAndLargeDeflectionsButSucceeds) {
   const fs::path model = write_model("mpa.yaml", mpa);
   const CliRun r = run("solve " + shell_quoted(model.string()));
   EXPECT_EQ(r.exit_code, exit_success) << r.err;
-  EXPECT_TRUE(contains(r.out, "warning: " + model.string() + ":11:15: links.L1.material.E: E = 70000 Pa is below")) << r.out;
+  EXPECT_TRUE(contains(r.out, "warning: " + model.string() + ":11:16: links.L1.material.E: E = 70000 Pa is below")) << r.out;
   EXPECT_TRUE(contains(r.out, "warning: the deflections under the loads are too large for the linear method")) << r.out;
   const CliRun checked = run("check " + shell_quoted(model.string()));
   EXPECT_EQ(checked.exit_code, exit_success);
-  EXPECT_TRUE(contains(checked.out, "warning: " + model.string() + ":11:15: links.L1.material.E")) << checked.out;
+  EXPECT_TRUE(contains(checked.out, "warning: " + model.string() + ":11:16: links.L1.material.E")) << checked.out;
   const CliRun near_singular =
       run("solve " + example_path("planar-3rpr-parametric.yaml") + " --set x=0.32 --set y=0.7605");
   EXPECT_EQ(near_singular.exit_code, exit_success);
@@ -558,13 +558,26 @@ TEST_F(Cli, SolvePrintsPrincipalDirectionsAndTheStiffnessAlongADirection) {
     EXPECT_EQ(refused.exit_code, exit_invalid_input) << bad;
     EXPECT_TRUE(contains(refused.err, std::string("--direction '") + bad + "'")) << refused.err;
   }
+  EXPECT_TRUE(contains(run("solve " + shell_quoted(model.string()) + " --direction 0,0,0").err,
+                       "--direction '0,0,0': the direction must not be zero"));
+  EXPECT_TRUE(contains(run("solve " + shell_quoted(model.string()) + " --direction 1,2").err,
+                       "--direction '1,2': write X,Y,Z, three finite numbers, e.g. 0,0,1"));
 }
 
 TEST_F(Cli, RoundOffMomentsAndASingularSystemsConditionAreExplained) {
   const CliRun legs = run("solve " + example_path("gough-stewart-6ups.yaml"));
   ASSERT_EQ(legs.exit_code, exit_success) << legs.err;
   // The legs carry forces only: their moments are round-off, not "the largest joint moment".
-  EXPECT_TRUE(contains(legs.out, "  moment: none (every moment is round-off)\n")) << legs.out;
+  EXPECT_TRUE(contains(legs.out, "Largest joint wrench (on the first link end)\n  force:    ")) << legs.out;
+  EXPECT_TRUE(contains(legs.out, "  moment: none (every moment is zero or round-off)\n")) << legs.out;
+  // Unloaded, every wrench is zero: nothing is "the largest".
+  std::string unloaded = cantilever_model;
+  unloaded.erase(unloaded.find("loads:"), unloaded.find("end_effectors:") - unloaded.find("loads:"));
+  const CliRun idle_rod = run("solve " + shell_quoted(write_model("unloaded.yaml", unloaded).string()));
+  ASSERT_EQ(idle_rod.exit_code, exit_success) << idle_rod.err;
+  EXPECT_TRUE(contains(idle_rod.out, "Largest support reaction\n  force:  none (every force is zero or round-off)\n"
+                                     "  moment: none (every moment is zero or round-off)\n"))
+      << idle_rod.out;
   const fs::path braced = write_model("braced.yaml", braced_arm_model);
   const CliRun idle = run("solve " + shell_quoted(braced.string()) + " --accept-idle-motions --solver sparse_lu");
   ASSERT_EQ(idle.exit_code, exit_success) << idle.err;

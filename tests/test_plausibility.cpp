@@ -423,6 +423,13 @@ supports:
     EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected 1 number ")) << e.diagnostics()[0].message;
   }
   try {
+    parse_pose_table("x\n0.1, 0.2\n", "poses.csv");
+    FAIL() << "two values under one name is a defect";
+  } catch (const InputError& e) {
+    ASSERT_FALSE(e.diagnostics().empty());
+    EXPECT_EQ(e.diagnostics()[0].message, "expected 1 value (one per parameter of the header), got 2");
+  }
+  try {
     three_rpr().build(std::vector<double>{0.3});
     FAIL() << "one value for five parameters is a usage error";
   } catch (const UsageError& e) {
