@@ -162,6 +162,25 @@ supports:
   EXPECT_TRUE(contains(found[0].message, "(and 2 other links)")) << found[0].message;
 }
 
+TEST(Plausibility, ASweepReportsTheWarningsOfItsModelOnce) {
+  const std::string text = "parameters: {tip: {default: 1, unit: m}}\n" +
+                           cantilever("{E: 70000, nu: 0.3}", rod_section, "[0, -1e-6, 0, 0, 0, 0]", "[tip, 0, 0]");
+  const ModelFamily family = parse_model_family(text, "swept.yaml");
+  SweepOptions options;
+  options.threads = 1;
+  const SweepResult s = sweep(family, grid_poses({{"tip", 1, 2, 3}}), options);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_TRUE(contains(s.warnings[0], "links.L1.material.E: E = 70000 Pa is below")) << s.warnings[0];
+  const auto summary = nlohmann::json::parse(sweep_summary_to_json(s, false, ""));
+  ASSERT_EQ(summary["warnings"].size(), 1u);
+  EXPECT_EQ(summary["warnings"][0], s.warnings[0]);
+  // A load small enough for the linear range: the poses are ok and say nothing of deflections.
+  for (const auto& pose : s.results) {
+    EXPECT_EQ(pose.status, PoseStatus::ok);
+    EXPECT_FALSE(pose.large_deflection);
+  }
+}
+
 // ---- deflections beyond the linear method ---------------------------------------------------
 
 // Tip rotation of a cantilever under a transverse tip force: θ = F·L²/(2·E·I).
