@@ -29,6 +29,7 @@ struct SolveCommand {
   std::string solver = "auto";
   bool accept_idle_motions = false;
   std::vector<std::string> settings;  // parametric models: "name=value"
+  std::string direction;              // "x,y,z": also the stiffness along it
   LoadLimits limits;
 };
 
@@ -45,8 +46,9 @@ void refuse_to_overwrite_model(const fs::path& model_file, const fs::path& json_
   }
 }
 
-SolveOptions solve_options(const std::string& solver, bool accept_idle_motions) {
+SolveOptions solve_options(const std::string& solver, bool accept_idle_motions, const std::string& direction) {
   SolveOptions options;
+  if (!direction.empty()) options.direction = parse_direction(direction);
   // CLI11 has already checked the name against the list of solvers.
   options.solver = solver_kind_from_string(solver).value_or(SolverKind::automatic);
   options.accept_idle_motions = accept_idle_motions;
@@ -66,14 +68,12 @@ int run_solve(const SolveCommand& command) {
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
   if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
-  const SolveOptions options = solve_options(command.solver, command.accept_idle_motions);
-  // Without --set the file is read once, as any model; with it, as a family.
-  const Model model = [&] {
-    if (command.settings.empty()) return load_model(command.model_file, command.limits);
-    const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
-    return family.build(family.default_values());
-  }();
-  const Result result = solve(model, options);
+  const SolveOptions options = solve_options(command.solver, command.accept_idle_motions, command.direction);
+  // Read as a family, so that the result records the parameters it was solved at.
+  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+  const Model model = family.build(family.default_values());
+  Result result = solve(model, options);
+  result.parameters = family.parameter_values();
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
   if (!command.vtk_file.empty()) write_vtk(model, result, command.vtk_file);
@@ -83,7 +83,7 @@ int run_solve(const SolveCommand& command) {
 
 int run_check(const CheckCommand& command) {
   const Model model = load_model(command.model_file, command.limits);
-  print_check_summary(std::cout, model, check(model));
+  print_check_summary(std::cout, model, check(model), find_implausible_values(model));
   return exit_success;
 }
 
@@ -149,6 +149,8 @@ int run(int argc, char** argv) {
                       "leg about its own axis); as `options: {accept_idle_motions: true}`");
   solve_app->add_option("--set", solve_command.settings,
                         "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
+  solve_app->add_option("--direction", solve_command.direction,
+                        "Also the stiffness along this direction, X,Y,Z in global axes (any length), e.g. 0,0,1");
   add_limit_options(*solve_app, solve_command.limits);
 
   CheckCommand check_command;
@@ -160,6 +162,7 @@ int run(int argc, char** argv) {
   SweepCommand sweep_command;
   std::string sweep_solver = "auto";
   bool sweep_accept_idle_motions = false;
+  std::string sweep_direction;
   CLI::App* sweep_app = app.add_subcommand(
       "sweep", "Solve a parametric model over a grid or a list of poses and write one CSV row per pose");
   sweep_app->add_option("MODEL", sweep_command.model_file, "Model file with `parameters:`")->required();
@@ -186,6 +189,8 @@ int run(int argc, char** argv) {
   add_solver_option(*sweep_app, sweep_solver);
   sweep_app->add_flag("--accept-idle-motions", sweep_accept_idle_motions,
                       "Solve despite free motions that move no end effector");
+  sweep_app->add_option("--direction", sweep_direction,
+                        "Add the columns E.k_trans_dir and E.k_rot_dir: the stiffness along X,Y,Z (global axes)");
   add_limit_options(*sweep_app, sweep_command.limits);
 
   ViewCommand view_command;
@@ -204,7 +209,7 @@ int run(int argc, char** argv) {
   if (solve_app->parsed()) return run_solve(solve_command);
   if (view_app->parsed()) return run_view(view_command);
   if (sweep_app->parsed()) {
-    sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions);
+    sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions, sweep_direction);
     return run_sweep(sweep_command);
   }
   return run_check(check_command);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <algorithm>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -89,12 +90,39 @@ std::string stiffness_values(const Vec3& values) {
   return text;
 }
 
+// A unit direction with four decimals; a component that rounds to zero is written 0.0000.
+std::string direction_text(const Vec3& u) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "(%7.4f, %7.4f, %7.4f)", std::abs(u(0)) < 5e-5 ? 0.0 : u(0),
+                std::abs(u(1)) < 5e-5 ? 0.0 : u(1), std::abs(u(2)) < 5e-5 ? 0.0 : u(2));
+  return buffer;
+}
+
+std::string directions_text(const Mat3& directions) {
+  std::string text;
+  for (int i = 0; i < 3; ++i) text += "  " + direction_text(directions.col(i));
+  return text;
+}
+
 void print_principal_stiffness(std::ostream& out, const Mat6& compliance) {
   const PrincipalStiffness principal = principal_stiffness(compliance);
   // Padded by hand: "·" takes two bytes but one column.
   out << "  Principal stiffness (ascending)\n"
       << "    against a force  [N/m]:    " << stiffness_values(principal.translational) << '\n'
-      << "    against a moment [N·m/rad]:" << stiffness_values(principal.rotational) << '\n';
+      << "    against a moment [N·m/rad]:" << stiffness_values(principal.rotational) << '\n'
+      << "  Principal directions (unit vectors in global x, y, z; in the order of the values above)\n"
+      << "    of the force stiffness: " << directions_text(principal.translational_directions) << '\n'
+      << "    of the moment stiffness:" << directions_text(principal.rotational_directions) << '\n';
+}
+
+std::string stiffness_or_unbounded(double value) {
+  return std::isinf(value) ? std::string("unbounded") : scientific(value);
+}
+
+void print_directional_stiffness(std::ostream& out, const DirectionalStiffness& along) {
+  out << "  Stiffness along " << direction_text(along.direction) << '\n'
+      << "    against a force along it  [N/m]:     " << stiffness_or_unbounded(along.translational) << '\n'
+      << "    against a moment about it [N·m/rad]: " << stiffness_or_unbounded(along.rotational) << '\n';
 }
 
 void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection) {
@@ -179,8 +207,13 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
   }
 
   if (e.compliance) print_principal_stiffness(out, *e.compliance);
+  if (e.along_direction) print_directional_stiffness(out, *e.along_direction);
   print_deflection(out, e.deflection);
 }
+
+// Below this fraction of the wrenches' scale (the largest force times the model's size, or the
+// largest moment), a force or moment is round-off, not a value to report.
+constexpr double kRoundOffWrench = 1e-12;
 
 // The entries with the largest force and the largest moment (which may differ), by norm.
 struct Largest {
@@ -210,7 +243,7 @@ struct Largest {
   }
 };
 
-void print_largest(std::ostream& out, const std::string& title, const Largest& largest) {
+void print_largest(std::ostream& out, const std::string& title, const Largest& largest, double lever) {
   out << title;
   if (largest.determined == 0 && largest.undetermined == 0) {
     out << ": none\n";
@@ -220,11 +253,17 @@ void print_largest(std::ostream& out, const std::string& title, const Largest& l
     out << ": undetermined\n";
     return;
   }
-  out << '\n'
-      << "  force:  " << scientific(largest.force, number_width) << " N    at " << largest.force_at
-      << '\n'
-      << "  moment: " << scientific(largest.moment, number_width) << " N·m  at "
-      << largest.moment_at << '\n';
+  const double scale = std::max(largest.force * lever, largest.moment);
+  const auto round_off = [&](double value) { return value <= kRoundOffWrench * scale; };
+  out << '\n';
+  if (round_off(largest.force * lever))
+    out << "  force:  none (every force is zero or round-off)\n";
+  else
+    out << "  force:  " << scientific(largest.force, number_width) << " N    at " << largest.force_at << '\n';
+  if (round_off(largest.moment))
+    out << "  moment: none (every moment is zero or round-off)\n";
+  else
+    out << "  moment: " << scientific(largest.moment, number_width) << " N·m  at " << largest.moment_at << '\n';
   if (largest.undetermined > 0) {
     out << "  (and " << largest.undetermined << " undetermined)\n";
   }
@@ -240,6 +279,8 @@ void print_report(std::ostream& out, const SolveReport& report) {
     out << "not estimated (the tree solve factorises nothing)";
   else if (report.solver == "tree_with_cuts")
     out << "not estimated (the tree solve with cuts factorises no sparse system)";
+  else if (report.reciprocal_condition == 0)
+    out << "0 (the system is singular: it was solved with its free motions or redundant constraints removed)";
   else
     out << scientific(report.reciprocal_condition, 0, 2);
   if (report.solver == "frame") out << " of the condensed stiffness";
@@ -326,6 +367,7 @@ void print_geometry(std::ostream& out, const Model& model) {
 void print_solve_summary(std::ostream& out, const Result& result,
                          const std::optional<std::filesystem::path>& result_file) {
   out << "Model: " << result.model << '\n';
+  if (!result.parameters.empty()) out << "Parameters: " << parameters_text(result.parameters) << '\n';
   print_system_size(out, result.system);
 
   if (result.end_effectors.empty()) out << "\nNo end effectors.\n";
@@ -334,22 +376,35 @@ void print_solve_summary(std::ostream& out, const Result& result,
   Largest joint_wrench;
   for (const JointResult& joint : result.joints) joint_wrench.consider(joint.name, joint.wrench);
   out << '\n';
-  print_largest(out, "Largest joint wrench (on the first link end)", joint_wrench);
+  print_largest(out, "Largest joint wrench (on the first link end)", joint_wrench, result.model_size);
 
   Largest support_reaction;
   for (const SupportResult& support : result.supports) {
     support_reaction.consider(support.name, support.reaction);
   }
-  print_largest(out, "Largest support reaction", support_reaction);
+  print_largest(out, "Largest support reaction", support_reaction, result.model_size);
 
   print_report(out, result.report);
   if (result_file) out << "\nResult written to " << result_file->string() << '\n';
 }
 
-void print_check_summary(std::ostream& out, const Model& model, const SystemSize& size) {
+void print_check_summary(std::ostream& out, const Model& model, const SystemSize& size,
+                         const std::vector<Diagnostic>& warnings) {
   out << "Model: " << model.name << " is valid\n";
   print_system_size(out, size);
+  for (const Diagnostic& warning : warnings) out << "  warning: " << warning.to_string() << '\n';
   print_geometry(out, model);
+}
+
+std::string value_with_unit(double value, const std::string& unit) {
+  return unit.empty() ? shortest_text(value) : shortest_text(value) + " " + unit;
+}
+
+std::string parameters_text(const std::vector<ParameterValue>& parameters) {
+  std::string text;
+  for (const ParameterValue& p : parameters)
+    text += (text.empty() ? "" : ", ") + p.name + " = " + value_with_unit(p.value, p.unit) + (p.set ? " (set)" : "");
+  return text;
 }
 
 void print_error(std::ostream& err, std::string_view message) {

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -23,9 +24,16 @@ enum ExitCode : int {
 void print_solve_summary(std::ostream& out, const Result& result,
                          const std::optional<std::filesystem::path>& result_file);
 
-// The model's name and system size, then each link's length and each joint's and support's
-// kind and axes.
-void print_check_summary(std::ostream& out, const Model& model, const SystemSize& size);
+// The model's name and system size, its plausibility warnings (find_implausible_values), then
+// each link's length and each joint's and support's kind and axes.
+void print_check_summary(std::ostream& out, const Model& model, const SystemSize& size,
+                         const std::vector<Diagnostic>& warnings);
+
+// A parameter's value with its unit, as people read it: "0.32 m".
+std::string value_with_unit(double value, const std::string& unit);
+
+// "pz = 0.15 m (set), px = 0 m": parameters at their values, those the user set marked.
+std::string parameters_text(const std::vector<ParameterValue>& parameters);
 
 // "stiffmsa: error: <message>"
 void print_error(std::ostream& err, std::string_view message);

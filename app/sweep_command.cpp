@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -64,9 +65,32 @@ std::string pose_text(const SweepResult& sweep, std::size_t pose) {
   const auto values = sweep.poses.pose(pose);
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (k > 0) text += ", ";
-    text += sweep.poses.parameters[k] + " = " + with_unit(values[k], sweep.units[k]);
+    text += sweep.poses.parameters[k] + " = " + value_with_unit(values[k], sweep.units[k]);
   }
   return text;
+}
+
+// "(0, 0, -100)"
+std::string vector_text(const Vec3& v) {
+  return "(" + shortest_text(v(0)) + ", " + shortest_text(v(1)) + ", " + shortest_text(v(2)) + ")";
+}
+
+// The loads a deflection map is computed under: "F (0, 0, -100) N at E"; at most
+// `shown` of them, then how many more.
+std::string loads_text(const Model& model) {
+  constexpr std::size_t shown = 2;
+  std::string text;
+  for (std::size_t i = 0; i < model.loads.size() && i < shown; ++i) {
+    const Load& load = model.loads[i];
+    std::string wrench;
+    if (!load.wrench.head<3>().isZero(0)) wrench = "F " + vector_text(load.wrench.head<3>()) + " N";
+    if (!load.wrench.tail<3>().isZero(0))
+      wrench += (wrench.empty() ? "M " : ", M ") + vector_text(load.wrench.tail<3>()) + " N·m";
+    if (wrench.empty()) wrench = "zero wrench";
+    text += (i > 0 ? "; " : "") + wrench + " at " + load.at;
+  }
+  if (model.loads.size() > shown) text += "; and " + counted(model.loads.size() - shown, "more load");
+  return text.empty() ? "no loads" : text;
 }
 
 // A bar on the terminal, for sweeps long enough to wait for; nothing when stderr is a file.
@@ -142,8 +166,9 @@ std::vector<SweepColumn> plotted_columns(const SweepResult& sweep, const SweepCo
   return columns;
 }
 
-// Plots of every chosen column, PNG and SVG, named after the CSV: map.csv -> map.E.k_trans_min.png
-std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& command) {
+// Plots of every chosen column, PNG and SVG, named after the CSV: map.csv -> map.E.k_trans_min.png.
+// Their subtitles name the parameters held fixed and, on deflection maps, the loads of `model`.
+std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& command, const Model& model) {
   std::vector<fs::path> written;
   const fs::path csv(command.csv_file);
   const fs::path base = csv.parent_path() / csv.stem();
@@ -167,6 +192,14 @@ std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& 
                                           with_unit(column_value(sweep, column, *worst), column.unit)
                                     : std::string();
     const std::string title = sweep.model + ": " + column.name;
+    const bool deflection =
+        column.quantity == SweepQuantity::deflection_trans || column.quantity == SweepQuantity::deflection_rot;
+    std::string subtitle = sweep.fixed_parameters.empty() ? "" : "at " + parameters_text(sweep.fixed_parameters);
+    if (deflection) subtitle += (subtitle.empty() ? "under " : "; under ") + loads_text(model);
+    std::vector<bool> flagged;
+    for (const auto& r : sweep.results) flagged.push_back(r.large_deflection);
+    if (std::find(flagged.begin(), flagged.end(), true) == flagged.end()) flagged.clear();
+    const std::string flagged_label = "deflections beyond the linear method's range (large_deflection)";
     const auto axis = [&](std::size_t k) {
       PlotAxis a{grid[k].parameter, sweep.units[k], {}};
       for (std::size_t i = 0; i < grid[k].count; ++i) a.values.push_back(grid[k].value(i));
@@ -175,11 +208,12 @@ std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& 
     for (const char* extension : {".png", ".svg"}) {
       const fs::path file = base.string() + "." + column.name + extension;
       if (grid.size() == 1) {
-        LinePlot plot{title, axis(0), column.name, column.unit, values, scale_for(values), worst, label, no_value};
+        LinePlot plot{title,    axis(0),  column.name, column.unit, values,       scale_for(values),
+                      worst,    label,    no_value,    subtitle,    flagged,      flagged_label};
         write_plot(plot, file);
       } else {
-        Heatmap plot{title, axis(0), axis(1), column.name, column.unit, values, scale_for(values), std::nullopt, label,
-                     no_value};
+        Heatmap plot{title,    axis(0),  axis(1),  column.name,  column.unit,  values, scale_for(values),
+                     std::nullopt, label, no_value, subtitle, flagged, flagged_label};
         if (worst) plot.marked = std::pair{*worst % grid[0].count, *worst / grid[0].count};
         write_plot(plot, file);
       }
@@ -195,15 +229,28 @@ void print_sweep_summary(std::ostream& out, const SweepResult& sweep, const std:
   for (std::size_t k = 0; k < sweep.poses.parameters.size(); ++k)
     out << (k > 0 ? ", " : "") << sweep.poses.parameters[k];
   char rate[96];
-  std::snprintf(rate, sizeof rate, " in %.3g s (%zu threads, %.0f poses/s)\n", sweep.seconds, sweep.threads,
+  std::snprintf(rate, sizeof rate, " in %.3g s (%s, %.0f poses/s)\n", sweep.seconds,
+                counted(sweep.threads, "thread").c_str(),
                 sweep.seconds > 0 ? static_cast<double>(poses) / sweep.seconds : 0.0);
-  out << rate << "  status:";
+  out << rate;
+  if (!sweep.fixed_parameters.empty()) out << "  at " << parameters_text(sweep.fixed_parameters) << '\n';
+  for (const auto& warning : sweep.warnings) out << "  warning: " << warning << '\n';
+  out << "  status:";
+  std::size_t large = 0;
+  for (const auto& r : sweep.results) large += r.large_deflection ? 1 : 0;
   for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
     std::size_t n = 0;
     for (const auto& r : sweep.results) n += r.status == status ? 1 : 0;
     if (n > 0) out << ' ' << to_string(status) << ' ' << n;
+    if (status == PoseStatus::ok && large > 0) out << " (" << large << " with large deflections)";
   }
   out << '\n';
+  for (std::size_t pose = 0; pose < poses; ++pose) {
+    if (!sweep.results[pose].large_deflection) continue;
+    out << "  first pose with large deflections (" << pose_text(sweep, pose) << "): " << sweep.results[pose].message
+        << '\n';
+    break;
+  }
   for (std::size_t pose = 0; pose < poses; ++pose) {
     if (sweep.results[pose].status == PoseStatus::ok) continue;
     out << "  first failed pose (" << pose_text(sweep, pose) << "): " << to_string(sweep.results[pose].status)
@@ -255,6 +302,24 @@ void check_files(const SweepCommand& command, const fs::path& csv, const fs::pat
 
 }  // namespace
 
+Vec3 parse_direction(const std::string& text) {
+  Vec3 direction = Vec3::Zero();
+  std::size_t start = 0;
+  int count = 0;
+  bool numbers = true;
+  for (; start <= text.size(); ++count) {
+    const auto comma = std::min(text.find(',', start), text.size());
+    const auto value = parse_plain_number(std::string_view(text).substr(start, comma - start));
+    numbers = numbers && value && count < 3;
+    if (numbers) direction(count) = *value;
+    start = comma + 1;
+  }
+  if (!numbers || count != 3)
+    throw UsageError("--direction '" + text + "': write X,Y,Z, three finite numbers, e.g. 0,0,1");
+  if (direction.isZero(0)) throw UsageError("--direction '" + text + "': the direction must not be zero");
+  return direction;
+}
+
 bool same_file(const fs::path& a, const fs::path& b) {
   std::error_code a_error, b_error;
   const fs::path first = fs::weakly_canonical(a, a_error);
@@ -297,10 +362,12 @@ int run_sweep(const SweepCommand& command) {
   SweepOptions options;
   options.solve = command.solve;
   options.keep_matrices = command.full;
+  const Model at_defaults = family.build(family.default_values());
   if (command.plot) {
     // The columns to plot exist, and a matrix entry is kept for its plot even without --full.
     SweepResult columns_of;
-    for (const auto& e : family.build(family.default_values()).end_effectors) columns_of.end_effectors.push_back(e.name);
+    if (command.solve.direction) columns_of.direction = command.solve.direction;
+    for (const auto& e : at_defaults.end_effectors) columns_of.end_effectors.push_back(e.name);
     for (const auto& column : plotted_columns(columns_of, command))
       if (column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness)
         options.keep_matrices = true;
@@ -316,7 +383,7 @@ int run_sweep(const SweepCommand& command) {
   write_sweep_csv(result, command.full, csv);
   write_sweep_summary(result, command.full, csv.filename().string(), summary);
   if (command.plot) {
-    const auto plots = write_plots(result, command);
+    const auto plots = write_plots(result, command, at_defaults);
     files.insert(files.end(), plots.begin(), plots.end());
   }
   if (command.view) {

@@ -34,4 +34,8 @@ bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);
 // The "name=value" pairs of --set (sweep and solve). Throws UsageError.
 ParameterSettings parse_settings(const std::vector<std::string>& settings);
 
+// The "x,y,z" of --direction (solve and sweep): three finite numbers, not all zero. Throws
+// UsageError.
+Vec3 parse_direction(const std::string& text);
+
 }  // namespace stiffmsa::cli

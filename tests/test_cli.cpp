@@ -614,3 +614,124 @@ TEST_F(Cli, CheckListsLinkLengthsAndJointAxes) {
   EXPECT_TRUE(contains(r.out, "pin_1          at P1: revolute, passive, axis (0, 0, 1)")) << r.out;
   EXPECT_TRUE(contains(r.out, "actuator_1     at M1: prismatic, actuated, axis (")) << r.out;
 }
+
+// ---- what was fixed, plausibility, and the small things a user notices (issue 18) -------------
+
+TEST_F(Cli, SolveRecordsTheParametersSetAndAtTheirDefaults) {
+  const fs::path json = folder_ / "r.json";
+  const CliRun r = run("solve " + example_path("planar-3rpr-parametric.yaml") + " --set y=0.35 --json " +
+                       shell_quoted(json.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(r.out, "Parameters: x = 0.46 m, y = 0.35 m (set), phi = 0.0831 rad")) << r.out;
+  const auto result = nlohmann::json::parse(read_file(json));
+  EXPECT_EQ(result["parameters"]["y"]["value"], 0.35);
+  EXPECT_EQ(result["parameters"]["y"]["set"], true);
+  EXPECT_EQ(result["parameters"]["x"]["value"], 0.46);
+  EXPECT_EQ(result["parameters"]["x"]["set"], false);
+  // Without --set, the defaults are recorded too; a model without parameters records none.
+  ASSERT_EQ(run("solve " + example_path("planar-3rpr-parametric.yaml") + " --json " + shell_quoted(json.string())).exit_code,
+            exit_success);
+  EXPECT_EQ(nlohmann::json::parse(read_file(json))["parameters"]["y"]["set"], false);
+  const CliRun plain = run("solve " + example_path("cantilever.yaml") + " --json " + shell_quoted(json.string()));
+  ASSERT_EQ(plain.exit_code, exit_success) << plain.err;
+  EXPECT_FALSE(contains(plain.out, "Parameters:")) << plain.out;
+  EXPECT_TRUE(nlohmann::json::parse(read_file(json))["parameters"].empty());
+}
+
+TEST_F(Cli, SolveWarnsOfImplausibleValuesAndLargeDeflectionsButSucceeds) {
+  std::string mpa = cantilever_model;
+  mpa.replace(mpa.find("E: 2.1e11"), 9, "E: 70000");
+  const fs::path model = write_model("mpa.yaml", mpa);
+  const CliRun r = run("solve " + shell_quoted(model.string()));
+  EXPECT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(r.out, "warning: " + model.string() + ":11:16: links.L1.material.E: E = 70000 Pa is below")) << r.out;
+  EXPECT_TRUE(contains(r.out, "warning: the deflections under the loads are too large for the linear method")) << r.out;
+  const CliRun checked = run("check " + shell_quoted(model.string()));
+  EXPECT_EQ(checked.exit_code, exit_success);
+  EXPECT_TRUE(contains(checked.out, "warning: " + model.string() + ":11:16: links.L1.material.E")) << checked.out;
+  const CliRun near_singular =
+      run("solve " + example_path("planar-3rpr-parametric.yaml") + " --set x=0.32 --set y=0.7605");
+  EXPECT_EQ(near_singular.exit_code, exit_success);
+  EXPECT_TRUE(contains(near_singular.out, "link end 'platform_1.from' turns")) << near_singular.out;
+  const CliRun fine = run("solve " + example_path("planar-3rpr-parametric.yaml"));
+  EXPECT_FALSE(contains(fine.out, "warning")) << fine.out;
+}
+
+TEST_F(Cli, SolvePrintsPrincipalDirectionsAndTheStiffnessAlongADirection) {
+  const fs::path model = write_model("cantilever.yaml", cantilever_model);
+  const fs::path json = folder_ / "r.json";
+  const CliRun r = run("solve " + shell_quoted(model.string()) + " --direction 0,3,0 --json " + shell_quoted(json.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(r.out, "Principal directions (unit vectors in global x, y, z; in the order of the values above)"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "Stiffness along ( 0.0000,  1.0000,  0.0000)")) << r.out;
+  // k = 3·E·I/L³ for the rod.
+  const double bending = 3 * youngs_modulus * std::numbers::pi * std::pow(diameter, 4) / 64 / std::pow(length, 3);
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "against a force along it  [N/m]:     %.5e", bending);
+  EXPECT_TRUE(contains(r.out, expected)) << r.out;
+  EXPECT_FALSE(contains(r.out, "-0.0000")) << r.out;
+  const auto result = nlohmann::json::parse(read_file(json));
+  EXPECT_NEAR(result["end_effectors"]["EE"]["along_direction"]["translational"].get<double>(), bending, 1e-9 * bending);
+  for (const char* bad : {"0,0", "0,0,0", "a,1,0", "1,2,3,4"}) {
+    const CliRun refused = run("solve " + shell_quoted(model.string()) + " --direction " + bad);
+    EXPECT_EQ(refused.exit_code, exit_invalid_input) << bad;
+    EXPECT_TRUE(contains(refused.err, std::string("--direction '") + bad + "'")) << refused.err;
+  }
+  EXPECT_TRUE(contains(run("solve " + shell_quoted(model.string()) + " --direction 0,0,0").err,
+                       "--direction '0,0,0': the direction must not be zero"));
+  EXPECT_TRUE(contains(run("solve " + shell_quoted(model.string()) + " --direction 1,2").err,
+                       "--direction '1,2': write X,Y,Z, three finite numbers, e.g. 0,0,1"));
+}
+
+TEST_F(Cli, RoundOffMomentsAndASingularSystemsConditionAreExplained) {
+  const CliRun legs = run("solve " + example_path("gough-stewart-6ups.yaml"));
+  ASSERT_EQ(legs.exit_code, exit_success) << legs.err;
+  // The legs carry forces only: their moments are round-off, not "the largest joint moment".
+  EXPECT_TRUE(contains(legs.out, "Largest joint wrench (on the first link end)\n  force:    ")) << legs.out;
+  EXPECT_TRUE(contains(legs.out, "  moment: none (every moment is zero or round-off)\n")) << legs.out;
+  // Unloaded, every wrench is zero: nothing is "the largest".
+  std::string unloaded = cantilever_model;
+  unloaded.erase(unloaded.find("loads:"), unloaded.find("end_effectors:") - unloaded.find("loads:"));
+  const CliRun idle_rod = run("solve " + shell_quoted(write_model("unloaded.yaml", unloaded).string()));
+  ASSERT_EQ(idle_rod.exit_code, exit_success) << idle_rod.err;
+  EXPECT_TRUE(contains(idle_rod.out, "Largest support reaction\n  force:  none (every force is zero or round-off)\n"
+                                     "  moment: none (every moment is zero or round-off)\n"))
+      << idle_rod.out;
+  const fs::path braced = write_model("braced.yaml", braced_arm_model);
+  const CliRun idle = run("solve " + shell_quoted(braced.string()) + " --accept-idle-motions --solver sparse_lu");
+  ASSERT_EQ(idle.exit_code, exit_success) << idle.err;
+  EXPECT_TRUE(contains(idle.out, "reciprocal condition: 0 (the system is singular: it was solved with its free motions "
+                                 "or redundant constraints removed)"))
+      << idle.out;
+  EXPECT_FALSE(contains(idle.out, "0.00e+00")) << idle.out;
+  EXPECT_FALSE(contains(idle.out, "--accept-idle-motions")) << idle.out;
+  EXPECT_TRUE(contains(idle.out, "(an idle motion, accepted)")) << idle.out;
+}
+
+TEST_F(Cli, MissingModelFileSaysWhy) {
+  const CliRun r = run("solve " + shell_quoted((folder_ / "absent.yaml").string()));
+  EXPECT_EQ(r.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(r.err, "absent.yaml': No such file or directory")) << r.err;
+}
+
+TEST_F(Cli, SweepRecordsWhatItHeldFixedAndCountsLargeDeflections) {
+  const fs::path csv = folder_ / "m.csv";
+  const CliRun r = run("sweep " + example_path("planar-3rpr-parametric.yaml") +
+                       " --grid x=0.3:0.34:5 --set y=0.7605 --threads 1 --direction 1,0,0 --plot --csv " +
+                       shell_quoted(csv.string()));
+  ASSERT_EQ(r.exit_code, exit_success) << r.err;
+  EXPECT_TRUE(contains(r.out, " (1 thread, ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "  at y = 0.7605 m (set), phi = 0.0831 rad, r = 0.12 m, k_actuator = 1.5e+07 N/m\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "with large deflections)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "first pose with large deflections (x = 0.3")) << r.out;
+  const std::string rows = read_file(csv);
+  // Grid values as written: 0.31, not 0.31000000000000005.
+  EXPECT_TRUE(contains(rows, "\n0.31,ok,")) << rows;
+  EXPECT_TRUE(contains(rows, "platform.cond_trans,platform.k_trans_dir,platform.k_rot_dir")) << rows.substr(0, 300);
+  const auto summary = nlohmann::json::parse(read_file(folder_ / "m.summary.json"));
+  EXPECT_EQ(summary["fixed_parameters"]["y"]["value"], 0.7605);
+  EXPECT_EQ(summary["fixed_parameters"]["y"]["set"], true);
+  EXPECT_GE(summary["large_deflection"].get<int>(), 1);
+  EXPECT_GT(fs::file_size(folder_ / "m.platform.deflection_trans.png"), 1000u);
+}

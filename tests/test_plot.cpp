@@ -515,3 +515,76 @@ TEST_F(Plot, FailedWriteIsAnIoErrorAndLeavesNoFile) {
 }
 
 }  // namespace
+
+// ---- subtitles and flagged poses (issue 18) ----------------------------------------------------
+
+TEST_F(Plot, SubtitleIsALineUnderTheTitleAndThePlotMovesDownForIt) {
+  const Heatmap base = counting_heatmap();
+  const Image reference = drawn(base, "reference.png");
+  Heatmap with_subtitle = base;
+  with_subtitle.subtitle = "at pz = 0.15 m (set); under F (0, 0, -100) N at platform";
+  const Image subtitled = drawn(with_subtitle, "subtitled.png");
+  const auto high = reference.solid_region(high_end);
+  const auto moved = subtitled.solid_region(high_end);
+  ASSERT_TRUE(high && moved);
+  EXPECT_GT(moved->top, high->top);
+  // Dark glyphs in the band between the title and the (moved) plot, where the plain plot is white.
+  int dark_in_band = 0, dark_before = 0;
+  for (int y = 38; y < moved->top - 8; ++y)
+    for (int x = 0; x < subtitled.width(); ++x) {
+      dark_in_band += near(subtitled.at(x, y), black, 100) ? 1 : 0;
+      dark_before += near(reference.at(x, y), black, 100) && y < high->top - 8 ? 1 : 0;
+    }
+  EXPECT_GT(dark_in_band, 50);
+  EXPECT_EQ(dark_before, 0);
+}
+
+TEST_F(Plot, FlaggedCellsHaveARingThatLeavesTheirColourVisibleAndALegend) {
+  Heatmap plot = counting_heatmap();
+  const Image plain = drawn(plot, "plain.png");
+  plot.flagged.assign(9, false);
+  plot.flagged[8] = true;  // the upper right cell
+  plot.flagged_label = "deflections beyond the linear method's range";
+  const Image flagged = drawn(plot, "flagged.png");
+  const auto cell = flagged.solid_region(high_end, 10);
+  ASSERT_TRUE(cell);
+  const int x = static_cast<int>(std::lround(cell->centre_x()));
+  const int y = static_cast<int>(std::lround(cell->centre_y()));
+  EXPECT_TRUE(near(flagged.at(x, y), high_end));  // the colour inside the ring
+  // The ring, 6 pixels from the centre of a large cell, on either side.
+  EXPECT_TRUE(near(flagged.at(x + 6, y), black, 80) || near(flagged.at(x + 7, y), black, 80));
+  EXPECT_TRUE(near(flagged.at(x - 6, y), black, 80) || near(flagged.at(x - 7, y), black, 80));
+  // The lower left cell has none: its centre row is the map's colour throughout.
+  const auto low = flagged.solid_region(low_end, 10);
+  ASSERT_TRUE(low);
+  for (int dx = -8; dx <= 8; ++dx)
+    EXPECT_TRUE(near(flagged.at(static_cast<int>(low->centre_x()) + dx, static_cast<int>(low->centre_y())), low_end));
+  // A legend line under the plot, which the plain map does not have.
+  const auto plain_low = plain.solid_region(low_end);
+  ASSERT_TRUE(plain_low);
+  EXPECT_LT(low->bottom, plain_low->bottom);  // the plot shrank to make room for it
+
+  plot.flagged.assign(3, true);
+  EXPECT_THROW(drawn(plot, "mismatched.png"), stiffmsa::UsageError);
+}
+
+TEST_F(Plot, LinePlotRingsItsFlaggedPoints) {
+  LinePlot plot = line_plot({1, 2, 3, 4});
+  plot.flagged_label = "large deflections";
+  plot.flagged = {true, false, false, false};
+  const Image one = drawn(plot, "one.png");
+  plot.flagged = {true, false, true, false};
+  const Image two = drawn(plot, "two.png");
+  // The same layout (both have the legend): they differ by one ring, small and around the third
+  // point, right of the middle and above it (values rise to the right).
+  const auto ring = two.difference(one);
+  ASSERT_TRUE(ring);
+  EXPECT_LE(ring->width(), 16);
+  EXPECT_LE(ring->bottom - ring->top + 1, 16);
+  EXPECT_GT(ring->centre_x(), two.width() / 2.0);
+  EXPECT_LT(ring->centre_y(), two.height() / 2.0);
+  bool any_black = false;
+  for (int y = ring->top; y <= ring->bottom; ++y)
+    for (int x = ring->left; x <= ring->right; ++x) any_black = any_black || near(two.at(x, y), black, 60);
+  EXPECT_TRUE(any_black);
+}

@@ -124,7 +124,7 @@ Json parsed_sample() { return Json::parse(stiffmsa::result_to_json(sample_result
 
 TEST(ResultJson, TopLevelKeysInContractOrder) {
   const Json j = parsed_sample();
-  EXPECT_EQ(keys_of(j), (std::vector<std::string>{"format", "model", "system", "end_effectors",
+  EXPECT_EQ(keys_of(j), (std::vector<std::string>{"format", "model", "parameters", "system", "end_effectors",
                                                   "link_ends", "joints", "supports", "report"}));
   EXPECT_EQ(j["format"], "stiffmsa-result/1");
   EXPECT_EQ(j["model"], "sample-robot");
@@ -141,7 +141,7 @@ TEST(ResultJson, EndEffectorsKeepModelOrderAndWriteMatricesAsRows) {
 
   const Json& tool = j["end_effectors"]["tool"];
   EXPECT_EQ(keys_of(tool), (std::vector<std::string>{"point", "link", "compliance", "stiffness",
-                                                     "deflection"}));
+                                                     "deflection", "principal_stiffness"}));
   EXPECT_EQ(tool["point"], "E");
   EXPECT_EQ(tool["link"], "L2");
   EXPECT_EQ(tool["compliance"].get<std::vector<std::vector<double>>>(),
@@ -157,8 +157,9 @@ TEST(ResultJson, EmptyOptionalsAreWholeNulls) {
   const Json j = parsed_sample();
   const Json& aux = j["end_effectors"]["aux"];
   EXPECT_EQ(keys_of(aux), (std::vector<std::string>{"point", "link", "compliance", "stiffness",
-                                                    "deflection"}));
+                                                    "deflection", "principal_stiffness"}));
   EXPECT_TRUE(aux["compliance"].is_null());
+  EXPECT_TRUE(aux["principal_stiffness"].is_null());
   EXPECT_TRUE(aux["stiffness"].is_null());
   EXPECT_TRUE(aux["deflection"].is_null());
 

@@ -368,33 +368,33 @@ TEST(SweepCsv, HeaderRowsAndValuesReadBackExactly) {
   ASSERT_EQ(lines.size(), 5u);  // header, 3 rows, and the empty text after the last newline
   EXPECT_EQ(lines[0],
             "px,status,message,platform.k_trans_min,platform.k_trans_max,platform.k_rot_min,platform.k_rot_max,"
-            "platform.deflection_trans,platform.deflection_rot");
+            "platform.deflection_trans,platform.deflection_rot,platform.cond_trans");
   const auto row = split(lines[1], ',');
-  ASSERT_EQ(row.size(), 9u);
+  ASSERT_EQ(row.size(), 10u);
   EXPECT_EQ(row[0], "0.3");
   EXPECT_EQ(row[1], "ok");
   const auto columns = sweep_columns(s, false);
   for (std::size_t c = 0; c < columns.size(); ++c) EXPECT_EQ(std::stod(row[3 + c]), column_value(s, columns[c], 0)) << c;
   // The invalid row: its message is quoted (it has commas) and its values are empty.
   EXPECT_TRUE(contains(lines[2], "0.5,invalid,\"")) << lines[2];
-  EXPECT_TRUE(lines[2].ends_with(",,,,,,")) << lines[2];
+  EXPECT_TRUE(lines[2].ends_with(",,,,,,,")) << lines[2];
 }
 
 TEST(SweepCsv, FullAddsTheMatricesWithUnits) {
   const SweepResult s = sweep(three_rpr(), grid_poses({{"x", 0.4, 0.5, 2}}), SweepOptions{.keep_matrices = true});
   const auto columns = sweep_columns(s, true);
-  ASSERT_EQ(columns.size(), 6u + 72u);
-  EXPECT_EQ(columns[6].name, "platform.C11");
-  EXPECT_EQ(columns[6].unit, "m/N");
-  EXPECT_EQ(columns[6 + 35].name, "platform.C66");
-  EXPECT_EQ(columns[6 + 35].unit, "rad/(N·m)");
-  EXPECT_EQ(columns[6 + 36 + 3].name, "platform.K14");
-  EXPECT_EQ(columns[6 + 36 + 3].unit, "N/rad");
+  ASSERT_EQ(columns.size(), 7u + 72u);
+  EXPECT_EQ(columns[7].name, "platform.C11");
+  EXPECT_EQ(columns[7].unit, "m/N");
+  EXPECT_EQ(columns[7 + 35].name, "platform.C66");
+  EXPECT_EQ(columns[7 + 35].unit, "rad/(N·m)");
+  EXPECT_EQ(columns[7 + 36 + 3].name, "platform.K14");
+  EXPECT_EQ(columns[7 + 36 + 3].unit, "N/rad");
   const auto header = split(split(sweep_to_csv(s, true), '\n')[0], ',');
-  EXPECT_EQ(header.size(), 3u + 78u);
+  EXPECT_EQ(header.size(), 3u + 79u);
   const auto row = split(split(sweep_to_csv(s, true), '\n')[1], ',');
   const Mat6 C = *s.results[0].end_effectors[0].compliance;
-  EXPECT_EQ(std::stod(row[3 + 6 + 5]), C(0, 5));  // C16
+  EXPECT_EQ(std::stod(row[3 + 7 + 5]), C(0, 5));  // C16
 }
 
 TEST(SweepSummary, NamesTheWorstPosePerColumn) {

@@ -48,6 +48,9 @@ struct SolveOptions {
   bool accept_idle_motions = false;
   // Above this condition estimate (1/reciprocal condition) a solve gets a warning.
   double warn_condition = 1e12;
+  // Also report every end effector's stiffness along this direction (global axes; any
+  // length): EndEffectorResult::along_direction.
+  std::optional<Vec3> direction;
 
   // Throws UsageError with a sentence when an option is out of range.
   void validate() const;
@@ -85,10 +88,18 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
 
 // Stiffness against a pure force (translational) and a pure moment (rotational): eigenvalues,
 // ascending, of the inverses of the 3×3 diagonal blocks of a compliance matrix. An entry is
-// +inf where that block is singular (a rigidly held direction).
+// +inf where that block is singular (a rigidly held direction). The directions are the
+// blocks' unit eigenvectors in global axes, column i that of value i, each signed so that its
+// largest component is positive (docs/theory.md, "Principal and directional stiffness").
 struct PrincipalStiffness {
   Vec3 translational;
   Vec3 rotational;
+  Mat3 translational_directions = Mat3::Identity();
+  Mat3 rotational_directions = Mat3::Identity();
+
+  // Largest over smallest translational stiffness: how unevenly the end effector resists a
+  // force across directions (1: alike in all; +inf where a direction is held rigidly).
+  double translational_condition() const { return translational(2) / translational(0); }
 };
 PrincipalStiffness principal_stiffness(const Mat6& compliance);
 
@@ -101,5 +112,8 @@ struct PrincipalAxes {
   Vec3 stiffness;
 };
 PrincipalAxes principal_axes(const Mat3& compliance_block);
+// Stiffness along a direction (DirectionalStiffness; normalised here). Throws UsageError for a
+// zero or non-finite direction.
+DirectionalStiffness directional_stiffness(const Mat6& compliance, const Vec3& direction);
 
 }  // namespace stiffmsa

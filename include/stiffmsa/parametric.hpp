@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "stiffmsa/model.hpp"
+#include "stiffmsa/result.hpp"
 
 namespace stiffmsa {
 
@@ -18,6 +19,9 @@ struct Parameter {
   double default_value = 0;
   std::string unit;  // as the file gives it, for labels; may be empty
   SourceLocation location;
+  // The default was replaced by the user's setting (load_model_family's `settings`, the
+  // command's --set) or by with_defaults(): results and plots say so.
+  bool set = false;
 };
 
 class ModelFamily {
@@ -40,6 +44,8 @@ class ModelFamily {
   const std::vector<Parameter>& parameters() const { return parameters_; }
   std::optional<std::size_t> find_parameter(const std::string& name) const;
   std::vector<double> default_values() const;
+  // The parameters at their defaults, as a result records them (Result::parameters).
+  std::vector<ParameterValue> parameter_values() const;
 
   // The same family with other defaults (one value per parameter): the values that the
   // parameters a sweep does not vary keep.

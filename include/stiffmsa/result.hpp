@@ -51,6 +51,16 @@ struct ReducedStiffness {
   MatX matrix;      // r×r
 };
 
+// Stiffness along a unit direction u: the force along u over the displacement along u when a
+// force along u alone acts, 1 / (uᵀ·C_tt·u), and likewise against a moment about u,
+// 1 / (uᵀ·C_rr·u); +inf where u is held rigidly (docs/theory.md, "Principal and directional
+// stiffness").
+struct DirectionalStiffness {
+  Vec3 direction = Vec3::Zero();  // unit, global axes
+  double translational = 0;       // N/m
+  double rotational = 0;          // N·m/rad
+};
+
 struct EndEffectorResult {
   std::string name;
   std::string point;
@@ -61,6 +71,8 @@ struct EndEffectorResult {
   std::optional<Vec6> deflection;  // under the model's loads and preloads
   // Given where `stiffness` is null because some directions are held rigidly and others not.
   std::optional<ReducedStiffness> reduced_stiffness;
+  // With SolveOptions::direction, where the compliance is determined: the stiffness along it.
+  std::optional<DirectionalStiffness> along_direction;
 };
 
 // How the solve went: accuracy checks and notes for the user.
@@ -78,10 +90,27 @@ struct SolveReport {
   // SolveOptions::max_relative_residual, loads and reactions out of balance beyond 1e-8): the
   // numbers of such a result are not to be trusted.
   std::vector<std::string> failed_checks;
+  // The warning that some deflection under the loads is beyond the range of the linear method
+  // (also in warnings; docs/model-format.md, "Plausibility warnings"); empty where none is.
+  std::string large_deflection;
+};
+
+// A parameter of a parametric model (parametric.hpp) at the value a result was computed for.
+struct ParameterValue {
+  std::string name;
+  double value = 0;
+  std::string unit;  // as the file gives it; may be empty
+  bool set = false;  // given by the user (`--set`), not the file's default
 };
 
 struct Result {
   std::string model;
+  // The parameters of a model built from a family, at their values: filled by the caller that
+  // built it (the stiffmsa command), so that a result tells which member it is. Empty otherwise.
+  std::vector<ParameterValue> parameters;
+  // The diagonal of the box around the model's points (at least 1 mm): the lever that makes
+  // moments comparable with forces, and rotations with translations.
+  double model_size = 0;
   SystemSize system;
   std::vector<EndEffectorResult> end_effectors;
   std::vector<LinkResult> links;

@@ -11,6 +11,7 @@
 #include "stiffmsa/io/view_html.hpp"
 #include "stiffmsa/io/vtk_file.hpp"
 #include "stiffmsa/model.hpp"
+#include "stiffmsa/number_text.hpp"
 #include "stiffmsa/parametric.hpp"
 #include "stiffmsa/result.hpp"
 #include "stiffmsa/sweep.hpp"

@@ -15,7 +15,9 @@
 
 namespace stiffmsa {
 
-// `count` values from `start` to `stop`, both included (count 1: start alone).
+// `count` evenly spaced values from `start` to `stop`, both included (count 1: start alone);
+// each is the shortest decimal within rounding of its place where there is one (0.11, not
+// 0.11000000000000001), so that rows and labels read as the grid was written.
 struct GridAxis {
   std::string parameter;
   double start = 0;
@@ -56,14 +58,20 @@ struct EndEffectorMeasures {
   PrincipalStiffness principal;  // +inf where a block is singular (a rigidly held direction)
   double deflection_translation = 0;  // |Δp| under the model's loads
   double deflection_rotation = 0;     // |Δφ|
+  // With SolveOptions::direction: the stiffness along it (+inf where held rigidly).
+  std::optional<DirectionalStiffness> along_direction;
   std::optional<Mat6> compliance;     // kept with SweepOptions::keep_matrices
   std::optional<Mat6> stiffness;      // kept with keep_matrices; nullopt where unbounded
 };
 
 struct PoseResult {
   PoseStatus status = PoseStatus::ok;
-  // Why the pose failed; for an ok pose, the solve's first warning, if any.
+  // Why the pose failed; for an ok pose, the warning of large deflections if there is one,
+  // else the solve's first warning, if any.
   std::string message;
+  // An ok pose whose deflections under the loads are beyond the linear method's range
+  // (SolveReport::large_deflection): its numbers are kept, to be read with care.
+  bool large_deflection = false;
   std::vector<EndEffectorMeasures> end_effectors;  // model order; empty unless ok
 };
 
@@ -80,6 +88,12 @@ struct SweepResult {
   PoseTable poses;
   std::vector<std::string> units;  // of the swept parameters, as the family gives them
   std::vector<std::string> end_effectors;
+  // The parameters the sweep does not vary, at the values every pose has.
+  std::vector<ParameterValue> fixed_parameters;
+  // The unit direction of SweepOptions::solve.direction, if given.
+  std::optional<Vec3> direction;
+  // find_implausible_values() of the model at the defaults, each as Diagnostic::to_string().
+  std::vector<std::string> warnings;
   std::vector<PoseResult> results;  // one per pose, in pose order
   std::size_t threads = 1;          // threads that solved poses (at most SweepOptions::threads)
   double seconds = 0;               // wall time of the solves

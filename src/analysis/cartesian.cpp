@@ -2,9 +2,10 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <Eigen/QR>
+#include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "stiffmsa/analysis.hpp"
@@ -106,34 +107,52 @@ std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double
 }  // namespace detail
 
 namespace {
-// A principal compliance below this fraction of the block's largest is a rigidly held direction.
-constexpr double kRigidComplianceFraction = 1e-12;
+// Below this fraction of the largest compliance of a block, a compliance is rounding: the
+// direction is held rigidly.
+constexpr double kRigidCompliance = 1e-12;
 
-// The stiffness along each principal compliance c (ascending), +inf where rigidly held.
-Vec3 stiffness_along(const Vec3& c) {
-  Vec3 k;
-  for (int i = 0; i < 3; ++i)
-    k(i) = (c(i) > kRigidComplianceFraction * std::max(c(2), 0.0) && c(i) > 0) ? 1.0 / c(i)
-                                                                              : std::numeric_limits<double>::infinity();
-  return k;
+double stiffness_of(double compliance, double largest) {
+  return (compliance > kRigidCompliance * std::max(largest, 0.0) && compliance > 0)
+             ? 1.0 / compliance
+             : std::numeric_limits<double>::infinity();
 }
 
-Vec3 block_stiffness(const Mat3& compliance_block) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()),
-                                                  Eigen::EigenvaluesOnly);
-  Vec3 k = stiffness_along(eigen.eigenvalues());
-  std::sort(k.data(), k.data() + 3);
-  return k;
+// Eigenvalues of the block's inverse, ascending, with their eigenvectors: the compliance's
+// eigenvalues descending, inverted.
+void block_stiffness(const Mat3& compliance_block, Vec3& values, Mat3& directions) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
+  const Vec3& c = eigen.eigenvalues();
+  for (int i = 0; i < 3; ++i) {
+    values(i) = stiffness_of(c(2 - i), c(2));
+    Vec3 direction = eigen.eigenvectors().col(2 - i);
+    Eigen::Index largest = 0;
+    direction.cwiseAbs().maxCoeff(&largest);
+    directions.col(i) = direction(largest) < 0 ? Vec3(-direction) : direction;
+  }
 }
 }  // namespace
 
-PrincipalAxes principal_axes(const Mat3& compliance_block) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
-  return {eigen.eigenvalues(), eigen.eigenvectors(), stiffness_along(eigen.eigenvalues())};
+PrincipalStiffness principal_stiffness(const Mat6& compliance) {
+  PrincipalStiffness principal;
+  block_stiffness(compliance.topLeftCorner<3, 3>(), principal.translational, principal.translational_directions);
+  block_stiffness(compliance.bottomRightCorner<3, 3>(), principal.rotational, principal.rotational_directions);
+  return principal;
 }
 
-PrincipalStiffness principal_stiffness(const Mat6& compliance) {
-  return {block_stiffness(compliance.topLeftCorner<3, 3>()), block_stiffness(compliance.bottomRightCorner<3, 3>())};
+PrincipalAxes principal_axes(const Mat3& compliance_block) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
+  const Vec3& c = eigen.eigenvalues();
+  return {c, eigen.eigenvectors(), Vec3(stiffness_of(c(0), c(2)), stiffness_of(c(1), c(2)), stiffness_of(c(2), c(2)))};
+}
+
+DirectionalStiffness directional_stiffness(const Mat6& compliance, const Vec3& direction) {
+  const double length = direction.norm();
+  if (!std::isfinite(length) || length == 0)
+    throw UsageError("the direction of a directional stiffness must be a finite, non-zero vector");
+  const Vec3 u = direction / length;
+  const Mat3 translational = compliance.topLeftCorner<3, 3>(), rotational = compliance.bottomRightCorner<3, 3>();
+  return {u, stiffness_of(u.dot(translational * u), translational.diagonal().maxCoeff()),
+          stiffness_of(u.dot(rotational * u), rotational.diagonal().maxCoeff())};
 }
 
 const char* to_string(SolverKind s) {

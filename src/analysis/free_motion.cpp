@@ -246,9 +246,7 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
     text << counted(links.size(), "link ", "links ") << list(links) << " can move without resistance";
   }
   if (effectors.empty())
-    text << "; " << subject << moves
-         << (several ? " no end effector (idle motions: accept them" : " no end effector (an idle motion: accept it")
-         << " with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
+    text << "; " << subject << moves << " no end effector " << (several ? kAcceptIdleMotionsHint : kAcceptIdleMotionHint);
   else
     text << (names_passive && !links.empty() ? " and" : "; " + std::string(subject) + moves) << " end effector"
          << (effectors.size() == 1 ? " " : "s ") << list(effectors);

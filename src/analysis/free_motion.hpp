@@ -5,6 +5,7 @@
 // determine, while every deflection stays unique).
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "assembly/assembler.hpp"
@@ -30,6 +31,15 @@ struct NullSpaces {
   MatX right() const { return column_scale.asDiagonal() * right_equilibrated; }
 };
 std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix);
+
+// How the description of a free motion that moves no end effector tells the user to accept
+// it; a solve that has accepted it says so instead.
+inline constexpr std::string_view kAcceptIdleMotionHint =
+    "(an idle motion: accept it with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
+inline constexpr std::string_view kAcceptIdleMotionsHint =
+    "(idle motions: accept them with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
+inline constexpr std::string_view kIdleMotionAccepted = "(an idle motion, accepted)";
+inline constexpr std::string_view kIdleMotionsAccepted = "(idle motions, accepted)";
 
 // Entries of a unit equilibrated null vector below this are rounding.
 constexpr double kNegligibleNullEntry = 1e-8;

@@ -8,6 +8,7 @@
 
 #include "analysis/cartesian.hpp"
 #include "analysis/free_motion.hpp"
+#include "analysis/plausibility.hpp"
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
 #include "model/link_ends.hpp"
@@ -37,6 +38,8 @@ void SolveOptions::validate() const {
     throw UsageError("refinement_steps must be between 0 and 20");
   if (!(warn_condition > 1))
     throw UsageError("warn_condition must be greater than 1");
+  if (direction && !(direction->allFinite() && direction->norm() > 0))
+    throw UsageError("the direction of a directional stiffness must be a finite, non-zero vector");
 }
 
 struct Workspace::Impl {
@@ -522,7 +525,12 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     result.report.notes.push_back("idle motions accepted: the end-effector results do not depend on them; the "
                                   "deflections they change are null");
   }
-  for (const auto& d : structure.descriptions) result.report.notes.push_back(d);
+  for (std::string d : structure.descriptions) {
+    for (const auto& [hint, accepted] : {std::pair{detail::kAcceptIdleMotionHint, detail::kIdleMotionAccepted},
+                                         std::pair{detail::kAcceptIdleMotionsHint, detail::kIdleMotionsAccepted}})
+      if (const auto at = d.find(hint); at != std::string::npos) d.replace(at, hint.size(), accepted);
+    result.report.notes.push_back(std::move(d));
+  }
   check_accuracy(problem.options, result);
 }
 
@@ -657,12 +665,23 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   return result;
 }
 
+// What every solve adds to its result, however it was solved.
+void finish_result(const Model& model, const detail::ModelIndex& index, const SolveOptions& options, Result& result) {
+  result.model_size = detail::characteristic_length(model);
+  detail::add_plausibility_warnings(model, index, result);
+  if (!options.direction) return;
+  for (EndEffectorResult& e : result.end_effectors)
+    if (e.compliance) e.along_direction = directional_stiffness(*e.compliance, *options.direction);
+}
+
 }  // namespace
 
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
-  return solve_validated(workspace, model, options, true);
+  Result result = solve_validated(workspace, model, options, true);
+  finish_result(model, detail::ModelIndex(model), options, result);
+  return result;
 }
 
 Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
@@ -670,7 +689,9 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   const detail::ModelIndex index(model);
   detail::validate(model, index);
   if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
-  return solve_validated(workspace, model, options, false);
+  Result result = solve_validated(workspace, model, options, false);
+  finish_result(model, index, options, result);
+  return result;
 }
 
 }  // namespace stiffmsa

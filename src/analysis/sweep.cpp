@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -16,13 +17,35 @@
 #include <set>
 
 #include "model/suggest.hpp"
+#include "stiffmsa/validate.hpp"
 
 namespace stiffmsa {
+
+namespace {
+
+// The shortest decimal within the round-off of `value`, where one is (0.11 for
+// 0.11000000000000001): the value the user meant by a decimal grid, written as the user would.
+double shortest_decimal_near(double value, double round_off) {
+  char buffer[32];
+  for (int digits = 1; digits < std::numeric_limits<double>::max_digits10; ++digits) {
+    const auto [end, error] =
+        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, digits);
+    double decimal = value;
+    if (error != std::errc() || std::from_chars(buffer, end, decimal).ec != std::errc()) break;
+    if (std::abs(decimal - value) <= round_off) return decimal;
+  }
+  return value;
+}
+}  // namespace
 
 double GridAxis::value(std::size_t i) const {
   if (count <= 1) return start;
   if (i + 1 == count) return stop;  // exactly the stop the user wrote
-  return start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
+  const double interpolated = start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
+  // The rounding of the interpolation: of the start, of the step times i, and of their sum.
+  const double round_off = std::numeric_limits<double>::epsilon() *
+                           (std::abs(start) + std::abs(interpolated - start) + std::abs(interpolated));
+  return shortest_decimal_near(interpolated, round_off);
 }
 
 PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses) {
@@ -97,13 +120,18 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
     pose.message = "the end effector '" + effector.name + "' can move without load at this pose";
     return pose;
   }
-  if (!result.report.warnings.empty()) pose.message = result.report.warnings.front();
+  pose.large_deflection = !result.report.large_deflection.empty();
+  if (pose.large_deflection)
+    pose.message = result.report.large_deflection;
+  else if (!result.report.warnings.empty())
+    pose.message = result.report.warnings.front();
   for (const auto& effector : result.end_effectors) {
     EndEffectorMeasures m;
     m.principal = principal_stiffness(*effector.compliance);
     const Vec6 deflection = effector.deflection.value_or(Vec6::Constant(std::numeric_limits<double>::quiet_NaN()));
     m.deflection_translation = deflection.head<3>().norm();
     m.deflection_rotation = deflection.tail<3>().norm();
+    m.along_direction = effector.along_direction;
     if (options.keep_matrices) {
       m.compliance = effector.compliance;
       m.stiffness = effector.stiffness;
@@ -195,6 +223,12 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   sweep_result.poses = poses;
   for (std::size_t index : defaults.swept) sweep_result.units.push_back(family.parameters()[index].unit);
   for (const auto& e : reference.end_effectors) sweep_result.end_effectors.push_back(e.name);
+  const std::vector<ParameterValue> all_parameters = family.parameter_values();
+  for (std::size_t i = 0; i < all_parameters.size(); ++i)
+    if (std::find(defaults.swept.begin(), defaults.swept.end(), i) == defaults.swept.end())
+      sweep_result.fixed_parameters.push_back(all_parameters[i]);
+  if (options.solve.direction) sweep_result.direction = options.solve.direction->normalized();
+  for (const Diagnostic& d : find_implausible_values(reference)) sweep_result.warnings.push_back(d.to_string());
   const std::size_t count = poses.size();
   sweep_result.results.resize(count);
 

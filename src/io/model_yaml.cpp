@@ -4,6 +4,7 @@
 // needs too to find_defects().
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <climits>
 #include <cstdint>
@@ -18,6 +19,7 @@
 #include <span>
 #include <sstream>
 #include <string_view>
+#include <system_error>
 #include <unordered_map>
 #include <utility>
 
@@ -28,6 +30,7 @@
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/number_text.hpp"
 #include "stiffmsa/parametric.hpp"
 #include "stiffmsa/validate.hpp"
 
@@ -560,12 +563,12 @@ std::optional<MatX> Loader::matrix(const Value& v) {
 // `shape` says in a message what the n values are, e.g. "[x, y, z]".
 std::optional<VecX> Loader::vector(const Value& v, int n, const std::string& shape) {
   if (!v.node->is_sequence()) {
-    fail(v, "expected a list of " + std::to_string(n) + " numbers " + shape + ", got " +
+    fail(v, "expected a list of " + counted(static_cast<std::size_t>(n), "number") + " " + shape + ", got " +
                 describe(*v.node));
     return std::nullopt;
   }
   if (v.node->size() != static_cast<std::size_t>(n)) {
-    fail(v, "expected " + std::to_string(n) + " numbers " + shape + ", got " +
+    fail(v, "expected " + counted(static_cast<std::size_t>(n), "number") + " " + shape + ", got " +
                 std::to_string(v.node->size()));
     list(v);  // its entries may be wrong too
     return std::nullopt;
@@ -716,6 +719,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       const auto index = static_cast<std::size_t>(found - names.begin());
       defaults[index] = value;
       parameters_[index].default_value = value;
+      parameters_[index].set = true;
     }
   }
   std::vector<Entry> derived_entries;
@@ -1396,8 +1400,12 @@ Model read_checked(const YamlNode& root, const std::string& file_name, detail::E
 
 std::string read_model_text(const std::filesystem::path& path, const LoadLimits& limits) {
   const std::string file = path.string();
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError("cannot open model file '" + file + "'");
+  // The system's reason (no such file, permission denied), where the open left one.
+  if (!in)
+    throw IoError("cannot open model file '" + file + "'" +
+                  (errno != 0 ? ": " + std::generic_category().message(errno) : std::string()));
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
     throw IoError("cannot read model file '" + file + "': it is a directory");
@@ -1539,7 +1547,10 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   const std::vector<std::string> derived_names = loader.derived_names();
   const std::string name = at_defaults.name;
   std::shared_ptr<const NumberBindings> bindings;
-  if (auto bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites()))
+  // A file without parameters is a family of one member, which builders copy: nothing to bind.
+  if (names.empty() && derived_names.empty())
+    bindings = std::make_shared<const NumberBindings>(NumberBindings{std::move(at_defaults), {}, {}, {}});
+  else if (auto bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites()))
     bindings = std::make_shared<const NumberBindings>(std::move(*bound));
   // The text is kept only for builders that must read it again.
   auto shared_text = bindings ? nullptr : std::make_shared<const std::string>(text);

@@ -21,6 +21,7 @@
 
 #include "stiffmsa/errors.hpp"
 #include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -290,8 +291,10 @@ constexpr double x_title_offset = tick_length + tick_gap + tick_line + 8;
 constexpr double legend_offset = x_title_offset + label_line + 6;
 
 // The frame's top and bottom; its sides follow from the tick labels (see `place_sides`).
-Frame frame_for(const std::string& title, bool legend) {
-  const double top = title.empty() ? edge + 8 : edge + title_size * 1.25 + 14;
+constexpr double subtitle_line = tick_size * 1.25 + 4;
+
+Frame frame_for(const std::string& title, const std::string& subtitle, bool legend) {
+  const double top = (title.empty() ? edge + 8 : edge + title_size * 1.25 + 14) + (subtitle.empty() ? 0 : subtitle_line);
   return {0, top, 0, image_height - edge - legend_offset + 6 - (legend ? 6 + tick_line : 0)};
 }
 
@@ -356,7 +359,7 @@ void draw_vertical_title(cairo_t* cr, const Frame& frame, const std::string& tit
 // The frame, both axes with their ticks and titles, and the plot's title.
 void draw_axes(cairo_t* cr, const Frame& frame, Range x_range, const std::vector<Tick>& x_ticks,
                Range y_range, const std::vector<Tick>& y_ticks, const std::string& x_title,
-               const std::string& y_title, const std::string& title) {
+               const std::string& y_title, const std::string& title, const std::string& subtitle) {
   draw_outline(cr, frame);
   draw_vertical_ticks(cr, frame, y_range, y_ticks, false);
   draw_vertical_title(cr, frame, y_title, edge);
@@ -374,13 +377,33 @@ void draw_axes(cairo_t* cr, const Frame& frame, Range x_range, const std::vector
   draw_text(cr, title,
             std::clamp((frame.left + frame.right) / 2, edge + half, image_width - edge - half),
             edge + 2, 0.5, 1);
+  if (subtitle.empty()) return;
+  set_font_to_fit(cr, subtitle, tick_size, image_width - 2 * edge);
+  const double sub_half = text_width(cr, subtitle) / 2;
+  draw_text(cr, subtitle,
+            std::clamp((frame.left + frame.right) / 2, edge + sub_half, image_width - edge - sub_half),
+            edge + 2 + title_size * 1.25 + 4, 0.5, 1);
 }
 
-// The line under the x-axis title: a key to what is not on the colour bar or the line.
-void draw_legend(cairo_t* cr, const Frame& frame, bool swatch, const std::string& text) {
+// A black ring with a white outline around a flagged pose: it leaves the cell's colour or the
+// point visible inside it.
+void draw_ring(cairo_t* cr, double x, double y, double radius) {
+  for (const auto& [colour, width] : {std::pair{white, 3.5}, std::pair{black, 1.5}}) {
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, x, y, radius, 0, 2 * std::numbers::pi);
+    cairo_set_line_width(cr, width);
+    set_colour(cr, colour);
+    cairo_stroke(cr);
+  }
+}
+
+// The line under the x-axis title: a key to what is not on the colour bar or the line; then,
+// where poses are flagged, the ring and what it means.
+void draw_legend(cairo_t* cr, const Frame& frame, bool swatch, const std::string& text,
+                 const std::string& ring_text) {
   const double top = frame.bottom + legend_offset;
   double x = frame.left;
-  if (swatch) {
+  if (!text.empty() && swatch) {
     cairo_rectangle(cr, x + 0.5, top + 0.5, 16, 11);
     set_colour(cr, no_value_colour);
     cairo_fill_preserve(cr);
@@ -391,7 +414,20 @@ void draw_legend(cairo_t* cr, const Frame& frame, bool swatch, const std::string
   }
   set_colour(cr, black);
   set_font(cr, tick_size);
-  draw_text(cr, text, x, top + 6, 0, 0.5);
+  if (!text.empty()) {
+    draw_text(cr, text, x, top + 6, 0, 0.5);
+    x += text_width(cr, text) + 24;
+  }
+  if (ring_text.empty()) return;
+  draw_ring(cr, x + 6, top + 6, 5);
+  set_colour(cr, black);
+  set_font(cr, tick_size);
+  draw_text(cr, ring_text, x + 16, top + 6, 0, 0.5);
+}
+
+// Whether the flags mark any pose.
+bool any_flagged(const std::vector<bool>& flagged) {
+  return std::find(flagged.begin(), flagged.end(), true) != flagged.end();
 }
 
 // A black cross with a white outline, visible on every colour of the map and on white; its
@@ -453,7 +489,8 @@ void draw_heatmap(cairo_t* cr, const Heatmap& plot) {
                                        [&](double v) { return !scaled(v, plot.scale); });
 
   // Heights first: they fix the vertical ticks, whose labels' widths then fix the sides.
-  Frame frame = frame_for(plot.title, any_missing);
+  const bool flags = any_flagged(plot.flagged);
+  Frame frame = frame_for(plot.title, plot.subtitle, any_missing || flags);
   const std::vector<Tick> y_ticks = vertical_ticks(y_range, PlotScale::linear, frame);
   const std::vector<Tick> bar_ticks = vertical_ticks(colours, plot.scale, frame);
   set_font(cr, tick_size);
@@ -481,7 +518,7 @@ void draw_heatmap(cairo_t* cr, const Heatmap& plot) {
   }
   cairo_restore(cr);
   draw_axes(cr, frame, x_range, x_ticks, y_range, y_ticks, titled(plot.x.name, plot.x.unit),
-            titled(plot.y.name, plot.y.unit), plot.title);
+            titled(plot.y.name, plot.y.unit), plot.title, plot.subtitle);
 
   // The bar's gradient has the map's anchors as stops: it interpolates exactly as the cells.
   const Frame bar{frame.right + bar_gap, frame.top, frame.right + bar_gap + bar_width,
@@ -500,7 +537,18 @@ void draw_heatmap(cairo_t* cr, const Heatmap& plot) {
   draw_vertical_ticks(cr, bar, colours, bar_ticks, true);
   draw_vertical_title(cr, bar, titled(plot.quantity, plot.unit), bar.right + bar_labels);
 
-  if (any_missing) draw_legend(cr, frame, true, plot.no_value_label);
+  if (flags) {
+    for (std::size_t iy = 0; iy < plot.y.values.size(); ++iy)
+      for (std::size_t ix = 0; ix < nx; ++ix) {
+        if (!plot.flagged[iy * nx + ix]) continue;
+        const double width = frame.x(x_range, x_edges[ix + 1]) - frame.x(x_range, x_edges[ix]);
+        const double height = frame.y(y_range, y_edges[iy]) - frame.y(y_range, y_edges[iy + 1]);
+        draw_ring(cr, frame.x(x_range, plot.x.values[ix]), frame.y(y_range, plot.y.values[iy]),
+                  std::clamp(0.3 * std::min(width, height), 2.5, 6.0));
+      }
+  }
+  if (any_missing || flags)
+    draw_legend(cr, frame, true, any_missing ? plot.no_value_label : "", flags ? plot.flagged_label : "");
   if (plot.marked) {
     const auto [ix, iy] = *plot.marked;
     draw_marker(cr, frame, frame.x(x_range, plot.x.values[ix]), frame.y(y_range, plot.y.values[iy]),
@@ -524,7 +572,8 @@ void draw_line_plot(cairo_t* cr, const LinePlot& plot) {
     legend += (legend.empty() ? "" : ";   ") + plot.marked_label + " (no value)";
   }
 
-  Frame frame = frame_for(plot.title, !legend.empty());
+  const bool flags = any_flagged(plot.flagged);
+  Frame frame = frame_for(plot.title, plot.subtitle, !legend.empty() || flags);
   const std::vector<Tick> y_ticks = vertical_ticks(y_range, plot.scale, frame);
   const std::vector<Tick> x_ticks = place_sides(cr, frame, y_ticks, edge + 26, x_range);
 
@@ -569,8 +618,11 @@ void draw_line_plot(cairo_t* cr, const LinePlot& plot) {
   cairo_restore(cr);
 
   draw_axes(cr, frame, x_range, x_ticks, y_range, y_ticks, titled(plot.x.name, plot.x.unit),
-            titled(plot.quantity, plot.unit), plot.title);
-  if (!legend.empty()) draw_legend(cr, frame, false, legend);
+            titled(plot.quantity, plot.unit), plot.title, plot.subtitle);
+  if (flags)
+    for (std::size_t i = 0; i < xs.size(); ++i)
+      if (plot.flagged[i] && heights[i]) draw_ring(cr, frame.x(x_range, xs[i]), frame.y(y_range, *heights[i]), 5.5);
+  if (!legend.empty() || flags) draw_legend(cr, frame, false, legend, flags ? plot.flagged_label : "");
   if (plot.marked && !marked_missing) {
     draw_marker(cr, frame, frame.x(x_range, xs[*plot.marked]),
                 frame.y(y_range, *heights[*plot.marked]), plot.marked_label);
@@ -610,10 +662,15 @@ void check_axis(const PlotAxis& axis, const char* which, std::size_t at_least,
 
 void check_sizes(std::size_t values, std::size_t points, bool marked_inside, const fs::path& file) {
   if (values != points) {
-    throw UsageError(cannot_write(file) + "there are " + std::to_string(values) + " values for " +
-                     std::to_string(points) + " grid points");
+    throw UsageError(cannot_write(file) + "there are " + counted(values, "value") + " for " +
+                     counted(points, "grid point"));
   }
   if (!marked_inside) throw UsageError(cannot_write(file) + "the marked pose is outside the grid");
+}
+
+void check_flags(std::size_t flags, std::size_t points, const fs::path& file) {
+  if (flags != 0 && flags != points)
+    throw UsageError(cannot_write(file) + "there are " + counted(flags, "flag") + " for " + counted(points, "grid point"));
 }
 
 // Called by cairo with pieces of the file; exceptions must not cross its C frames.
@@ -671,6 +728,7 @@ void write_plot(const Heatmap& plot, const std::filesystem::path& file) {
   const std::size_t ny = plot.y.values.size();
   check_sizes(plot.values.size(), nx * ny,
               !plot.marked || (plot.marked->first < nx && plot.marked->second < ny), file);
+  check_flags(plot.flagged.size(), nx * ny, file);
   write_file_atomically(file, render(format, file, [&](cairo_t* cr) { draw_heatmap(cr, plot); }));
 }
 
@@ -679,6 +737,7 @@ void write_plot(const LinePlot& plot, const std::filesystem::path& file) {
   check_axis(plot.x, "x", 1, file);
   check_sizes(plot.values.size(), plot.x.values.size(),
               !plot.marked || *plot.marked < plot.x.values.size(), file);
+  check_flags(plot.flagged.size(), plot.x.values.size(), file);
   write_file_atomically(file, render(format, file, [&](cairo_t* cr) { draw_line_plot(cr, plot); }));
 }
 

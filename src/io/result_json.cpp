@@ -5,13 +5,14 @@
 // The text is written straight from the Result, without a JSON document in between: a
 // 100 000-link result holds 2.4 million numbers, and building, printing and freeing a
 // document node for each took longer than the solve.
-#include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string_view>
 #include <vector>
 
+#include "stiffmsa/analysis.hpp"
 #include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -29,14 +30,19 @@ class ResultWriter {
       text += "null";
       return;
     }
-    char buffer[32];
-    // Adding +0.0 turns a negative zero (rounding's sign of nothing) into a plain 0.
-    const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value + 0.0);
-    const std::string_view digits(buffer, static_cast<std::size_t>(end - buffer));
-    text += digits;
-    if (digits.find_first_of(".e") == std::string_view::npos) text += ".0";
+    const std::size_t start = text.size();
+    append_shortest_text(text, value);
+    if (text.find_first_of(".e", start) == std::string::npos) text += ".0";
   }
   void integer(long value) { text += std::to_string(value); }
+  void boolean(bool value) { text += value ? "true" : "false"; }
+  // Principal stiffnesses (null where unbounded) and their directions, one per row.
+  void principal(const Vec3& values, const Mat3& directions) {
+    object([&] {
+      member("values", [&] { vector(values); });
+      member("directions", [&] { list(3, [&](Eigen::Index i) { vector(directions.col(i)); }); });
+    });
+  }
   // Escaped by nlohmann; invalid UTF-8 in a user's name is replaced rather than failing.
   void string(const std::string& value) {
     text += nlohmann::json(value).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -150,6 +156,18 @@ void write_result(ResultWriter& out, const Result& result) {
   out.object([&] {
     out.member("format", [&] { out.string(result_format); });
     out.member("model", [&] { out.string(result.model); });
+    out.member("parameters", [&] {
+      out.object([&] {
+        for (const ParameterValue& p : result.parameters)
+          out.named(p.name, [&] {
+            out.object([&] {
+              out.member("value", [&] { out.number(p.value); });
+              out.member("unit", [&] { out.string(p.unit); });
+              out.member("set", [&] { out.boolean(p.set); });
+            });
+          });
+      });
+    });
     out.member("system", [&] {
       out.object([&] {
         out.member("unknowns", [&] { out.integer(result.system.unknowns); });
@@ -176,6 +194,24 @@ void write_result(ResultWriter& out, const Result& result) {
                     for (const auto& [key, m] : {std::pair{"directions", &e.reduced_stiffness->directions},
                                                  std::pair{"matrix", &e.reduced_stiffness->matrix}})
                       out.member(key, [&, m = m] { out.list(m->rows(), [&](Eigen::Index r) { out.vector(m->row(r)); }); });
+                  });
+                });
+              out.member("principal_stiffness", [&] {
+                if (!e.compliance) return out.null();
+                const PrincipalStiffness principal = principal_stiffness(*e.compliance);
+                out.object([&] {
+                  out.member("translational", [&] {
+                    out.principal(principal.translational, principal.translational_directions);
+                  });
+                  out.member("rotational", [&] { out.principal(principal.rotational, principal.rotational_directions); });
+                });
+              });
+              if (e.along_direction)
+                out.member("along_direction", [&] {
+                  out.object([&] {
+                    out.member("direction", [&] { out.vector(e.along_direction->direction); });
+                    out.member("translational", [&] { out.number(e.along_direction->translational); });
+                    out.member("rotational", [&] { out.number(e.along_direction->rotational); });
                   });
                 });
             });

@@ -1,7 +1,5 @@
 #include "stiffmsa/io/sweep_file.hpp"
 
-#include <array>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -10,6 +8,7 @@
 
 #include "io/plain_number.hpp"
 #include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
 
@@ -64,14 +63,7 @@ std::vector<std::string> split_fields(std::string_view line) {
 // Shortest text that reads back as the same double; "inf" for an unbounded stiffness, and
 // nothing for a value the pose does not have.
 void append_number(std::string& out, double value) {
-  if (std::isnan(value)) return;
-  if (std::isinf(value)) {
-    out += value > 0 ? "inf" : "-inf";
-    return;
-  }
-  std::array<char, 32> buffer;
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  out.append(buffer.data(), error == std::errc() ? end : buffer.data());
+  if (!std::isnan(value)) append_shortest_text(out, value);
 }
 
 // RFC 4180: a field with a comma, quote or line break is quoted, its quotes doubled.
@@ -142,7 +134,7 @@ PoseTable parse_pose_table(std::string_view text, const std::string& file_name) 
     }
     if (fields.size() != table.parameters.size()) {
       defect(line_number, 0, "",
-             "expected " + std::to_string(table.parameters.size()) + " values (one per parameter of the header), got " +
+             "expected " + counted(table.parameters.size(), "value") + " (one per parameter of the header), got " +
                  std::to_string(fields.size()));
       continue;
     }
@@ -179,6 +171,11 @@ std::vector<SweepColumn> sweep_columns(const SweepResult& sweep, bool full) {
     for (int q = 0; q < 6; ++q)
       columns.push_back({effector + "." + kMeasureNames[q], kMeasureUnits[q], static_cast<SweepQuantity>(q), e, 0, 0,
                          q >= static_cast<int>(SweepQuantity::deflection_trans)});
+    columns.push_back({effector + ".cond_trans", "", SweepQuantity::cond_trans, e, 0, 0, true});
+    if (sweep.direction) {
+      columns.push_back({effector + ".k_trans_dir", "N/m", SweepQuantity::k_trans_dir, e, 0, 0, false});
+      columns.push_back({effector + ".k_rot_dir", "N·m/rad", SweepQuantity::k_rot_dir, e, 0, 0, false});
+    }
     if (!full) continue;
     for (const auto& [quantity, letter] :
          {std::pair{SweepQuantity::compliance, 'C'}, std::pair{SweepQuantity::stiffness, 'K'}})
@@ -210,6 +207,9 @@ double column_value(const SweepResult& sweep, const SweepColumn& column, std::si
     case SweepQuantity::deflection_rot: return m.deflection_rotation;
     case SweepQuantity::compliance: return m.compliance ? (*m.compliance)(column.row, column.col) : kNaN;
     case SweepQuantity::stiffness: return m.stiffness ? (*m.stiffness)(column.row, column.col) : kNaN;
+    case SweepQuantity::cond_trans: return m.principal.translational_condition();
+    case SweepQuantity::k_trans_dir: return m.along_direction ? m.along_direction->translational : kNaN;
+    case SweepQuantity::k_rot_dir: return m.along_direction ? m.along_direction->rotational : kNaN;
   }
   return kNaN;
 }
@@ -277,6 +277,11 @@ std::string sweep_summary_to_json(const SweepResult& sweep, bool full, const std
     parameters.push_back(std::move(p));
   }
   summary["parameters"] = std::move(parameters);
+  json fixed = json::object();
+  for (const ParameterValue& p : sweep.fixed_parameters)
+    fixed[p.name] = {{"value", p.value}, {"unit", p.unit}, {"set", p.set}};
+  summary["fixed_parameters"] = std::move(fixed);
+  if (sweep.direction) summary["direction"] = {(*sweep.direction)(0), (*sweep.direction)(1), (*sweep.direction)(2)};
   json counts;
   for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
     std::size_t n = 0;
@@ -284,6 +289,10 @@ std::string sweep_summary_to_json(const SweepResult& sweep, bool full, const std
     counts[to_string(status)] = n;
   }
   summary["status"] = std::move(counts);
+  std::size_t large = 0;
+  for (const auto& r : sweep.results) large += r.large_deflection ? 1 : 0;
+  summary["large_deflection"] = large;
+  summary["warnings"] = sweep.warnings;
   json worst = json::object();
   for (const auto& column : sweep_columns(sweep, full)) {
     const auto pose = worst_pose(sweep, column);

@@ -1,5 +1,7 @@
 #include "stiffmsa/parametric.hpp"
 
+#include "stiffmsa/number_text.hpp"
+
 namespace stiffmsa {
 
 ModelFamily::ModelFamily(std::string name, std::vector<Parameter> parameters,
@@ -16,8 +18,8 @@ namespace {
 // One value per parameter, or a UsageError that says how many.
 void check_value_count(const std::string& model, std::size_t parameters, std::size_t values) {
   if (values != parameters)
-    throw UsageError("the model '" + model + "' has " + std::to_string(parameters) + " parameters; got " +
-                     std::to_string(values) + " values");
+    throw UsageError("the model '" + model + "' has " + counted(parameters, "parameter") + "; got " +
+                     counted(values, "value"));
 }
 }  // namespace
 
@@ -25,6 +27,13 @@ std::vector<double> ModelFamily::default_values() const {
   std::vector<double> values;
   values.reserve(parameters_.size());
   for (const auto& p : parameters_) values.push_back(p.default_value);
+  return values;
+}
+
+std::vector<ParameterValue> ModelFamily::parameter_values() const {
+  std::vector<ParameterValue> values;
+  values.reserve(parameters_.size());
+  for (const auto& p : parameters_) values.push_back({p.name, p.default_value, p.unit, p.set});
   return values;
 }
 
@@ -45,7 +54,11 @@ Model ModelFamily::build(std::span<const double> values) const {
 ModelFamily ModelFamily::with_defaults(std::span<const double> values) const {
   check_value_count(name_, parameters_.size(), values.size());
   ModelFamily changed = *this;
-  for (std::size_t i = 0; i < values.size(); ++i) changed.parameters_[i].default_value = values[i];
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    Parameter& p = changed.parameters_[i];
+    p.set = p.set || values[i] != p.default_value;
+    p.default_value = values[i];
+  }
   return changed;
 }
 

@@ -14,6 +14,7 @@
 #include "model/link_ends.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -697,6 +698,106 @@ std::vector<ValueDefect> section_defects(const Section& s) {
 std::vector<Diagnostic> find_defects(const Model& model) {
   const detail::ModelIndex index(model);
   return Checker(model, index).run();
+}
+
+namespace {
+
+// Plausibility (docs/model-format.md, "Plausibility warnings"): values a model may mean, but
+// that more often are a slip of units. The moduli of engineering materials run from stiff
+// polymers (about 1e9 Pa) to diamond (1.2e12 Pa); a modulus typed in MPa or N/mm² is 1e6 too
+// small.
+constexpr double kLowestPlausibleModulus = 1e8;    // Pa
+constexpr double kHighestPlausibleModulus = 1e12;  // Pa
+// Robots and machine frames measure metres, frames of buildings tens of them; a model hundreds
+// of "metres" across is more likely drawn in millimetres.
+constexpr double kLargestPlausibleModelSize = 100;  // m
+// Beams of robots and machines are centimetres to decimetres across, a building's girders about
+// a metre. A section both wider than this and as wide as its link is long suggests
+// millimetres; either alone is a short piece of a finely divided beam, or a large structure.
+constexpr double kLargestPlausibleSectionSize = 1;  // m
+
+// Where several links share an implausible value (a named material, say), one warning names
+// the first and counts the others.
+struct Finding {
+  std::string key_path;  // of the first link that has it
+  SourceLocation location;
+  std::string message;
+  std::size_t others = 0;
+};
+
+void add_finding(std::vector<Finding>& findings, const Link& link, const std::string& key, std::string message) {
+  for (Finding& f : findings)
+    if (f.message == message) {
+      ++f.others;
+      return;
+    }
+  findings.push_back({"links." + link.name + "." + key, locate(link.origin, key), std::move(message), 0});
+}
+
+void check_modulus(std::vector<Finding>& findings, const Link& link, const char* key, double value) {
+  if (value >= kLowestPlausibleModulus && value <= kHighestPlausibleModulus) return;
+  const bool low = value < kLowestPlausibleModulus;
+  add_finding(findings, link, std::string("material.") + key,
+              std::string(key) + " = " + shortest_text(value) + " Pa is " + (low ? "below" : "above") +
+                  " the moduli of engineering materials (1e8 to 1e12 Pa): " +
+                  (low ? "was it given in MPa or N/mm²? " : "was it given in another unit? ") +
+                  "stiffmsa reads pascals (steel: E = 2.1e11 Pa)");
+}
+
+// A beam is slender: a section metres wide and as wide as its link is long was likely given in
+// millimetres.
+void check_section_size(std::vector<Finding>& findings, const Link& link, const Section& section, double length) {
+  if (!(length > 0)) return;
+  for (const auto& dimension : detail::section_dimensions(section.shape)) {
+    const std::string key = dimension.key;
+    const double value = section.*dimension.value;
+    // The outer sizes of a shape, or the side of a generic section's area.
+    const bool outer = key == "D" || key == "b" || key == "h";
+    const double width = outer ? value : key == "A" ? std::sqrt(value) : 0.0;
+    if (width > kLargestPlausibleSectionSize && width >= length)
+      add_finding(findings, link, "section." + key,
+                  key + " = " + shortest_text(value) + (outer ? " m" : " m²") + " gives a section " +
+                      (outer ? "" : "about " + shortest_text(width) + " m ") + "as wide as the link is long (" +
+                      shortest_text(length) + " m): was it given in millimetres? stiffmsa reads metres");
+  }
+}
+
+}  // namespace
+
+std::vector<Diagnostic> find_implausible_values(const Model& model) {
+  return detail::find_implausible_values(model, detail::ModelIndex(model));
+}
+
+std::vector<Diagnostic> detail::find_implausible_values(const Model& model, const ModelIndex& index) {
+  std::vector<Diagnostic> found;
+  const double size = extent(model);
+  if (size > kLargestPlausibleModelSize) {
+    Origin model_origin;
+    model_origin.location.file = model.source_file;
+    found.push_back({model_origin.location, "points",
+                     "the model is " + shortest_text(std::round(size)) +
+                         " m across (the diagonal of its points' box): were the coordinates given in millimetres? "
+                         "stiffmsa reads metres"});
+  }
+  std::vector<Finding> findings;
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    const Link& link = model.links[l];
+    const auto* beam = std::get_if<BeamLink>(&link.kind);
+    if (!beam) continue;
+    check_modulus(findings, link, "E", beam->material.E);
+    if (beam->material.G) check_modulus(findings, link, "G", *beam->material.G);
+    const int from = index.point_of_end(2 * static_cast<int>(l)), to = index.point_of_end(2 * static_cast<int>(l) + 1);
+    if (from >= 0 && to >= 0)
+      check_section_size(findings, link, beam->section,
+                         (model.points[static_cast<std::size_t>(to)].position -
+                          model.points[static_cast<std::size_t>(from)].position).norm());
+  }
+  for (Finding& f : findings) {
+    if (f.others > 0)
+      f.message += " (and " + std::to_string(f.others) + (f.others == 1 ? " other link)" : " other links)");
+    found.push_back({std::move(f.location), std::move(f.key_path), std::move(f.message)});
+  }
+  return found;
 }
 
 void validate(const Model& model) { detail::validate(model, detail::ModelIndex(model)); }

@@ -52,4 +52,9 @@ std::vector<ValueDefect> material_defects(const Material& m);
 // The shape's dimensions and any shear areas positive, walls thinner than half the outer size.
 std::vector<ValueDefect> section_defects(const Section& s);
 
+class ModelIndex;
+// stiffmsa::find_implausible_values with the model's index already built (a sweep checks
+// every pose).
+std::vector<Diagnostic> find_implausible_values(const Model& model, const ModelIndex& index);
+
 }  // namespace stiffmsa::detail

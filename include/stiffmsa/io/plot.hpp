@@ -34,6 +34,11 @@ struct Heatmap {
   std::string marked_label;  // e.g. "softest: 1.24e+05 N/m"
   // What a NaN cell means, for the legend.
   std::string no_value_label = "no value (failed pose)";
+  // A second, smaller line under the title: what the map holds fixed (empty: none).
+  std::string subtitle;
+  // Cells to mark with a ring, by value index (empty: none), and what the ring means.
+  std::vector<bool> flagged;
+  std::string flagged_label;
 };
 
 struct LinePlot {
@@ -46,6 +51,9 @@ struct LinePlot {
   std::optional<std::size_t> marked;
   std::string marked_label;
   std::string no_value_label = "no value (failed pose)";
+  std::string subtitle;
+  std::vector<bool> flagged;  // points to mark with a ring, one per value (empty: none)
+  std::string flagged_label;
 };
 
 // Writes the picture to `file`: `.png` or `.svg`. Throws UsageError for another extension or

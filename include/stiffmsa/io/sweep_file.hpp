@@ -23,10 +23,11 @@ PoseTable parse_pose_table(std::string_view text, const std::string& file_name);
 std::optional<double> parse_plain_number(std::string_view text);
 
 // The columns of a sweep's result, after the swept parameters, `status` and `message`:
-// per end effector E, E.k_trans_min … E.deflection_rot, and with `full` E.C11 … E.K66.
+// per end effector E, E.k_trans_min … E.deflection_rot, E.cond_trans, with a direction
+// E.k_trans_dir and E.k_rot_dir, and with `full` E.C11 … E.K66.
 enum class SweepQuantity {
   k_trans_min, k_trans_max, k_rot_min, k_rot_max, deflection_trans, deflection_rot,
-  compliance, stiffness,
+  compliance, stiffness, cond_trans, k_trans_dir, k_rot_dir,
 };
 struct SweepColumn {
   std::string name;  // e.g. "platform.k_trans_min"
