@@ -244,8 +244,12 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
   for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
     const auto& effector = model.end_effectors[e];
     const int end = ws.topology.effector_ends[e];
-    result.end_effectors.push_back({effector.name, effector.at, model.links[static_cast<std::size_t>(end / 2)].name,
-                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt, std::nullopt});
+    EndEffectorResult effector_result;
+    effector_result.name = effector.name;
+    effector_result.point = effector.at;
+    effector_result.link = model.links[static_cast<std::size_t>(end / 2)].name;
+    effector_result.end = static_cast<LinkEnd>(end % 2);
+    result.end_effectors.push_back(std::move(effector_result));
   }
   return result;
 }
