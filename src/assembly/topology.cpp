@@ -205,11 +205,23 @@ std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const Co
 
 }  // namespace
 
-std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology) {
+std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology,
+                                                       const std::vector<SpinLock>& locks) {
   std::vector<std::unique_ptr<ElementBlock>> blocks;
   blocks.reserve(static_cast<std::size_t>(topology.link_count) + topology.groups.size());
   for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, topology, l));
   for (const auto& group : topology.groups) blocks.push_back(make_connection_block(model, group));
+  for (const SpinLock& lock : locks) {
+    const int from = 2 * lock.rod;
+    const Vec3 axis = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(from + 1)])].position -
+                      model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(from)])].position;
+    const ConnectionGroup& group = topology.groups[static_cast<std::size_t>(lock.group)];
+    auto& block = blocks[static_cast<std::size_t>(topology.link_count + lock.group)];
+    if (group.kind == ConnectionGroup::Kind::support)
+      block = std::make_unique<SupportBlock>(group.ends, rotations_across(axis), std::nullopt, std::nullopt);
+    else
+      block = std::make_unique<ConstraintJointBlock>(group.ends, rotations_across(axis), std::nullopt);
+  }
   return blocks;
 }
 

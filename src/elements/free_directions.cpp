@@ -45,6 +45,12 @@ void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
   t2 = n.cross(t1);
 }
 
+FreeDirections rotations_across(const Vec3& axis) {
+  Vec3 t1, t2;
+  planar_axes(axis.isZero(0) ? Vec3::UnitZ() : axis, t1, t2);
+  return free_directions(Kinematics::universal(t1, t2));
+}
+
 namespace {
 
 // Up to three axes, on the stack.

@@ -38,6 +38,11 @@ SpringCompliance spring_compliance(const FreeDirections& directions, const Small
 // same defects with their place in the file before a solve gets here.
 FreeDirections free_directions(const Kinematics& kinematics);
 
+// A ball joint that holds the rotation about `axis` (a rod's spin, see SpinLock): the rotations
+// about two directions across it. Any axis where `axis` is zero (a rod of no length spins about
+// every axis through its one point).
+FreeDirections rotations_across(const Vec3& axis);
+
 // The in-plane axes t1, t2 of a planar joint with normal n (model-format.md).
 void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2);
 
