@@ -222,26 +222,29 @@ def pair_rows(prefixes):
             continue
         key = tuple(r["pair"])
         if key in pairs:
-            pairs[key]["wall_s_first"] += r["wall_s_first"]
-            pairs[key]["wall_s_second"] += r["wall_s_second"]
+            for k in ("wall_s_first", "wall_s_second", "cpu_s_first", "cpu_s_second"):
+                pairs[key][k] += r[k]
         else:
             pairs[key] = r
     return pairs
 
 
 def pair_table(pairs):
-    """Per pose on one thread, each model's lowest and median time, and the ratio of the paired
-    repeats (the first model's time over the second's, swept right after it)."""
-    print("| models, in turn on one thread | poses | first, µs per pose: lowest (median) "
+    """Per pose on one thread, wall and CPU time: each model's lowest and median, and the ratio of
+    the paired repeats (the first model's time over the second's, swept right after it)."""
+    print("| models, in turn on one thread | time | poses | first, µs per pose: lowest (median) "
           "| second, µs per pose: lowest (median) | first / second: lowest times (median of the pairs; range) |")
-    print("|---|--:|--:|--:|--:|")
+    print("|---|---|--:|--:|--:|--:|")
     for (first, second), r in pairs.items():
         n = r["poses"]
-        a, b = r["wall_s_first"], r["wall_s_second"]
-        paired = [x / y for x, y in zip(a, b)]
-        print(f"| {SWEEP_LABELS.get(first, first)} / {SWEEP_LABELS.get(second, second)} ({r['solver']}) | {n} "
-              f"| {1e6 * min(a) / n:.1f} ({1e6 * median(a) / n:.1f}) | {1e6 * min(b) / n:.1f} ({1e6 * median(b) / n:.1f}) "
-              f"| {min(a) / min(b):.2f} ({median(paired):.2f}; {min(paired):.2f}–{max(paired):.2f}) |")
+        for clock in ("wall", "cpu"):
+            a, b = r[f"{clock}_s_first"], r[f"{clock}_s_second"]
+            paired = [x / y for x, y in zip(a, b)]
+            print(f"| {SWEEP_LABELS.get(first, first)} / {SWEEP_LABELS.get(second, second)} ({r['solver']}) "
+                  f"| {clock.upper() if clock == 'cpu' else clock} | {n} "
+                  f"| {1e6 * min(a) / n:.1f} ({1e6 * median(a) / n:.1f}) "
+                  f"| {1e6 * min(b) / n:.1f} ({1e6 * median(b) / n:.1f}) "
+                  f"| {min(a) / min(b):.2f} ({median(paired):.2f}; {min(paired):.2f}–{max(paired):.2f}) |")
 
 
 def sweep_tables(rows, runs):

@@ -38,7 +38,12 @@ std::vector<SpinLock> find_spin_locks(const Model& model, const Topology& topolo
         !is_free_ball(model, topology.groups[static_cast<std::size_t>(other)]))
       continue;
     taken[static_cast<std::size_t>(held)] = taken[static_cast<std::size_t>(other)] = true;
-    locks.push_back({l, held, other});
+    const auto position = [&](int end) -> const Vec3& {
+      return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])].position;
+    };
+    Eigen::Index least_aligned = 0;
+    (position(to) - position(from)).cwiseAbs().minCoeff(&least_aligned);
+    locks.push_back({l, held, other, Vec3::Unit(least_aligned)});
   }
   return locks;
 }

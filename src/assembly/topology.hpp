@@ -50,6 +50,10 @@ struct SpinLock {
   int rod = -1;    // the link
   int group = -1;        // the connection group of its ball joint (or support) that holds the spin
   int other_group = -1;  // the ball joint (or support) at its other end, left free
+  // The global axis least aligned with the rod in the model the locks were found for: the held
+  // joint's free directions are taken from its part across the rod in every pose
+  // (rotations_across), so that they turn with the rod instead of jumping between poses.
+  Vec3 across = Vec3::UnitX();
 };
 
 // The rods whose spin can be held so: a beam, rigid or compliance link (a matrix link's block
