@@ -786,9 +786,13 @@ TEST(DeltaExample, WithoutAcceptingIdleMotionsTheRodSpinsAreStillAnError) {
     for (const auto& d : e.details()) details += d + "\n";
     EXPECT_NE(details.find("'rod_1a'"), std::string::npos) << details;
   }
+  // One workspace serves both: refused without the option, held with it.
+  stiffmsa::Workspace workspace(model);
+  EXPECT_THROW((void)stiffmsa::solve(workspace, model), stiffmsa::SingularModelError);
   stiffmsa::SolveOptions accepting;
   accepting.accept_idle_motions = true;
-  EXPECT_TRUE(has_note_containing(stiffmsa::solve(model, accepting), "spin freely about the line"));
+  EXPECT_TRUE(has_note_containing(stiffmsa::solve(workspace, model, accepting), "spin freely about the line"));
+  EXPECT_THROW((void)stiffmsa::solve(workspace, model), stiffmsa::SingularModelError);
 }
 
 TEST(DeltaExample, ARodLoadedAtItsEndKeepsItsSpinFree) {

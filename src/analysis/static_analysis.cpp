@@ -604,6 +604,7 @@ void report_held_spins(const Model& model, const detail::Topology& topology, con
                                         one ? " ends (an idle motion)" : " ends (an idle motion each)"));
 }
 
+// The solve with one set of blocks: the model's own, or those with the rods' spins held.
 Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known);
 
 Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
