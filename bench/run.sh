@@ -9,9 +9,10 @@
 #      (bench/make_models.py): the 100 000-link chain and the frame, wall time and peak memory
 #      from /usr/bin/time; and the chain file read by stiffmsa_chain, which times load_model
 #      apart from the solve;
-#   4. stiffmsa_sweep on both cores: sweeps of the two parametric examples over fixed grids
-#      with 1 and 2 threads (poses/s, speed-up of the second core) and the per-pose split
-#      between building the member and solving it, saved to bench/results-<date>-sweep.jsonl;
+#   4. stiffmsa_sweep on both cores: sweeps of the parametric examples over fixed grids
+#      with 1 and 2 threads (poses/s, speed-up of the second core), the per-pose split
+#      between building the member and solving it, and the two Delta robots in turn on one
+#      thread, saved to bench/results-<date>-sweep.jsonl;
 #   5. the tables of bench/README.md, from those files (bench/summarize.py).
 #
 # Usage: bench/run.sh [Google Benchmark options, e.g. --benchmark_filter=6axis]

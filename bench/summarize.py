@@ -193,6 +193,8 @@ def sweep_rows(prefixes):
     pooled_keys = ["wall_s_1", "wall_s_2", "cpu_s_1", "cpu_s_2", "steal_ticks_1", "steal_ticks_2", "build_s", "solve_s"]
     rows = {}
     for _, r in jsonl_records(prefixes, "-sweep.jsonl"):
+        if "pair" in r:
+            continue
         row = rows.get(r["model"])
         if row is None:
             rows[r["model"]] = r
@@ -208,7 +210,41 @@ def median(values):
     return v[len(v) // 2] if len(v) % 2 else (v[len(v) // 2 - 1] + v[len(v) // 2]) / 2
 
 
-SWEEP_LABELS = {"3rpr": "3-RPR", "tripteron": "tripteron"}
+SWEEP_LABELS = {"3rpr": "3-RPR", "tripteron": "tripteron", "delta-ss": "Delta, ball joints at both rod ends",
+                "delta-us": "Delta, universal joints at the rod tops"}
+
+
+def pair_rows(prefixes):
+    """Per pair of models swept in turn on one thread, every repeat of every run pooled."""
+    pairs = {}
+    for _, r in jsonl_records(prefixes, "-sweep.jsonl"):
+        if "pair" not in r:
+            continue
+        key = tuple(r["pair"])
+        if key in pairs:
+            for k in ("wall_s_first", "wall_s_second", "cpu_s_first", "cpu_s_second"):
+                pairs[key][k] += r[k]
+        else:
+            pairs[key] = r
+    return pairs
+
+
+def pair_table(pairs):
+    """Per pose on one thread, wall and CPU time: each model's lowest and median, and the ratio of
+    the paired repeats (the first model's time over the second's, swept right after it)."""
+    print("| models, in turn on one thread | time | poses | first, µs per pose: lowest (median) "
+          "| second, µs per pose: lowest (median) | first / second: lowest times (median of the pairs; range) |")
+    print("|---|---|--:|--:|--:|--:|")
+    for (first, second), r in pairs.items():
+        n = r["poses"]
+        for clock in ("wall", "cpu"):
+            a, b = r[f"{clock}_s_first"], r[f"{clock}_s_second"]
+            paired = [x / y for x, y in zip(a, b)]
+            print(f"| {SWEEP_LABELS.get(first, first)} / {SWEEP_LABELS.get(second, second)} ({r['solver']}) "
+                  f"| {clock.upper() if clock == 'cpu' else clock} | {n} "
+                  f"| {1e6 * min(a) / n:.1f} ({1e6 * median(a) / n:.1f}) "
+                  f"| {1e6 * min(b) / n:.1f} ({1e6 * median(b) / n:.1f}) "
+                  f"| {min(a) / min(b):.2f} ({median(paired):.2f}; {min(paired):.2f}–{max(paired):.2f}) |")
 
 
 def sweep_tables(rows, runs):
@@ -308,6 +344,10 @@ def main():
     if sweeps:
         print("\n### Sweeps (stiffmsa_sweep, wall time, not pinned to one core)\n")
         sweep_tables(sweeps, runs)
+    pairs = pair_rows(prefixes)
+    if pairs:
+        print("\n### Sweeps of two models in turn (stiffmsa_sweep, one thread, wall time)\n")
+        pair_table(pairs)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 // Sweep throughput: stiffmsa::sweep over a fixed 2-D grid of each parametric example, with 1
 // and with 2 threads, and where one pose's time goes (building the member from the file's
-// expressions vs solving it). Prints one JSON line per model; bench/summarize.py makes the
-// "Sweeps" table of bench/README.md from them.
+// expressions vs solving it); then pairs of examples swept in turn on one thread. Prints one
+// JSON line per model and per pair; bench/summarize.py makes the "Sweeps" tables of
+// bench/README.md from them.
 //
 //   stiffmsa_sweep [--repeats R] [auto|sparse_lu|umfpack|klu]
 //
@@ -57,11 +58,23 @@ struct Case {
   std::vector<stiffmsa::GridAxis> grid;
 };
 
-// The grids of the examples' own "stiffmsa sweep" comments (3-RPR 41×39, tripteron 31×31).
+// The grids of the examples' own "stiffmsa sweep" comments (3-RPR 41×39, tripteron 31×31); the
+// Delta robot, with ball joints at both ends of its rods and with a universal joint at their tops,
+// over a 21×21 grid of the same horizontal square as its comment's map.
+const std::vector<stiffmsa::GridAxis> kDeltaGrid{{"px", -0.3, 0.3, 21}, {"py", -0.3, 0.3, 21}};
 std::vector<Case> cases() {
   return {{"3rpr", "planar-3rpr-parametric.yaml", {{"x", 0.1, 0.9, 41}, {"y", 0.05, 0.8, 39}}},
-          {"tripteron", "tripteron-parametric.yaml", {{"px", 0.1, 0.4, 31}, {"py", 0.1, 0.4, 31}}}};
+          {"tripteron", "tripteron-parametric.yaml", {{"px", 0.1, 0.4, 31}, {"py", 0.1, 0.4, 31}}},
+          {"delta-ss", "delta-parametric.yaml", kDeltaGrid},
+          {"delta-us", "delta-us-parametric.yaml", kDeltaGrid}};
 }
+
+// Two cases whose sweeps are compared on one thread, alternated so that a slow spell of the
+// shared machine hits both alike: the Delta robot with and without idle rod spins.
+struct Pair {
+  std::string first, second;  // Case keys
+};
+const std::vector<Pair> kPairs{{"delta-ss", "delta-us"}};
 
 // Every parameter's value at each pose: the family's defaults with the swept ones replaced,
 // as the sweep hands them to its builders.
@@ -182,6 +195,35 @@ int main(int argc, char** argv) {
         json_list(wall[1]).c_str(), json_list(wall[2]).c_str(), json_list(cpu[1]).c_str(), json_list(cpu[2]).c_str(),
         json_list(steal[1]).c_str(), json_list(steal[2]).c_str(), make_builder_s, json_list(build_s).c_str(),
         json_list(solve_s).c_str());
+    std::fflush(stdout);
+  }
+
+  // The pairs: whole sweep() calls on one thread, the two cases in turn; wall and CPU time, as
+  // on a machine shared with others' work the CPU time is the steadier of the two.
+  options.threads = 1;
+  for (const Pair& pair : kPairs) {
+    std::vector<Case> both;
+    for (const Case& c : cases())
+      if (c.key == pair.first || c.key == pair.second) both.push_back(c);
+    std::map<std::string, std::vector<double>> wall, cpu;
+    std::size_t pose_count = 0;
+    for (int r = 0; r < repeats; ++r)
+      for (const Case& c : both) {
+        const stiffmsa::ModelFamily family =
+            stiffmsa::load_model_family(std::string(STIFFMSA_EXAMPLES_DIR) + "/" + c.file);
+        const stiffmsa::PoseTable poses = stiffmsa::grid_poses(c.grid);
+        pose_count = poses.size();
+        const double cpu_before = process_cpu_seconds();
+        const auto start = Clock::now();
+        (void)stiffmsa::sweep(family, poses, options);
+        wall[c.key].push_back(seconds_since(start));
+        cpu[c.key].push_back(process_cpu_seconds() - cpu_before);
+      }
+    std::printf("{\"pair\": [\"%s\", \"%s\"], \"solver\": \"%s\", \"poses\": %zu, \"wall_s_first\": %s, "
+                "\"wall_s_second\": %s, \"cpu_s_first\": %s, \"cpu_s_second\": %s}\n",
+                pair.first.c_str(), pair.second.c_str(), stiffmsa::to_string(options.solve.solver), pose_count,
+                json_list(wall[pair.first]).c_str(), json_list(wall[pair.second]).c_str(),
+                json_list(cpu[pair.first]).c_str(), json_list(cpu[pair.second]).c_str());
     std::fflush(stdout);
   }
   return 0;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "closed_forms.hpp"
+#include "solve_comparison.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
 namespace {
@@ -38,7 +39,8 @@ constexpr double kTolerance = 1e-9;
 
 const std::vector<std::string> kExampleFiles = {"cantilever.yaml",         "planar-2r.yaml",
                                                 "industrial-6axis.yaml",   "planar-3rpr.yaml",
-                                                "gough-stewart-6ups.yaml", "tripteron.yaml"};
+                                                "gough-stewart-6ups.yaml", "tripteron.yaml",
+                                                "delta-parametric.yaml",   "delta-us-parametric.yaml"};
 
 Model load_example(const std::string& file_name) {
   return stiffmsa::load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file_name);
@@ -771,3 +773,117 @@ TEST(TripteronExample, RigidLinkVariantIsThreeScrewsAlongTheirAxes) {
 }
 
 }  // namespace
+
+// ---- delta-parametric.yaml and delta-us-parametric.yaml -------------------------------------
+
+// The Delta robot at its default pose and at poses across its workspace: off centre towards and
+// between the legs, low and high.
+std::vector<Model> delta_poses(const std::string& file_name) {
+  const stiffmsa::ModelFamily family =
+      stiffmsa::load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file_name);
+  std::vector<Model> members;
+  for (const Vec3& p : {Vec3(0, 0, -0.40), Vec3(0.15, 0.05, -0.40), Vec3(-0.12, -0.16, -0.33), Vec3(0.05, -0.1, -0.55)}) {
+    std::vector<double> values = family.default_values();
+    values[*family.find_parameter("px")] = p.x();
+    values[*family.find_parameter("py")] = p.y();
+    values[*family.find_parameter("pz")] = p.z();
+    members.push_back(family.build(values));
+  }
+  return members;
+}
+
+bool has_note_containing(const Result& result, const std::string& text) {
+  for (const auto& note : result.report.notes)
+    if (note.find(text) != std::string::npos) return true;
+  return false;
+}
+
+TEST(DeltaExample, HoldingTheRodSpinsGivesEveryResultOfTheFreeMotionAnalysis) {
+  // `auto` holds each ball-jointed rod's spin about its own axis (a universal joint at one end
+  // whose missing direction is the rod); `sparse_lu` finds the six spins as free motions of the
+  // singular system and solves it bordered with them. Every number both report must agree, the
+  // joint wrenches and support reactions too, and both leave the same deflections null.
+  const std::vector<Model> poses = delta_poses("delta-parametric.yaml");
+  stiffmsa::Workspace workspace(poses.front());
+  stiffmsa::SolveOptions factorised;
+  factorised.solver = stiffmsa::SolverKind::sparse_lu;
+  for (const Model& pose : poses) {
+    Result held = stiffmsa::solve(workspace, pose);
+    const Result analysed = stiffmsa::solve(pose, factorised);
+    EXPECT_TRUE(has_note_containing(held, "spin freely about the line through the ball joints"));
+    EXPECT_TRUE(has_note_containing(held, "idle motions accepted"));
+    EXPECT_FALSE(has_note_containing(held, "free motion 1"));
+    EXPECT_TRUE(has_note_containing(analysed, "6 free motions"));
+    EXPECT_TRUE(has_note_containing(analysed, "idle motions accepted"));
+    EXPECT_TRUE(held.report.warnings.empty());
+    // The held directions change which coefficients are zero, not the unknowns or equations.
+    ASSERT_EQ(held.system.unknowns, analysed.system.unknowns);
+    held.system.nonzeros = analysed.system.nonzeros;
+    stiffmsa::testing::expect_same_results(held, analysed, kTolerance);
+    for (const auto& link : held.links)
+      EXPECT_EQ(link.from.deflection.has_value(), link.name.rfind("rod_", 0) != 0) << link.name;
+  }
+}
+
+TEST(DeltaExample, UniversalJointsAtTheRodTopsGiveTheBallJointedRobot) {
+  // The rod passes no moment about its own axis with a ball joint at its foot, so the universal
+  // joint at its top changes no result but the rod ends' deflections, which the ball-jointed
+  // robot leaves null.
+  const std::vector<Model> ball = delta_poses("delta-parametric.yaml");
+  const std::vector<Model> universal = delta_poses("delta-us-parametric.yaml");
+  for (std::size_t i = 0; i < ball.size(); ++i) {
+    const Result s = stiffmsa::solve(ball[i]), u = stiffmsa::solve(universal[i]);
+    EXPECT_FALSE(has_note_containing(u, "idle"));
+    const EndEffectorResult &es = end_effector(s, "platform"), &eu = end_effector(u, "platform");
+    ASSERT_TRUE(es.stiffness && eu.stiffness && es.deflection && eu.deflection);
+    EXPECT_LT(relative_difference_scaled(*eu.stiffness, *es.stiffness), kTolerance);
+    EXPECT_LT(relative_difference_scaled(*eu.compliance, *es.compliance), kTolerance);
+    expect_deflection(*eu.deflection, *es.compliance, total_load(ball[i]));
+    for (const char* motor : {"motor_1", "motor_2", "motor_3"}) {
+      const Vec6 rs = support_reaction(s, motor), ru = support_reaction(u, motor);
+      EXPECT_LT((ru - rs).norm(), kTolerance * rs.norm()) << motor;
+    }
+  }
+}
+
+TEST(DeltaExample, StiffnessHasTheRobotsThreefoldSymmetry) {
+  // At the centre the three legs sit 120 degrees apart about z: the translational stiffness is
+  // the same along every horizontal direction and the platform is not coupled between the
+  // horizontal and vertical translations.
+  const Result result = stiffmsa::solve(delta_poses("delta-parametric.yaml").front());
+  const Mat6& K = *end_effector(result, "platform").stiffness;
+  const double horizontal = K(0, 0);
+  EXPECT_NEAR(K(1, 1), horizontal, kTolerance * horizontal);
+  EXPECT_NEAR(K(0, 1), 0.0, kTolerance * horizontal);
+  EXPECT_NEAR(K(0, 2), 0.0, kTolerance * horizontal);
+  EXPECT_NEAR(K(1, 2), 0.0, kTolerance * horizontal);
+}
+
+TEST(DeltaExample, WithoutAcceptingIdleMotionsTheRodSpinsAreStillAnError) {
+  Model model = load_example("delta-parametric.yaml");
+  model.options.accept_idle_motions = false;
+  try {
+    (void)stiffmsa::solve(model);
+    FAIL() << "the rods' spins are free motions";
+  } catch (const stiffmsa::SingularModelError& e) {
+    std::string details;
+    for (const auto& d : e.details()) details += d + "\n";
+    EXPECT_NE(details.find("'rod_1a'"), std::string::npos) << details;
+  }
+  // One workspace serves both: refused without the option, held with it.
+  stiffmsa::Workspace workspace(model);
+  EXPECT_THROW((void)stiffmsa::solve(workspace, model), stiffmsa::SingularModelError);
+  stiffmsa::SolveOptions accepting;
+  accepting.accept_idle_motions = true;
+  EXPECT_TRUE(has_note_containing(stiffmsa::solve(workspace, model, accepting), "spin freely about the line"));
+  EXPECT_THROW((void)stiffmsa::solve(workspace, model), stiffmsa::SingularModelError);
+}
+
+TEST(DeltaExample, ARodLoadedAtItsEndKeepsItsSpinFree) {
+  // A moment about the rod's axis at its end has nothing to hold it: holding the spin would
+  // hide that, so a loaded rod's spin is left to the free-motion analysis, which refuses it.
+  Model model = load_example("delta-parametric.yaml");
+  const Vec3 axis = (position(model, "P1a") - position(model, "E1a")).normalized();
+  model.loads.push_back(stiffmsa::Load{"P1a", "rod_1a", wrench(0, 0, 0, axis.x(), axis.y(), axis.z()), {}});
+  EXPECT_THROW((void)stiffmsa::solve(model), stiffmsa::SingularModelError);
+}

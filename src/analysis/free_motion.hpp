@@ -38,8 +38,8 @@ inline constexpr std::string_view kAcceptIdleMotionHint =
     "(an idle motion: accept it with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
 inline constexpr std::string_view kAcceptIdleMotionsHint =
     "(idle motions: accept them with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
-inline constexpr std::string_view kIdleMotionAccepted = "(an idle motion, accepted)";
-inline constexpr std::string_view kIdleMotionsAccepted = "(idle motions, accepted)";
+inline constexpr std::string_view kAcceptedIdleMotionTag = "(an idle motion, accepted)";
+inline constexpr std::string_view kAcceptedIdleMotionsTag = "(idle motions, accepted)";
 
 // Entries of a unit equilibrated null vector below this are rounding.
 constexpr double kNegligibleNullEntry = 1e-8;

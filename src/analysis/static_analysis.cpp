@@ -2,6 +2,7 @@
 // compliance and Cartesian stiffness (paper eqs. 20–21) at every end effector.
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -71,17 +72,34 @@ struct Workspace::Impl {
   // Where the model is no tree but a frame (every link flexible, every connection a weld), `auto`
   // solves the condensed displacement system first (solver/frame_solver.hpp).
   std::optional<detail::FramePlan> frame;
+  // The rods whose idle spin this workspace's blocks hold (empty in the model's own workspace).
+  std::vector<detail::SpinLock> spin_locks;
+  // Where the model has rods with ball joints at both ends: the same model with their spins held,
+  // which `auto` solves, where idle motions are accepted, instead of analysing the free motions
+  // of a singular system at every pose. Its own workspace, as its blocks have another pattern.
+  std::unique_ptr<Impl> spin_locked;
+
+  // The blocks of `model` (this topology's), and what the solves without factorising need.
+  void record(const Model& model) {
+    recorded_blocks = detail::make_blocks(model, topology, spin_locks);
+    tree = detail::tree_order(topology);
+    // A tree that the tree solve cannot take (a stiffness-only CAD link) may still be a frame.
+    if (!tree || !detail::passes_tree(recorded_blocks)) frame = detail::frame_plan(topology, recorded_blocks);
+  }
 };
 
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   const detail::ModelIndex index(model);
   detail::validate(model, index);
   impl_->topology = detail::build_topology(model, index);
-  impl_->recorded_blocks = detail::make_blocks(model, impl_->topology);
-  impl_->tree = detail::tree_order(impl_->topology);
-  // A tree that the tree solve cannot take (a stiffness-only CAD link) may still be a frame.
-  if (!impl_->tree || !detail::passes_tree(impl_->recorded_blocks))
-    impl_->frame = detail::frame_plan(impl_->topology, impl_->recorded_blocks);
+  impl_->record(model);
+  std::vector<detail::SpinLock> locks = detail::find_spin_locks(model, impl_->topology);
+  if (!locks.empty()) {
+    impl_->spin_locked = std::make_unique<Impl>();
+    impl_->spin_locked->topology = impl_->topology;
+    impl_->spin_locked->spin_locks = std::move(locks);
+    impl_->spin_locked->record(model);
+  }
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -135,7 +153,7 @@ struct Problem {
       ws.recorded_blocks.clear();
       blocks_are_the_reference = true;
     } else {
-      blocks = detail::make_blocks(model, ws.topology);
+      blocks = detail::make_blocks(model, ws.topology, ws.spin_locks);
     }
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
     for (std::size_t i = 0; i < model.loads.size(); ++i) {
@@ -447,6 +465,9 @@ void note_determined_components(const std::string& whose, const Vec6& wrench, co
                     (count == 1 ? "component is " : "components are ") + determined);
 }
 
+constexpr const char* kIdleMotionsAccepted =
+    "idle motions accepted: the end-effector results do not depend on them; the deflections they change are null";
+
 // A singular system whose null space leaves every end effector in place: over-constrained rigid
 // loops (deflections unique, some wrenches not) and, where accepted, idle motions (some link
 // ends' deflections not unique). The system bordered with the dependencies of its equations
@@ -526,12 +547,11 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
       if (group.kind == detail::ConnectionGroup::Kind::joint)
         for (int end : group.ends)
           if (moving[static_cast<std::size_t>(end)]) result.joints[static_cast<std::size_t>(group.source)].relative_deflection.reset();
-    result.report.notes.push_back("idle motions accepted: the end-effector results do not depend on them; the "
-                                  "deflections they change are null");
+    result.report.notes.push_back(kIdleMotionsAccepted);
   }
   for (std::string d : structure.descriptions) {
-    for (const auto& [hint, accepted] : {std::pair{detail::kAcceptIdleMotionHint, detail::kIdleMotionAccepted},
-                                         std::pair{detail::kAcceptIdleMotionsHint, detail::kIdleMotionsAccepted}})
+    for (const auto& [hint, accepted] : {std::pair{detail::kAcceptIdleMotionHint, detail::kAcceptedIdleMotionTag},
+                                         std::pair{detail::kAcceptIdleMotionsHint, detail::kAcceptedIdleMotionsTag}})
       if (const auto at = d.find(hint); at != std::string::npos) d.replace(at, hint.size(), accepted);
     result.report.notes.push_back(std::move(d));
   }
@@ -628,8 +648,47 @@ SystemSize check(const Model& model) {
 
 namespace {
 
+// What holding the rods' spins left out of a result: the spin moves the rods' ends, so their
+// deflections and their ball joints' relative deflections are not determined, as an accepted
+// idle motion's are (solve_singular_but_determined); a support reports no relative deflection.
+void report_held_spins(const Model& model, const detail::Topology& topology, const std::vector<detail::SpinLock>& locks,
+                       Result& result) {
+  std::string rods;
+  for (const detail::SpinLock& lock : locks) {
+    auto& link = result.links[static_cast<std::size_t>(lock.rod)];
+    link.from.deflection.reset();
+    link.to.deflection.reset();
+    for (int g : {lock.group, lock.other_group}) {
+      const detail::ConnectionGroup& group = topology.groups[static_cast<std::size_t>(g)];
+      if (group.kind == detail::ConnectionGroup::Kind::joint)
+        result.joints[static_cast<std::size_t>(group.source)].relative_deflection.reset();
+    }
+    rods += (rods.empty() ? "'" : ", '") + model.links[static_cast<std::size_t>(lock.rod)].name + "'";
+  }
+  // Once, where idle motions other than the spins were accepted too.
+  if (std::find(result.report.notes.begin(), result.report.notes.end(), kIdleMotionsAccepted) == result.report.notes.end())
+    result.report.notes.push_back(kIdleMotionsAccepted);
+  const bool one = locks.size() == 1;
+  result.report.notes.push_back(message(one ? "link " : "links ", rods, one ? " spins" : " spin",
+                                        " freely about the line through the ball joints at ", one ? "its" : "their",
+                                        one ? " ends (an idle motion)" : " ends (an idle motion each)"));
+}
+
+// The solve with one set of blocks: the model's own, or those with the rods' spins held.
+Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known);
+
 Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
-  auto& ws = workspace.impl();
+  Workspace::Impl& ws = workspace.impl();
+  const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
+  if (accept_idle && options.solver == SolverKind::automatic && ws.spin_locked) {
+    Result result = solve_in(*ws.spin_locked, model, options, topology_known);
+    report_held_spins(model, ws.topology, ws.spin_locked->spin_locks, result);
+    return result;
+  }
+  return solve_in(ws, model, options, topology_known);
+}
+
+Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known) {
   Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&

@@ -1,5 +1,6 @@
 #include "assembly/topology.hpp"
 
+#include <algorithm>
 #include <type_traits>
 
 #include "elements/beam_element.hpp"
@@ -203,13 +204,33 @@ std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const Co
   return nullptr;
 }
 
+// A rod's ball joint (or support) that holds its spin (SpinLock): the rotations across the rod's
+// axis in this pose are its free directions.
+std::unique_ptr<ElementBlock> make_spin_holding_block(const Model& model, const Topology& topology, const SpinLock& lock) {
+  const int from = 2 * lock.rod;
+  const auto position = [&](int end) -> const Vec3& {
+    return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])].position;
+  };
+  const FreeDirections directions = rotations_across(position(from + 1) - position(from), lock.across);
+  const ConnectionGroup& group = topology.groups[static_cast<std::size_t>(lock.group)];
+  if (group.kind == ConnectionGroup::Kind::support)
+    return std::make_unique<SupportBlock>(group.ends, directions, std::nullopt, std::nullopt);
+  return std::make_unique<ConstraintJointBlock>(group.ends, directions, std::nullopt);
+}
+
 }  // namespace
 
-std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology) {
+std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology,
+                                                       const std::vector<SpinLock>& locks) {
   std::vector<std::unique_ptr<ElementBlock>> blocks;
   blocks.reserve(static_cast<std::size_t>(topology.link_count) + topology.groups.size());
   for (int l = 0; l < topology.link_count; ++l) blocks.push_back(make_link_block(model, topology, l));
-  for (const auto& group : topology.groups) blocks.push_back(make_connection_block(model, group));
+  for (std::size_t g = 0; g < topology.groups.size(); ++g) {
+    const auto lock = std::find_if(locks.begin(), locks.end(),
+                                   [&](const SpinLock& s) { return s.group == static_cast<int>(g); });
+    blocks.push_back(lock == locks.end() ? make_connection_block(model, topology.groups[g])
+                                         : make_spin_holding_block(model, topology, *lock));
+  }
   return blocks;
 }
 

@@ -45,6 +45,21 @@ void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2) {
   t2 = n.cross(t1);
 }
 
+FreeDirections rotations_across(const Vec3& axis, const Vec3& across) {
+  // Below this sine of the angle between `across` and the axis, its part across the axis has
+  // lost too many digits to set a direction.
+  constexpr double kLeastSine = 0.1;
+  const Vec3 u = axis.isZero(0) ? Vec3::UnitZ() : axis.normalized();
+  Vec3 t1 = across.normalized() - across.normalized().dot(u) * u, t2;
+  if (t1.norm() < kLeastSine) {
+    planar_axes(u, t1, t2);
+  } else {
+    t1.normalize();
+    t2 = u.cross(t1);
+  }
+  return free_directions(Kinematics::universal(t1, t2));
+}
+
 namespace {
 
 // Up to three axes, on the stack.

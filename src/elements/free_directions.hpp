@@ -38,6 +38,13 @@ SpringCompliance spring_compliance(const FreeDirections& directions, const Small
 // same defects with their place in the file before a solve gets here.
 FreeDirections free_directions(const Kinematics& kinematics);
 
+// A ball joint that holds the rotation about `axis` (a rod's spin, see SpinLock): the rotations
+// about `across`'s part across the axis, then about the axis × that. Turning with the axis
+// smoothly from pose to pose, these keep a solver's pivot order good; where `across` is nearly
+// along the axis, any two directions across it. The z axis where `axis` is zero (a rod of no
+// length spins about every axis through its one point).
+FreeDirections rotations_across(const Vec3& axis, const Vec3& across);
+
 // The in-plane axes t1, t2 of a planar joint with normal n (model-format.md).
 void planar_axes(const Vec3& normal, Vec3& t1, Vec3& t2);
 
