@@ -298,7 +298,7 @@
         var length = Math.max(longest * magnitude / item[2], 2.5 * markerSize);
         var tail = tip.clone().addScaledVector(direction, -length - 0.6 * markerSize);
         var end = tip.clone().addScaledVector(direction, -0.6 * markerSize);
-        shafts[item[0]].push(tail, end);
+        shafts[item[0]].push(pieceMatrix(tail, end, 0.35 * markerSize, 0.35 * markerSize));
         heads[item[0]].push(placedMatrix(end.clone().addScaledVector(direction, -0.7 * markerSize), direction, 1.1 * markerSize, 1.4 * markerSize));
         if (item[0] === 'moment')  // a double head: a moment vector
           heads.moment.push(placedMatrix(end.clone().addScaledVector(direction, -1.9 * markerSize), direction, 1.1 * markerSize, 1.4 * markerSize));
@@ -307,9 +307,9 @@
     var cone = new THREE.ConeBufferGeometry(0.5, 1, 12);
     ['force', 'moment'].forEach(function (what) {
       if (!shafts[what].length) return;
-      groups.loads.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(shafts[what]),
-                                              new THREE.LineBasicMaterial({ color: colours[what] })));
-      groups.loads.add(instanced(cone, material(colours[what]), heads[what]));
+      var look = material(colours[what], { side: THREE.DoubleSide });
+      groups.loads.add(instanced(pieceGeometry, look, shafts[what]));
+      groups.loads.add(instanced(cone, look, heads[what]));
     });
   })();
 
