@@ -613,9 +613,11 @@
   var mostLabels = 300;
   var labelLayer = document.getElementById('labels');
   var labelled = [];
+  var namesNote = notes.appendChild(element('div'));
   function buildLabels() {
     labelLayer.textContent = '';
     labelled = [];
+    namesNote.textContent = '';
     if (!namesBox.checked) return;
     // Points are named by what stands on them, so a point with a joint is not named twice.
     var taken = {};
@@ -630,7 +632,7 @@
       labelLayer.appendChild(label);
       labelled.push({ item: item, node: label });
     });
-    if (labelled.length < pickables.length) notes.appendChild(element('div', 'names shown: the first ' + labelled.length + '; hover for the others'));
+    namesNote.textContent = labelled.length < pickables.length ? 'names shown: the first ' + labelled.length + '; hover for the others' : '';
   }
   var projected = new THREE.Vector3();
   function screenOf(position) {
