@@ -539,3 +539,11 @@ TEST_F(Cli, CheckListsLinkLengthsAndJointAxes) {
   EXPECT_TRUE(contains(r.out, "pin_1          at P1: revolute, passive, axis (0, 0, 1)")) << r.out;
   EXPECT_TRUE(contains(r.out, "actuator_1     at M1: prismatic, actuated, axis (")) << r.out;
 }
+
+TEST_F(Cli, ViewRefusesAScaleThatIsNotPositive) {
+  const fs::path model = write_model("cantilever.yaml", cantilever_model);
+  const CliRun r = run("view " + shell_quoted(model.string()) + " --scale -1");
+  EXPECT_EQ(r.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(r.err, "--scale: expected a positive number, got '-1'")) << r.err;
+  EXPECT_FALSE(fs::exists(folder_ / "cantilever.html"));
+}
