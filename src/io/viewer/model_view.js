@@ -131,7 +131,7 @@
     var usable = Math.min(1, (window.innerWidth - panelWidth) / window.innerHeight);
     var radius = 0.5 * high.distanceTo(low) || size / 2;
     controls.target.copy(centre);
-    camera.position.copy(centre).addScaledVector(direction, 1.05 * radius / Math.sin(Math.atan(Math.tan(halfAngle) * usable)));
+    camera.position.copy(centre).addScaledVector(direction, 1.15 * radius / Math.sin(Math.atan(Math.tan(halfAngle) * usable)));
     frameView();
     controls.update();
   }
