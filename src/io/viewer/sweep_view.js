@@ -62,7 +62,7 @@
 
   var canvas = document.getElementById('heatmap');
   var context = canvas.getContext('2d');
-  var margin = { left: 70, right: 90, top: 20, bottom: 50 };
+  var margin = { left: 70, right: 170, top: 20, bottom: 50 };
   var cell = { w: 1, h: 1 };
   function draw() {
     var wrap = document.getElementById('heatmap-wrap');
@@ -100,7 +100,7 @@
     context.font = '12px sans-serif';
     var xName = grid.length ? grid[0].parameter : 'pose', yName = grid.length >= 2 ? grid[1].parameter : '';
     context.fillText(xName + (grid.length ? ' ' + number(grid[0].start) + ' … ' + number(grid[0].stop) : ' 1 … ' + poses),
-                     margin.left, canvas.height - 18);
+                     margin.left, margin.top + height + 30);
     if (yName) {
       context.save();
       context.translate(16, margin.top + height);
