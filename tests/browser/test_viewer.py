@@ -160,6 +160,14 @@ def check_hostile_names(browser, cli, folder):
     check(page.evaluate("document.querySelectorAll('img, svg, [onerror], [onload]').length") == 0, "a name from the model became an element")
     labels = page.evaluate("document.getElementById('labels').textContent")
     check("<img src=x onerror=window.stiffmsaInjected=1>" in labels, f"the link's name is not shown as text: {labels!r}")
+    # The mouse on the end effector: its name in the tooltip, as text.
+    where = page.evaluate("stiffmsaScreenOf('<b>E</b>')")
+    page.send("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": where["x"], "y": where["y"]})
+    page.next_frames()
+    tooltip = page.evaluate("document.getElementById('tooltip').hidden ? '' : document.getElementById('tooltip').textContent")
+    check(tooltip.startswith("end effector <svg onload=window.stiffmsaInjected=3>\nat <b>E</b>"),
+          f"hovering the end effector does not name it: {tooltip!r}")
+    check(page.evaluate("window.stiffmsaInjected") is None, "hovering ran a name from the model")
     title = page.evaluate("document.getElementById('title').textContent")
     check(title == "</script><script>window.stiffmsaInjected = 2</script>", f"the model's name is not the title: {title!r}")
     page.close()
@@ -174,7 +182,11 @@ def check_sweep_map(browser, cli, source, folder, screenshots):
         return
     html = csv.with_suffix(".html")
     page = open_page(browser, html)
-    page.evaluate("stiffmsaShowPose(0)")
+    # The mouse over the map, as a user moves it: the panel shows the pose under it.
+    page.send("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": 600, "y": 200})
+    page.next_frames()
+    pose = page.evaluate("document.querySelector('#pose td') && document.querySelector('#pose td').textContent")
+    check(pose not in (None, "1"), f"the sweep map does not follow the mouse (pose {pose!r})")
     page_errors(page, "sweep map")
     rows = page.evaluate("document.querySelectorAll('#pose tr').length")
     check(rows > 5, f"the sweep map shows no row of values for a pose ({rows} rows)")

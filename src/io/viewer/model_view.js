@@ -720,6 +720,12 @@
     });
   };
 
+  // Where a named point is drawn on the screen, for tests that move the mouse there.
+  window.stiffmsaScreenOf = function (pointName) {
+    var k = data.points.names.indexOf(pointName);
+    return k < 0 ? null : screenOf(pointVector(k));
+  };
+
   resetView();
   drawEllipsoids();
   fillEffectors();

@@ -174,11 +174,21 @@
     note.textContent = texts.join('; ') + ' (ellipses scaled to the largest)';
   }
 
+  // The pose under the mouse, outlined over the map.
+  var marker = element('div');
+  marker.style.cssText = 'position:absolute;border:2px solid #fff;outline:1px solid #000;pointer-events:none;display:none';
+  document.getElementById('heatmap-wrap').appendChild(marker);
   canvas.addEventListener('mousemove', function (event) {
     var rect = canvas.getBoundingClientRect();
     var ix = Math.floor((event.clientX - rect.left - margin.left) / cell.w);
     var iy = ny - 1 - Math.floor((event.clientY - rect.top - margin.top) / cell.h);
-    if (ix >= 0 && ix < nx && iy >= 0 && iy < ny) showPose(poseAt(ix, iy));
+    if (!(ix >= 0 && ix < nx && iy >= 0 && iy < ny)) return;
+    showPose(poseAt(ix, iy));
+    marker.style.display = '';
+    marker.style.left = (canvas.offsetLeft + margin.left + ix * cell.w - 2) + 'px';
+    marker.style.top = (canvas.offsetTop + margin.top + (ny - 1 - iy) * cell.h - 2) + 'px';
+    marker.style.width = Math.max(cell.w, 2) + 'px';
+    marker.style.height = Math.max(cell.h, 2) + 'px';
   });
   window.addEventListener('resize', draw);
   draw();
