@@ -148,6 +148,17 @@ def check_model_page(browser, cli, model, folder, screenshots, shot_name, loaded
         check(changed > 0.002, f"{model}: the drawing does not change with the deformation scale ({changed:.3%})")
 
 
+def check_stiffness_ellipsoids(browser, html):
+    """The ellipsoids switched to stiffness, with every name labelled: drawn without error."""
+    page = open_page(browser, html, "#ellipsoid=stiffness&names=1")
+    page_errors(page, "stiffness ellipsoids")
+    panel = page.evaluate("document.getElementById('effectors').textContent")
+    check("translational stiffness (N/m)" in panel, f"the panel does not list principal stiffnesses: {panel!r}")
+    labels = page.evaluate("document.querySelectorAll('#labels .label').length")
+    check(labels > 10, f"names on: only {labels} labels")
+    page.close()
+
+
 def check_hostile_names(browser, cli, folder):
     model = folder / "hostile.yaml"
     model.write_text(HOSTILE_MODEL)
@@ -226,6 +237,7 @@ def main():
                  (examples / "cantilever.yaml", None, True)]
         for model, shot_name, loaded in pages:
             check_model_page(browser, args.cli, model, folder, args.screenshots, shot_name, loaded)
+        check_stiffness_ellipsoids(browser, folder / "industrial-6axis.html")
         kinds = folder / "every-kind.yaml"
         kinds.write_text(KINDS_MODEL)
         check_model_page(browser, args.cli, kinds, folder, args.screenshots, "viewer-every-kind.png", loaded=False,
