@@ -620,9 +620,9 @@
     namesNote.textContent = '';
     if (!namesBox.checked) return;
     // Points are named by what stands on them, so a point with a joint is not named twice.
-    var taken = {};
+    var taken = {}, stopped = false;
     pickables.forEach(function (item) {
-      if (labelled.length >= mostLabels) return;
+      if (labelled.length >= mostLabels) { stopped = true; return; }
       var key = item.position.toArray().join(',');
       if (item.kind === 'point' && taken[key]) return;
       taken[key] = true;
@@ -632,7 +632,7 @@
       labelLayer.appendChild(label);
       labelled.push({ item: item, node: label });
     });
-    namesNote.textContent = labelled.length < pickables.length ? 'names shown: the first ' + labelled.length + '; hover for the others' : '';
+    namesNote.textContent = stopped ? 'names shown: the first ' + labelled.length + '; hover for the others' : '';
   }
   var projected = new THREE.Vector3();
   function screenOf(position) {
