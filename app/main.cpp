@@ -76,8 +76,9 @@ int run_solve(const SolveCommand& command) {
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
-  if (!command.vtk_file.empty()) write_vtk(model, result, command.vtk_file);
+  const auto vtk_files = command.vtk_file.empty() ? std::vector<fs::path>{} : write_vtk(model, result, command.vtk_file);
   print_solve_summary(std::cout, result, json_file);
+  for (const fs::path& file : vtk_files) std::cout << "ParaView file written to " << file.string() << '\n';
   return exit_success;
 }
 
