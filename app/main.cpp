@@ -76,8 +76,9 @@ int run_solve(const SolveCommand& command) {
   result.parameters = family.parameter_values();
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
-  if (!command.vtk_file.empty()) write_vtk(model, result, command.vtk_file);
+  const auto vtk_files = command.vtk_file.empty() ? std::vector<fs::path>{} : write_vtk(model, result, command.vtk_file);
   print_solve_summary(std::cout, result, json_file);
+  for (const fs::path& file : vtk_files) std::cout << "ParaView file written to " << file.string() << '\n';
   return exit_success;
 }
 
@@ -194,7 +195,12 @@ int run(int argc, char** argv) {
   add_limit_options(*sweep_app, sweep_command.limits);
 
   ViewCommand view_command;
+  std::string view_solver = "auto";
+  bool view_accept_idle_motions = false;
   CLI::App* view_app = add_view_subcommand(app, view_command);
+  add_solver_option(*view_app, view_solver);
+  view_app->add_flag("--accept-idle-motions", view_accept_idle_motions, "As for solve");
+  add_limit_options(*view_app, view_command.limits);
 
   try {
     app.parse(argc, argv);
@@ -207,7 +213,10 @@ int run(int argc, char** argv) {
   }
 
   if (solve_app->parsed()) return run_solve(solve_command);
-  if (view_app->parsed()) return run_view(view_command);
+  if (view_app->parsed()) {
+    view_command.solve = solve_options(view_solver, view_accept_idle_motions);
+    return run_view(view_command);
+  }
   if (sweep_app->parsed()) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions, sweep_direction);
     return run_sweep(sweep_command);

@@ -34,14 +34,13 @@ CLI::App* add_view_subcommand(CLI::App& app, ViewCommand& command) {
   view->add_option("--scale", command.scale,
                    "Magnification of the deformed shape (default: the largest displacement drawn as a tenth of "
                    "the model); the page has a slider too")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](std::string& input) -> std::string {
+            const auto value = parse_plain_number(input);
+            return value && *value > 0 ? std::string() : "expected a positive number, got '" + input + "'";
+          },
+          "S > 0"));
   view->add_option("--set", command.settings, "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
-  view->add_option("--solver", command.solver, "As for solve")
-      ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
-      ->capture_default_str();
-  view->add_flag("--accept-idle-motions", command.accept_idle_motions, "As for solve");
-  view->add_option("--max-file-size", command.limits.max_file_bytes, "As for solve")->transform(CLI::AsSizeValue(true));
-  view->add_option("--max-entities", command.limits.max_entities, "As for solve");
   return view;
 }
 
@@ -50,12 +49,6 @@ int run_view(const ViewCommand& command) {
   if (html_file.empty()) html_file = fs::path(command.model_file).replace_extension(".html");
   if (same_file(command.model_file, html_file))
     throw UsageError("the page '" + html_file.string() + "' is the model file; choose another name with -o");
-
-  SolveOptions solve_options;
-  solve_options.solver = solver_kind_from_string(command.solver).value_or(SolverKind::automatic);
-  solve_options.accept_idle_motions = command.accept_idle_motions;
-  if (!solver_available(solve_options.solver))
-    throw UsageError("solver '" + command.solver + "' is not available in this build of stiffmsa; use --solver auto");
 
   const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
   const std::vector<double> values = family.default_values();
@@ -68,7 +61,7 @@ int run_view(const ViewCommand& command) {
   std::optional<Result> result;
   int code = exit_success;
   try {
-    result = solve(model, solve_options);
+    result = solve(model, command.solve);
   } catch (const SingularModelError& e) {
     options.not_solved = e.what();
     print_singular_model_error(std::cerr, e);

@@ -15,12 +15,12 @@ struct ViewCommand {
   std::string html_file;  // empty: beside the model, MODEL.html
   std::optional<double> scale;
   std::vector<std::string> settings;  // parametric models: "name=value"
-  std::string solver = "auto";
-  bool accept_idle_motions = false;
+  SolveOptions solve;
   LoadLimits limits;
 };
 
-// Declares the subcommand and its options on `app`, filling `command` when parsed.
+// Declares the subcommand and its own options on `app` (main.cpp adds the solver and limit
+// options it shares with solve), filling `command` when parsed.
 CLI::App* add_view_subcommand(CLI::App& app, ViewCommand& command);
 
 int run_view(const ViewCommand& command);

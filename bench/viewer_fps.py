@@ -18,7 +18,9 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests" / "browser"))
 import chromium_pipe  # noqa: E402
 
-MODELS = [("chain", "1000"), ("chain", "10000"), ("chain", "100000"), ("frame", "5", "5", "10"), ("frame", "10", "10", "20")]
+# Example robots, then make_models.py's chains and frames.
+MODELS = [("industrial-6axis",), ("gough-stewart-6ups",), ("chain", "100"), ("chain", "1000"), ("chain", "10000"),
+          ("chain", "100000"), ("frame", "2", "2", "3"), ("frame", "5", "5", "10"), ("frame", "10", "10", "20")]
 
 
 def main():
@@ -27,6 +29,8 @@ def main():
     executable = chromium_pipe.find_chromium()
     if not executable:
         sys.exit("Chromium is not installed")
+    with open("/proc/loadavg") as load:
+        print(f"load average at the start: {load.read().split()[0]}")
     print(f"| model | links | page MB | open s | fps ({frames} frames) |")
     print("|---|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as temporary, chromium_pipe.Chromium(executable, timeout=600) as browser:
@@ -34,8 +38,11 @@ def main():
         for spec in MODELS:
             name = "-".join(spec)
             model = folder / f"{name}.yaml"
-            model.write_text(subprocess.run([sys.executable, str(HERE / "make_models.py"), *spec],
-                                            capture_output=True, text=True, check=True).stdout)
+            if len(spec) == 1:
+                model = HERE.parent / "examples" / f"{name}.yaml"
+            else:
+                model.write_text(subprocess.run([sys.executable, str(HERE / "make_models.py"), *spec],
+                                                capture_output=True, text=True, check=True).stdout)
             page_file = folder / f"{name}.html"
             subprocess.run([cli, "view", str(model), "-o", str(page_file)], check=True, capture_output=True)
             start = time.monotonic()

@@ -735,3 +735,11 @@ TEST_F(Cli, SweepRecordsWhatItHeldFixedAndCountsLargeDeflections) {
   EXPECT_GE(summary["large_deflection"].get<int>(), 1);
   EXPECT_GT(fs::file_size(folder_ / "m.platform.deflection_trans.png"), 1000u);
 }
+
+TEST_F(Cli, ViewRefusesAScaleThatIsNotPositive) {
+  const fs::path model = write_model("cantilever.yaml", cantilever_model);
+  const CliRun r = run("view " + shell_quoted(model.string()) + " --scale -1");
+  EXPECT_EQ(r.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(r.err, "--scale: expected a positive number, got '-1'")) << r.err;
+  EXPECT_FALSE(fs::exists(folder_ / "cantilever.html"));
+}

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
@@ -189,6 +191,61 @@ TEST(VtkFile, BeamIsCutIntoLinesThatCarryItsDeflectedShape) {
   const std::string pvd = pvd_text({{"a<b", "x&y.vtu"}});
   EXPECT_NE(pvd.find("name=\"a&lt;b\" file=\"x&amp;y.vtu\""), std::string::npos);
   EXPECT_THROW(write_vtk(c.model, c.result, "out.vtk"), UsageError);
+}
+
+}  // namespace
+
+namespace {
+
+// The little-endian 32-bit floats of a base64 text, as the pages read them.
+std::vector<float> floats_of(const std::string& base64) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string bytes;
+  unsigned bits = 0, count = 0;
+  for (const char c : base64) {
+    if (c == '=') break;
+    bits = (bits << 6) | static_cast<unsigned>(alphabet.find(c));
+    count += 6;
+    if (count >= 8) {
+      count -= 8;
+      bytes += static_cast<char>((bits >> count) & 0xff);
+    }
+  }
+  std::vector<float> values(bytes.size() / 4);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::uint32_t word = 0;
+    for (int b = 0; b < 4; ++b) word |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[4 * i + b])) << (8 * b);
+    std::memcpy(&values[i], &word, 4);
+  }
+  return values;
+}
+
+TEST(SweepView, CarriesEachPoseValuesAndEllipsoidsAndEscapesNames) {
+  const ModelFamily family = load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml");
+  SweepOptions options;
+  options.keep_matrices = true;
+  options.threads = 1;
+  SweepResult sweep = stiffmsa::sweep(family, grid_poses({{"x", 0.4, 0.5, 2}, {"y", 0.3, 0.3, 1}}), options);
+  sweep.model = "<img src=x onerror=alert(1)>";
+  const std::string page = sweep_view_html(sweep);
+  EXPECT_EQ(page.find("<img"), std::string::npos);
+  const nlohmann::json data = page_data(page);
+  EXPECT_EQ(data["model"], sweep.model);
+  ASSERT_EQ(data["poses"], 2);
+  const auto column = find_sweep_column(sweep, "platform.k_trans_min");
+  ASSERT_TRUE(column);
+  for (const auto& entry : data["columns"]) {
+    if (entry["name"] != "platform.k_trans_min") continue;
+    const std::vector<float> values = floats_of(entry["values"]);
+    for (std::size_t pose = 0; pose < 2; ++pose)
+      EXPECT_EQ(values.at(pose), static_cast<float>(column_value(sweep, *column, pose)));
+  }
+  const std::vector<float> axes = floats_of(data["ellipsoids"][0]);
+  ASSERT_EQ(axes.size(), 24u);
+  for (std::size_t pose = 0; pose < 2; ++pose) {
+    const PrincipalAxes expected = principal_axes(sweep.results[pose].end_effectors[0].compliance->topLeftCorner<3, 3>());
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(axes[12 * pose + static_cast<std::size_t>(k)], static_cast<float>(expected.compliance(k)));
+  }
 }
 
 }  // namespace

@@ -114,8 +114,8 @@ json deformed_json(const Model& model, const Result* result, const detail::Model
   json deformed = {{"solved", result != nullptr}, {"message", options.not_solved}};
   if (!result) return deformed;
   const std::size_t link_count = model.links.size();
-  const int segments = options.beam_segments.value_or(static_cast<int>(
-      std::clamp<std::size_t>(kMostDeflectionSamples / std::max<std::size_t>(link_count, 1) - 1, 1, kMostBeamSegments)));
+  const auto samples_per_link = static_cast<long>(kMostDeflectionSamples / std::max<std::size_t>(link_count, 1));
+  const int segments = options.beam_segments.value_or(static_cast<int>(std::clamp(samples_per_link - 1, 1L, long{kMostBeamSegments})));
   std::vector<float> displacement;
   displacement.reserve(link_count * static_cast<std::size_t>(segments + 1) * 3);
   std::vector<std::int32_t> known(link_count, 0);

@@ -132,8 +132,12 @@ std::vector<fs::path> write_vtk(const Model& model, const Result& result, const 
     write_file_atomically(file, vtu_text(model, result));
     return {file};
   }
-  if (extension != ".pvd")
-    throw UsageError("'" + file.string() + "': a ParaView file must end in .vtu (one grid) or .pvd (a collection of load cases)");
+  if (extension != ".pvd") {
+    std::string message = "'";  // built in steps: GCC 12 warns wrongly (-Wrestrict) on "'" + string
+    message += file.string();
+    message += "': a ParaView file must end in .vtu (one grid) or .pvd (a collection of load cases)";
+    throw UsageError(message);
+  }
   // The model's loads are its one load case.
   const std::string case_name = "loads";
   const fs::path grid_name = file.stem().string() + "-" + case_name + ".vtu";

@@ -44,6 +44,33 @@ end_effectors:
   "<svg onload=window.stiffmsaInjected=3>": {at: "<b>E</b>"}
 """
 
+# Every kind of link and most joint kinds, held so loosely that it is a mechanism: the page
+# still draws the model, without a deformed shape, and says why.
+KINDS_MODEL = """format: stiffmsa/1
+name: every kind
+points:
+  O: [0, 0, 0]
+  A: [0.5, 0, 0]
+  B: [0.5, 0.4, 0]
+  C: [0.5, 0.4, 0.3]
+  D: [0.9, 0.4, 0.3]
+links:
+  beam: {type: beam, from: O, to: A, material: {E: 2.1e11, nu: 0.3}, section: {shape: rect, b: 0.04, h: 0.06}}
+  casting: {type: compliance, from: A, to: B, C: [[1e-7,0,0,0,0,0],[0,1e-7,0,0,0,0],[0,0,1e-7,0,0,0],[0,0,0,1e-5,0,0],[0,0,0,0,1e-5,0],[0,0,0,0,0,1e-5]]}
+  bar: {type: rigid, from: B, to: C}
+  tool: {type: beam, from: C, to: D, material: {E: 7e10, nu: 0.33}, section: {shape: tube, D: 0.03, t: 0.003}}
+joints:
+  U: {type: universal, at: A, links: [beam, casting], axes: [[0, 0, 1], [0, 1, 0]], stiffness: [[1e4, 0], [0, 1e4]]}
+  Z: {type: cylindrical, at: B, links: [casting, bar], axis: [0, 0, 1]}
+  P: {type: planar, at: C, links: [bar, tool], normal: [0, 0, 1]}
+supports:
+  ground: {type: spherical, at: O}
+loads:
+  - {at: D, wrench: [0, 0, -50, 0, 0, 0]}
+end_effectors:
+  tip: {at: D}
+"""
+
 failures = []
 
 
@@ -91,15 +118,15 @@ def page_errors(page, label):
     check(not outside, f"{label}: the page asked for {outside}")
 
 
-def view(cli, model, html, *extra):
-    run = subprocess.run([cli, "view", str(model), "-o", str(html), *extra], capture_output=True, text=True)
-    check(run.returncode == 0, f"stiffmsa view {model}: exit {run.returncode}: {run.stderr}")
-    return run.returncode == 0
+def view(cli, model, html, expected_exit=0):
+    run = subprocess.run([cli, "view", str(model), "-o", str(html)], capture_output=True, text=True)
+    check(run.returncode == expected_exit, f"stiffmsa view {model}: exit {run.returncode}: {run.stderr}")
+    return html.exists()
 
 
-def check_model_page(browser, cli, model, folder, screenshots, shot_name, loaded=True):
+def check_model_page(browser, cli, model, folder, screenshots, shot_name, loaded=True, expected_exit=0):
     html = folder / (pathlib.Path(model).stem + ".html")
-    if not view(cli, model, html):
+    if not view(cli, model, html, expected_exit):
         return
     page = open_page(browser, html)
     page_errors(page, str(model))
@@ -121,6 +148,17 @@ def check_model_page(browser, cli, model, folder, screenshots, shot_name, loaded
         check(changed > 0.002, f"{model}: the drawing does not change with the deformation scale ({changed:.3%})")
 
 
+def check_stiffness_ellipsoids(browser, html):
+    """The ellipsoids switched to stiffness, with every name labelled: drawn without error."""
+    page = open_page(browser, html, "#ellipsoid=stiffness&names=1")
+    page_errors(page, "stiffness ellipsoids")
+    panel = page.evaluate("document.getElementById('effectors').textContent")
+    check("translational stiffness (N/m)" in panel, f"the panel does not list principal stiffnesses: {panel!r}")
+    labels = page.evaluate("document.querySelectorAll('#labels .label').length")
+    check(labels > 10, f"names on: only {labels} labels")
+    page.close()
+
+
 def check_hostile_names(browser, cli, folder):
     model = folder / "hostile.yaml"
     model.write_text(HOSTILE_MODEL)
@@ -133,6 +171,14 @@ def check_hostile_names(browser, cli, folder):
     check(page.evaluate("document.querySelectorAll('img, svg, [onerror], [onload]').length") == 0, "a name from the model became an element")
     labels = page.evaluate("document.getElementById('labels').textContent")
     check("<img src=x onerror=window.stiffmsaInjected=1>" in labels, f"the link's name is not shown as text: {labels!r}")
+    # The mouse on the end effector: its name in the tooltip, as text.
+    where = page.evaluate("stiffmsaScreenOf('<b>E</b>')")
+    page.send("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": where["x"], "y": where["y"]})
+    page.next_frames()
+    tooltip = page.evaluate("document.getElementById('tooltip').hidden ? '' : document.getElementById('tooltip').textContent")
+    check(tooltip.startswith("end effector <svg onload=window.stiffmsaInjected=3>\nat <b>E</b>"),
+          f"hovering the end effector does not name it: {tooltip!r}")
+    check(page.evaluate("window.stiffmsaInjected") is None, "hovering ran a name from the model")
     title = page.evaluate("document.getElementById('title').textContent")
     check(title == "</script><script>window.stiffmsaInjected = 2</script>", f"the model's name is not the title: {title!r}")
     page.close()
@@ -147,7 +193,11 @@ def check_sweep_map(browser, cli, source, folder, screenshots):
         return
     html = csv.with_suffix(".html")
     page = open_page(browser, html)
-    page.evaluate("stiffmsaShowPose(0)")
+    # The mouse over the map, as a user moves it: the panel shows the pose under it.
+    page.send("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": 600, "y": 200})
+    page.next_frames()
+    pose = page.evaluate("document.querySelector('#pose td') && document.querySelector('#pose td').textContent")
+    check(pose not in (None, "1"), f"the sweep map does not follow the mouse (pose {pose!r})")
     page_errors(page, "sweep map")
     rows = page.evaluate("document.querySelectorAll('#pose tr').length")
     check(rows > 5, f"the sweep map shows no row of values for a pose ({rows} rows)")
@@ -187,6 +237,11 @@ def main():
                  (examples / "cantilever.yaml", None, True)]
         for model, shot_name, loaded in pages:
             check_model_page(browser, args.cli, model, folder, args.screenshots, shot_name, loaded)
+        check_stiffness_ellipsoids(browser, folder / "industrial-6axis.html")
+        kinds = folder / "every-kind.yaml"
+        kinds.write_text(KINDS_MODEL)
+        check_model_page(browser, args.cli, kinds, folder, args.screenshots, "viewer-every-kind.png", loaded=False,
+                         expected_exit=1)
         check_hostile_names(browser, args.cli, folder)
         check_sweep_map(browser, args.cli, args.source, folder, args.screenshots)
     if failures:

@@ -90,7 +90,9 @@
 
   // ---- the scene -----------------------------------------------------------------------
   var container = document.getElementById('scene');
-  var renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  // Antialiasing (multisampling) costs a software renderer most of its time: robots get it, large
+  // models do not (the 1 000-link chain in headless Chromium: 1.6 frames per second with it, 13 without).
+  var renderer = new THREE.WebGLRenderer({ antialias: linkCount <= 200 });
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   renderer.setSize(window.innerWidth, window.innerHeight);
   renderer.setClearColor(0xf4f5f7);
@@ -129,7 +131,7 @@
     var usable = Math.min(1, (window.innerWidth - panelWidth) / window.innerHeight);
     var radius = 0.5 * high.distanceTo(low) || size / 2;
     controls.target.copy(centre);
-    camera.position.copy(centre).addScaledVector(direction, 1.05 * radius / Math.sin(Math.atan(Math.tan(halfAngle) * usable)));
+    camera.position.copy(centre).addScaledVector(direction, 1.15 * radius / Math.sin(Math.atan(Math.tan(halfAngle) * usable)));
     frameView();
     controls.update();
   }
@@ -140,12 +142,45 @@
     return new THREE.MeshPhongMaterial(parameters);
   }
 
-  // One InstancedMesh per geometry and colour: a 100 000-link chain is a few draw calls.
-  function instanced(geometry, mat, matrices) {
-    var mesh = new THREE.InstancedMesh(geometry, mat, Math.max(matrices.length, 1));
-    mesh.count = matrices.length;
-    for (var k = 0; k < matrices.length; ++k) mesh.setMatrixAt(k, matrices[k]);
-    mesh.instanceMatrix.needsUpdate = true;
+  // One mesh per shape and colour, whatever the number of links: the shape's copies placed by
+  // their matrices and merged into one geometry. (Software WebGL, as in headless Chromium,
+  // pays per instance of an InstancedMesh: 9 000 small boxes drew at 1.5 frames per second
+  // instanced and at 9.7 merged, bench/README.md.)
+  function fillMerged(target, geometry, matrices) {
+    var source = geometry.attributes.position.array, sourceNormal = geometry.attributes.normal.array;
+    var perCopy = source.length;
+    var positions = target.attributes.position.array, normals = target.attributes.normal.array;
+    var normalMatrix = new THREE.Matrix3(), v = new THREE.Vector3();
+    for (var k = 0; k < matrices.length; ++k) {
+      normalMatrix.getNormalMatrix(matrices[k]);
+      for (var i = 0; i < perCopy; i += 3) {
+        v.set(source[i], source[i + 1], source[i + 2]).applyMatrix4(matrices[k]);
+        positions[k * perCopy + i] = v.x; positions[k * perCopy + i + 1] = v.y; positions[k * perCopy + i + 2] = v.z;
+        v.set(sourceNormal[i], sourceNormal[i + 1], sourceNormal[i + 2]).applyMatrix3(normalMatrix).normalize();
+        normals[k * perCopy + i] = v.x; normals[k * perCopy + i + 1] = v.y; normals[k * perCopy + i + 2] = v.z;
+      }
+    }
+    target.attributes.position.needsUpdate = true;
+    target.attributes.normal.needsUpdate = true;
+    target.setDrawRange(0, (geometry.index ? geometry.index.count : source.length / 3) * matrices.length);
+  }
+  function mergedGeometry(geometry, copies) {
+    var vertices = geometry.attributes.position.count;
+    var merged = new THREE.BufferGeometry();
+    merged.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * vertices * copies), 3));
+    merged.setAttribute('normal', new THREE.BufferAttribute(new Float32Array(3 * vertices * copies), 3));
+    var order = geometry.index ? geometry.index.array : null;
+    var perCopy = order ? order.length : vertices;
+    var index = new (vertices * copies > 65535 ? Uint32Array : Uint16Array)(perCopy * copies);
+    for (var k = 0; k < copies; ++k)
+      for (var i = 0; i < perCopy; ++i) index[k * perCopy + i] = k * vertices + (order ? order[i] : i);
+    merged.setIndex(new THREE.BufferAttribute(index, 1));
+    return merged;
+  }
+  function placed(geometry, mat, matrices) {
+    var merged = mergedGeometry(geometry, matrices.length);
+    fillMerged(merged, geometry, matrices);
+    var mesh = new THREE.Mesh(merged, mat);
     mesh.frustumCulled = false;
     return mesh;
   }
@@ -216,10 +251,10 @@
       }
     }
     if (solidLinks) {
-      if (round.length) groups.model.add(instanced(tubeGeometry, linkMaterials.beam, round));
-      if (square.length) groups.model.add(instanced(unitBox, linkMaterials.beam, square));
-      if (rigid.length) groups.model.add(instanced(unitBox, linkMaterials.rigid, rigid));
-      if (cad.length) groups.model.add(instanced(unitBox, linkMaterials.cad, cad));
+      if (round.length) groups.model.add(placed(tubeGeometry, linkMaterials.beam, round));
+      if (square.length) groups.model.add(placed(unitBox, linkMaterials.beam, square));
+      if (rigid.length) groups.model.add(placed(unitBox, linkMaterials.rigid, rigid));
+      if (cad.length) groups.model.add(placed(unitBox, linkMaterials.cad, cad));
     }
     // The centre lines, so that a link thinner than a pixel still shows.
     var lines = new THREE.BufferGeometry();
@@ -268,8 +303,8 @@
       });
     }
     for (var key in buckets)
-      groups.model.add(instanced(buckets[key].glyph.geometry, roleMaterials[buckets[key].role], buckets[key].matrices));
-    if (pyramids.length) groups.model.add(instanced(new THREE.ConeBufferGeometry(0.5, 1, 4), material(colours.support), pyramids));
+      groups.model.add(placed(buckets[key].glyph.geometry, roleMaterials[buckets[key].role], buckets[key].matrices));
+    if (pyramids.length) groups.model.add(placed(new THREE.ConeBufferGeometry(0.5, 1, 4), material(colours.support), pyramids));
   }
   drawConnections(data.joints, false);
   drawConnections(data.supports, true);
@@ -298,7 +333,7 @@
         var length = Math.max(longest * magnitude / item[2], 2.5 * markerSize);
         var tail = tip.clone().addScaledVector(direction, -length - 0.6 * markerSize);
         var end = tip.clone().addScaledVector(direction, -0.6 * markerSize);
-        shafts[item[0]].push(tail, end);
+        shafts[item[0]].push(pieceMatrix(tail, end, 0.35 * markerSize, 0.35 * markerSize));
         heads[item[0]].push(placedMatrix(end.clone().addScaledVector(direction, -0.7 * markerSize), direction, 1.1 * markerSize, 1.4 * markerSize));
         if (item[0] === 'moment')  // a double head: a moment vector
           heads.moment.push(placedMatrix(end.clone().addScaledVector(direction, -1.9 * markerSize), direction, 1.1 * markerSize, 1.4 * markerSize));
@@ -307,9 +342,9 @@
     var cone = new THREE.ConeBufferGeometry(0.5, 1, 12);
     ['force', 'moment'].forEach(function (what) {
       if (!shafts[what].length) return;
-      groups.loads.add(new THREE.LineSegments(new THREE.BufferGeometry().setFromPoints(shafts[what]),
-                                              new THREE.LineBasicMaterial({ color: colours[what] })));
-      groups.loads.add(instanced(cone, material(colours[what]), heads[what]));
+      var look = material(colours[what], { side: THREE.DoubleSide });
+      groups.loads.add(placed(pieceGeometry, look, shafts[what]));
+      groups.loads.add(placed(cone, look, heads[what]));
     });
   })();
 
@@ -318,7 +353,7 @@
     return placedMatrix(pointVector(e.at), null, 1.5 * markerSize, 1.5 * markerSize);
   });
   if (effectorMarkers.length)
-    groups.model.add(instanced(new THREE.OctahedronBufferGeometry(0.7), material(colours.effector), effectorMarkers));
+    groups.model.add(placed(new THREE.OctahedronBufferGeometry(0.7), material(colours.effector), effectorMarkers));
 
   var ellipsoidKind = options.ellipsoid === 'stiffness' ? 'stiffness' : 'compliance';
   var unitSphere = new THREE.SphereBufferGeometry(1, 36, 18);
@@ -381,12 +416,12 @@
       lines.frustumCulled = false;
       groups.deformed.add(lines);
     } else if (!asLines && !deformedMesh) {
-      deformedMesh = new THREE.InstancedMesh(pieceGeometry, material(colours.deformed, { side: THREE.DoubleSide }), Math.max(count, 1));
+      deformedMesh = new THREE.Mesh(mergedGeometry(pieceGeometry, count), material(colours.deformed, { side: THREE.DoubleSide }));
       deformedMesh.frustumCulled = false;
       groups.deformed.add(deformedMesh);
     }
     var positions = asLines ? deformedLines.attributes.position.array : null;
-    var instance = 0, a = new THREE.Vector3(), b = new THREE.Vector3(), start = new THREE.Vector3(), chord = new THREE.Vector3();
+    var instance = 0, pieces = [], a = new THREE.Vector3(), b = new THREE.Vector3(), start = new THREE.Vector3(), chord = new THREE.Vector3();
     for (k = 0; k < linkCount; ++k) {
       if (!known[k]) continue;
       start.copy(pointVector(ends[2 * k]));
@@ -400,14 +435,11 @@
         b.copy(start).addScaledVector(chord, (s + 1) / segments);
         b.x += scale * displacement[base + 3 * s + 3]; b.y += scale * displacement[base + 3 * s + 4]; b.z += scale * displacement[base + 3 * s + 5];
         if (asLines) positions.set([a.x, a.y, a.z, b.x, b.y, b.z], 6 * instance++);
-        else deformedMesh.setMatrixAt(instance++, pieceMatrix(a, b, 2 * radius, 2 * radius));
+        else pieces.push(pieceMatrix(a, b, 2 * radius, 2 * radius));
       }
     }
     if (asLines) deformedLines.attributes.position.needsUpdate = true;
-    else {
-      deformedMesh.count = instance;
-      deformedMesh.instanceMatrix.needsUpdate = true;
-    }
+    else fillMerged(deformedMesh.geometry, pieceGeometry, pieces);
   }
 
   // ---- the panel ------------------------------------------------------------------------
@@ -581,14 +613,16 @@
   var mostLabels = 300;
   var labelLayer = document.getElementById('labels');
   var labelled = [];
+  var namesNote = notes.appendChild(element('div'));
   function buildLabels() {
     labelLayer.textContent = '';
     labelled = [];
+    namesNote.textContent = '';
     if (!namesBox.checked) return;
     // Points are named by what stands on them, so a point with a joint is not named twice.
-    var taken = {};
+    var taken = {}, stopped = false;
     pickables.forEach(function (item) {
-      if (labelled.length >= mostLabels) return;
+      if (labelled.length >= mostLabels) { stopped = true; return; }
       var key = item.position.toArray().join(',');
       if (item.kind === 'point' && taken[key]) return;
       taken[key] = true;
@@ -598,7 +632,7 @@
       labelLayer.appendChild(label);
       labelled.push({ item: item, node: label });
     });
-    if (labelled.length < pickables.length) notes.appendChild(element('div', 'names shown: the first ' + labelled.length + '; hover for the others'));
+    namesNote.textContent = stopped ? 'names shown: the first ' + labelled.length + '; hover for the others' : '';
   }
   var projected = new THREE.Vector3();
   function screenOf(position) {
@@ -684,6 +718,12 @@
       }
       requestAnimationFrame(step);
     });
+  };
+
+  // Where a named point is drawn on the screen, for tests that move the mouse there.
+  window.stiffmsaScreenOf = function (pointName) {
+    var k = data.points.names.indexOf(pointName);
+    return k < 0 ? null : screenOf(pointVector(k));
   };
 
   resetView();

@@ -62,7 +62,7 @@
 
   var canvas = document.getElementById('heatmap');
   var context = canvas.getContext('2d');
-  var margin = { left: 70, right: 90, top: 20, bottom: 50 };
+  var margin = { left: 70, right: 170, top: 20, bottom: 50 };
   var cell = { w: 1, h: 1 };
   function draw() {
     var wrap = document.getElementById('heatmap-wrap');
@@ -100,7 +100,7 @@
     context.font = '12px sans-serif';
     var xName = grid.length ? grid[0].parameter : 'pose', yName = grid.length >= 2 ? grid[1].parameter : '';
     context.fillText(xName + (grid.length ? ' ' + number(grid[0].start) + ' … ' + number(grid[0].stop) : ' 1 … ' + poses),
-                     margin.left, canvas.height - 18);
+                     margin.left, margin.top + height + 30);
     if (yName) {
       context.save();
       context.translate(16, margin.top + height);
@@ -174,11 +174,21 @@
     note.textContent = texts.join('; ') + ' (ellipses scaled to the largest)';
   }
 
+  // The pose under the mouse, outlined over the map.
+  var marker = element('div');
+  marker.style.cssText = 'position:absolute;border:2px solid #fff;outline:1px solid #000;pointer-events:none;display:none';
+  document.getElementById('heatmap-wrap').appendChild(marker);
   canvas.addEventListener('mousemove', function (event) {
     var rect = canvas.getBoundingClientRect();
     var ix = Math.floor((event.clientX - rect.left - margin.left) / cell.w);
     var iy = ny - 1 - Math.floor((event.clientY - rect.top - margin.top) / cell.h);
-    if (ix >= 0 && ix < nx && iy >= 0 && iy < ny) showPose(poseAt(ix, iy));
+    if (!(ix >= 0 && ix < nx && iy >= 0 && iy < ny)) return;
+    showPose(poseAt(ix, iy));
+    marker.style.display = '';
+    marker.style.left = (canvas.offsetLeft + margin.left + ix * cell.w - 2) + 'px';
+    marker.style.top = (canvas.offsetTop + margin.top + (ny - 1 - iy) * cell.h - 2) + 'px';
+    marker.style.width = Math.max(cell.w, 2) + 'px';
+    marker.style.height = Math.max(cell.h, 2) + 'px';
   });
   window.addEventListener('resize', draw);
   draw();
