@@ -91,3 +91,22 @@ def test_sections_and_materials_keep_their_numbers():
     assert stiffmsa.Kinematics.planar([0, 0, 1]).free_direction_count == 3
     with pytest.raises(stiffmsa.UsageError):
         stiffmsa.Kinematics.custom([[1, 0, 0]])
+
+
+def test_cantilever_built_in_code_matches_its_closed_forms():
+    E, nu, D, L = 2.1e11, 0.3, 0.05, 1.2
+    model = stiffmsa.Model("rod")
+    model.add_point("root", [0, 0, 0])
+    model.add_point("tip", [L, 0, 0])
+    model.add_beam("rod", "root", "tip", stiffmsa.Material(E=E, nu=nu), stiffmsa.Section.circle(D))
+    model.add_support("clamp", "root", ["rod"])
+    model.add_load("tip", "rod", [0, -100, 0, 0, 0, 0])
+    model.add_end_effector("tool", "tip", "rod")
+    tool = stiffmsa.solve(model).end_effectors["tool"]
+    A, I = np.pi * D**2 / 4, np.pi * D**4 / 64
+    G = E / (2 * (1 + nu))
+    closed = {(0, 0): L / (E * A), (1, 1): L**3 / (3 * E * I), (3, 3): L / (G * 2 * I), (5, 5): L / (E * I),
+              (1, 5): L**2 / (2 * E * I)}
+    for (row, col), value in closed.items():
+        assert tool.compliance[row, col] == pytest.approx(value, rel=1e-9), (row, col)
+    assert tool.deflection[1] == pytest.approx(-100 * L**3 / (3 * E * I), rel=1e-9)
