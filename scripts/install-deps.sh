@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian packages stiffmsa builds with. Safe to run again; needs root (or sudo).
-#   usage: scripts/install-deps.sh [fuzz] [bench] [viewer]
+#   usage: scripts/install-deps.sh [fuzz] [bench] [viewer] [python]
 # With `bench`, also Google Benchmark, valgrind (instruction counts) and GNU time (bench/run.sh,
 # bench/compare.sh, bench/pose_loop.cpp under callgrind); perf for bench/profile.py is not included.
 # With `fuzz`, also clang and its sanitizer and libFuzzer runtimes (scripts/fuzz.sh). The
 # sanitizer build with g++ (scripts/sanitize.sh) needs nothing more: g++ brings libasan and
 # libubsan.
+# With `python`, also what the Python package builds and tests with, Debian's own (pip installs
+# it offline: --no-build-isolation, see docs/python.md): pybind11, numpy, venv, pip, wheel,
+# setuptools, pytest, and matplotlib and pandas for the examples.
 set -euo pipefail
 # libopenblas0-serial: CHOLMOD's supernodal Cholesky (the frame solve) spends its time in BLAS,
 # which Debian otherwise provides as the unoptimised reference BLAS (the 960-beam frame: 22 ms
@@ -21,7 +24,9 @@ for group in "$@"; do
     bench) packages+=(libbenchmark-dev valgrind time python3) ;;
     # The viewer's tests: its pages in headless Chromium, its ParaView files read by meshio.
     viewer) packages+=(chromium python3 python3-meshio python3-numpy) ;;
-    *) echo "install-deps.sh: unknown group '$group' (known: fuzz, bench, viewer)" >&2; exit 2 ;;
+    python) packages+=(python3-dev pybind11-dev python3-pybind11 python3-numpy python3-venv python3-pip
+                       python3-wheel python3-setuptools python3-pytest python3-matplotlib python3-pandas) ;;
+    *) echo "install-deps.sh: unknown group '$group' (known: fuzz, bench, viewer, python)" >&2; exit 2 ;;
   esac
 done
 missing=()

@@ -5,8 +5,14 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 
-bash scripts/install-deps.sh viewer
+bash scripts/install-deps.sh viewer python
 source scripts/build-cache.sh
 cmake -S . -B build -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2
 ctest --test-dir build --output-on-failure
+
+# The Python package, installed as the README shows (offline: Debian's build tools, no index),
+# and its tests against the command just built. pytest's exit code 5 (no tests ran) fails too.
+/usr/bin/python3 -m venv --system-site-packages .venv
+PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1 .venv/bin/pip install --quiet --no-build-isolation .
+STIFFMSA_CLI="$root/build/stiffmsa" .venv/bin/python -m pytest -q -p no:cacheprovider tests/python
