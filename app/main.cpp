@@ -214,7 +214,7 @@ int run(int argc, char** argv) {
 
   if (solve_app->parsed()) return run_solve(solve_command);
   if (view_app->parsed()) {
-    view_command.solve = solve_options(view_solver, view_accept_idle_motions);
+    view_command.solve = solve_options(view_solver, view_accept_idle_motions, {});
     return run_view(view_command);
   }
   if (sweep_app->parsed()) {
