@@ -69,11 +69,14 @@ int run_solve(const SolveCommand& command) {
   }
   if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
   const SolveOptions options = solve_options(command.solver, command.accept_idle_motions, command.direction);
-  // Read as a family, so that the result records the parameters it was solved at.
-  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
-  const Model model = family.build(family.default_values());
+  // Without --set the file is read once, as any model; with it, as a family.
+  const Model model = [&] {
+    if (command.settings.empty()) return load_model(command.model_file, command.limits);
+    const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+    return family.build(family.default_values());
+  }();
   Result result = solve(model, options);
-  result.parameters = family.parameter_values();
+  result.parameters = model.parameters;
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
   const auto vtk_files = command.vtk_file.empty() ? std::vector<fs::path>{} : write_vtk(model, result, command.vtk_file);

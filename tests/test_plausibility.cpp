@@ -370,6 +370,21 @@ TEST(RecordedParameters, SettingsAndDefaultsAreTold) {
     EXPECT_EQ(v.set, v.name == "y") << v.name;
     if (v.name == "y") EXPECT_EQ(v.value, 0.65);
   }
+  // A model built from the family, or loaded at the file's defaults, carries its values.
+  std::vector<double> moved = family.default_values();
+  moved[0] = 0.41;
+  const Model member = family.build(moved);
+  ASSERT_EQ(member.parameters.size(), values.size());
+  EXPECT_EQ(member.parameters[0].name, "x");
+  EXPECT_EQ(member.parameters[0].value, 0.41);
+  EXPECT_EQ(member.parameters[1].value, 0.65);
+  EXPECT_TRUE(member.parameters[1].set);
+  const Model loaded = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml");
+  ASSERT_EQ(loaded.parameters.size(), values.size());
+  EXPECT_EQ(loaded.parameters[1].value, 0.33);
+  EXPECT_FALSE(loaded.parameters[1].set);
+  EXPECT_TRUE(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml").parameters.empty());
+
   Result result = solve(family.build(family.default_values()));
   result.parameters = values;
   const auto json = nlohmann::json::parse(result_to_json(result));

@@ -166,8 +166,20 @@ struct ModelOptions {
   bool accept_idle_motions = false;
 };
 
+// A parameter of a parametric model (parametric.hpp) at the value a model was built for.
+struct ParameterValue {
+  std::string name;
+  double value = 0;
+  std::string unit;  // as the file gives it; may be empty
+  bool set = false;  // given by the user (`--set`), not the file's default
+};
+
 struct Model {
   std::string name = "model";
+  // A model file's `parameters:` at the values this model was built for (the defaults, or
+  // the settings of load_model_family); empty for a file without parameters and API models.
+  // For the record only: the numbers they gave are already in the model.
+  std::vector<ParameterValue> parameters;
   ModelOptions options;
   std::string source_file;  // empty for API models
   std::vector<Point> points;

@@ -95,18 +95,11 @@ struct SolveReport {
   std::string large_deflection;
 };
 
-// A parameter of a parametric model (parametric.hpp) at the value a result was computed for.
-struct ParameterValue {
-  std::string name;
-  double value = 0;
-  std::string unit;  // as the file gives it; may be empty
-  bool set = false;  // given by the user (`--set`), not the file's default
-};
-
 struct Result {
   std::string model;
-  // The parameters of a model built from a family, at their values: filled by the caller that
-  // built it (the stiffmsa command), so that a result tells which member it is. Empty otherwise.
+  // The parameters of a model built from a family, at their values (Model::parameters): filled
+  // by the caller that built it (the stiffmsa command), so that a result tells which member it
+  // is. Empty otherwise.
   std::vector<ParameterValue> parameters;
   // The diagonal of the box around the model's points (at least 1 mm): the lever that makes
   // moments comparable with forces, and rotations with translations.

@@ -722,6 +722,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       parameters_[index].set = true;
     }
   }
+  for (const Parameter& p : parameters_) model_.parameters.push_back({p.name, p.default_value, p.unit, p.set});
   std::vector<Entry> derived_entries;
   for (auto& named : derived ? named_mapping(*derived) : std::vector<Entry>{}) {
     if (auto problem = detail::parameter_name_problem(named.key)) {
@@ -1393,6 +1394,7 @@ Model read_checked(const YamlNode& root, const std::string& file_name, detail::E
                    std::span<const double> values) {
   Loader loader(file_name, expressions, values);
   Model model = loader.read(root);
+  for (std::size_t i = 0; i < values.size() && i < model.parameters.size(); ++i) model.parameters[i].value = values[i];
   auto defects = loader.merge(find_defects(model));
   if (!defects.empty()) throw InputError(std::move(defects));
   return model;
@@ -1505,6 +1507,7 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
       member = bindings->reference;
       last_member = &member;
     }
+    for (std::size_t i = 0; i < values.size() && i < member.parameters.size(); ++i) member.parameters[i].value = values[i];
     auto next = bindings->filled.begin();
     std::size_t index = 0;
     detail::for_each_number(member, [&](double& value) {
