@@ -77,6 +77,27 @@ int run_solve(const SolveCommand& command) {
   return exit_success;
 }
 
+// The plain model a robot block (or any model file) makes at one pose, to see and edit.
+struct ExpandCommand {
+  std::string model_file;
+  std::string output_file;  // empty: standard output
+  std::vector<std::string> settings;
+  LoadLimits limits;
+};
+
+int run_expand(const ExpandCommand& command) {
+  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+  const Model model = family.build(family.default_values());
+  if (command.output_file.empty()) {
+    std::cout << model_to_yaml(model);
+    return exit_success;
+  }
+  if (same_file(command.model_file, command.output_file))
+    throw UsageError("the output file '" + command.output_file + "' is the model file; choose another name for --output");
+  write_model_file(model, command.output_file);
+  return exit_success;
+}
+
 int run_check(const CheckCommand& command) {
   const Model model = load_model(command.model_file, command.limits);
   print_check_summary(std::cout, model.name, check(model));
@@ -180,6 +201,14 @@ int run(int argc, char** argv) {
                       "Solve despite free motions that move no end effector");
   add_limit_options(*sweep_app, sweep_command.limits);
 
+  ExpandCommand expand_command;
+  CLI::App* expand_app = app.add_subcommand(
+      "expand", "Write the plain model (format stiffmsa/1) that a robot block or parameters make at one pose");
+  expand_app->add_option("MODEL", expand_command.model_file, "Model file (YAML or JSON)")->required();
+  expand_app->add_option("-o,--output", expand_command.output_file, "Write the model here (default: standard output)");
+  expand_app->add_option("--set", expand_command.settings, "A parameter's value, NAME=VALUE (repeatable)");
+  add_limit_options(*expand_app, expand_command.limits);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -191,6 +220,7 @@ int run(int argc, char** argv) {
   }
 
   if (solve_app->parsed()) return run_solve(solve_command);
+  if (expand_app->parsed()) return run_expand(expand_command);
   if (sweep_app->parsed()) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions);
     return run_sweep(sweep_command);

@@ -93,13 +93,13 @@ void print_principal_stiffness(std::ostream& out, const Mat6& compliance) {
       << "    against a moment [N·m/rad]:" << stiffness_values(principal.rotational) << '\n';
 }
 
-void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection) {
+void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection, const std::string& under = "the loads") {
   if (!deflection) {
-    out << "  Deflection under the loads: undetermined\n";
+    out << "  Deflection under " << under << ": undetermined\n";
     return;
   }
   const Vec6& d = *deflection;
-  out << "  Deflection under the loads\n";
+  out << "  Deflection under " << under << "\n";
   out << "    translation dx dy dz [m]:  ";
   for (int i = 0; i < 3; ++i) out << scientific(d[i], number_width);
   out << "   magnitude " << scientific(d.head<3>().norm()) << " m\n";
@@ -132,7 +132,8 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
   }
 
   if (e.compliance) print_principal_stiffness(out, *e.compliance);
-  print_deflection(out, e.deflection);
+  print_deflection(out, e.deflection, e.deflection_gravity ? "the loads and self-weight" : "the loads");
+  if (e.deflection_gravity) print_deflection(out, e.deflection_gravity, "self-weight alone");
 }
 
 // The entries with the largest force and the largest moment (which may differ), by norm.

@@ -12,7 +12,8 @@ set -euo pipefail
 # against 12 ms); serial, so that BLAS starts no threads of its own beside the caller's.
 packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev libcli11-dev
           libsuitesparse-dev libopenblas0-serial libmuparser-dev libtbb-dev libcairo2-dev pkg-config
-          libgtest-dev libgmock-dev)
+          libgtest-dev libgmock-dev
+          liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev libconsole-bridge-dev)
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;

@@ -49,6 +49,8 @@ struct EndEffectorResult {
   std::optional<Mat6> compliance;  // Δt_e per unit wrench at e
   std::optional<Mat6> stiffness;   // eq. (21); nullopt where unbounded or undetermined
   std::optional<Vec6> deflection;  // under the model's loads and preloads
+  // Under the self-weight loads alone (Load::self_weight), where the model has any.
+  std::optional<Vec6> deflection_gravity;
 };
 
 // How the solve went: accuracy checks and notes for the user.

@@ -1,6 +1,7 @@
 // The analyses of model-format.md: deflections and wrenches under the model's loads, and the
 // compliance and Cartesian stiffness (paper eqs. 20–21) at every end effector.
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <Eigen/LU>
 #include <cmath>
 #include <sstream>
@@ -241,7 +242,7 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
     const auto& effector = model.end_effectors[e];
     const int end = ws.topology.effector_ends[e];
     result.end_effectors.push_back({effector.name, effector.at, model.links[static_cast<std::size_t>(end / 2)].name,
-                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt});
+                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt, std::nullopt});
   }
   return result;
 }
@@ -599,12 +600,49 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   return result;
 }
 
+
+// What the reader noticed in the model (Model::warnings) comes first among the warnings.
+void add_model_warnings(const Model& model, Result& result) {
+  std::vector<std::string> warnings;
+  for (const Diagnostic& w : model.warnings) warnings.push_back(w.to_string());
+  result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(), warnings.end());
+}
+
+bool has_self_weight(const Model& model) {
+  return std::any_of(model.loads.begin(), model.loads.end(), [](const Load& l) { return l.self_weight; });
+}
+
+// The model under its self-weight loads alone: its other loads and its preloads at zero, so
+// that its topology is the model's.
+Model self_weight_only(const Model& model) {
+  Model weight = model;
+  for (Load& l : weight.loads)
+    if (!l.self_weight) l.wrench.setZero();
+  for (Joint& j : weight.joints)
+    if (j.connection.preload) j.connection.preload->setZero();
+  for (Support& s : weight.supports)
+    if (s.connection.preload) s.connection.preload->setZero();
+  return weight;
+}
+
+void add_gravity_deflections(const Result& weight, Result& result) {
+  for (std::size_t e = 0; e < result.end_effectors.size(); ++e)
+    result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
+}
+
 }  // namespace
 
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
-  return solve_validated(workspace, model, options, true);
+  Result result = solve_validated(workspace, model, options, true);
+  if (has_self_weight(model)) {
+    const Model weight = self_weight_only(model);
+    Workspace weight_workspace(weight);
+    add_gravity_deflections(solve_validated(weight_workspace, weight, options, true), result);
+  }
+  add_model_warnings(model, result);
+  return result;
 }
 
 Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {
@@ -612,7 +650,10 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   const detail::ModelIndex index(model);
   detail::validate(model, index);
   if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
-  return solve_validated(workspace, model, options, false);
+  Result result = solve_validated(workspace, model, options, false);
+  if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
+  add_model_warnings(model, result);
+  return result;
 }
 
 }  // namespace stiffmsa

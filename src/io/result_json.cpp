@@ -169,6 +169,8 @@ void write_result(ResultWriter& out, const Result& result) {
               out.member("compliance", or_null(out, e.compliance, mat6));
               out.member("stiffness", or_null(out, e.stiffness, mat6));
               out.member("deflection", or_null(out, e.deflection, vector));
+              // Only where the model has self-weight loads (a robot block's `gravity:`).
+              if (e.deflection_gravity) out.member("deflection_gravity", [&] { vector(*e.deflection_gravity); });
             });
           });
       });
