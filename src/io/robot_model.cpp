@@ -96,7 +96,14 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
       throw InputError(flexible->origin.location, "robot.links." + link.name,
                        "link '" + link.name + "' is the base, which a rigid support holds: it cannot be flexible");
     frame_ends_[l] = {link.name, link.name, Vec3::Zero()};
-    if (children.empty()) {
+    const bool welded_leaf = children.empty() && li != base_ && link.parent_joint >= 0 &&
+                             !is_movable(tree.joints[static_cast<std::size_t>(link.parent_joint)].type);
+    if (welded_leaf) {
+      // A frame fixed at the end of a chain (ROS's tool0) is a place on its parent's link: the
+      // parent's link end there is its end, and no link of its own costs a solve 24 unknowns.
+      leaf_[l] = true;
+      frame_ends_[l].link = segment_into[static_cast<std::size_t>(link.parent_joint)];
+    } else if (children.empty()) {
       leaf_[l] = true;
       add_point(model, link.name + ".end", li, Vec3::Zero(), link.location);
       model.add_rigid_link(link.name, link.name, link.name + ".end").origin.location = link.location;
@@ -164,24 +171,23 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
   for (std::size_t j = 0; j < tree.joints.size(); ++j) {
     const UrdfJoint& joint = tree.joints[j];
     if (!included_[static_cast<std::size_t>(joint.child)] || !included_[static_cast<std::size_t>(joint.parent)]) continue;
+    // A fixed joint is no joint: the link ends that meet at its point, named by nothing, are welded.
+    if (!is_movable(joint.type)) continue;
     const std::string& at = name_of(joint.child);
+    const JointSpring& spring = block.springs[j];
     Connection c;
-    if (is_movable(joint.type)) {
-      const JointSpring& spring = block.springs[j];
-      if (spring.compliance) {
-        std::vector<Vec6> rows(6, Vec6::Zero());
-        c.kinematics = Kinematics::custom(std::move(rows));
-        c.stiffness = MatX(spring.compliance->inverse());
-      } else {
-        c.kinematics = joint.type == UrdfJointType::prismatic ? Kinematics::prismatic(Vec3::UnitX())
-                                                              : Kinematics::revolute(Vec3::UnitX());
-        c.stiffness = MatX::Constant(1, 1, spring.stiffness);
-      }
+    if (spring.compliance) {
+      c.kinematics = Kinematics::custom(std::vector<Vec6>(6, Vec6::Zero()));  // turned by pose()
+      c.stiffness = MatX(spring.compliance->inverse());
+    } else {
+      c.kinematics = joint.type == UrdfJointType::prismatic ? Kinematics::prismatic(Vec3::UnitX())
+                                                            : Kinematics::revolute(Vec3::UnitX());
+      c.stiffness = MatX::Constant(1, 1, spring.stiffness);
     }
     Joint& made = model.add_joint(joint.name, at, {segment_into[j], at}, std::move(c));
-    made.origin = is_movable(joint.type) ? block.springs[j].origin : Origin{};
+    made.origin = spring.origin;
     made.origin.location = joint.location;
-    if (is_movable(joint.type)) joints_.push_back({model.joints.size() - 1, static_cast<int>(j)});
+    joints_.push_back({model.joints.size() - 1, static_cast<int>(j)});
   }
   model.add_support(name_of(base_), name_of(base_), {}, Connection{}).origin.location =
       tree.links[static_cast<std::size_t>(base_)].location;
