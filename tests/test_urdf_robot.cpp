@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <iterator>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -584,6 +586,45 @@ TEST_F(UrdfRobot, TheSevenAxisArmsPayloadAddsItsComplianceTimesTheLoadToTheSag) 
   const Vec6 expected = *tcp.deflection_gravity + *tcp.compliance * payload;
   EXPECT_LT((*tcp.deflection - expected).norm(), 1e-10 * tcp.deflection->norm());
   EXPECT_GT(tcp.deflection_gravity->head<3>().norm(), 1e-5);  // the sag is the larger part here
+}
+
+
+// Where an expression of the robot block goes through forward kinematics (gravity times the
+// masses here), each member is read afresh: still the robot at those values.
+TEST_F(UrdfRobot, AnExpressionForwardKinematicsTransformsStillGivesEachMember) {
+  std::mt19937 rng(12);
+  auto table = random_arm(rng, false);
+  for (auto& j : table) j.mass = 3;
+  write("arm.urdf", chain_urdf(table));
+  std::ostringstream yaml;
+  yaml << "format: stiffmsa/1\nparameters:\n  g: 9.81\n  q2: 0.5\nrobot:\n  urdf: arm.urdf\n"
+       << "  positions: {joint_2: q2}\n" << joints_block(table) << "  gravity: [0, 0, -g]\n"
+       << "end_effectors:\n  tool: {frame: link_7}\n";
+  const ModelFamily family = load_model_family(write("arm.yaml", yaml.str()));
+  auto builder = family.make_builder();
+  Model member;
+  builder(std::vector<double>{9.81, 0.5}, member);
+  const Vec6 earth = *solve(member).end_effectors[0].deflection_gravity;
+  builder(std::vector<double>{1.62, 0.5}, member);
+  const Vec6 moon = *solve(member).end_effectors[0].deflection_gravity;
+  EXPECT_LT((moon - earth * (1.62 / 9.81)).norm(), 1e-12 * moon.norm());
+}
+
+TEST_F(UrdfRobot, TheExpandCommandWritesAModelThatSolvesToTheSameNumbers) {
+  const std::string robot = std::string(STIFFMSA_SOURCE_DIR) + "/examples/robots/six-axis.yaml";
+  const fs::path out = folder_ / "expanded.yaml";
+  const std::string command = std::string(STIFFMSA_CLI) + " expand " + robot + " --set q3=-0.5 -o " + out.string();
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const ModelFamily family = load_model_family(robot, {}, {{"q3", -0.5}});
+  const Result direct = solve(family.build(family.default_values()));
+  const Result expanded = solve(load_model(out));
+  EXPECT_EQ(*direct.end_effectors[0].compliance, *expanded.end_effectors[0].compliance);
+  EXPECT_EQ(*direct.end_effectors[0].deflection, *expanded.end_effectors[0].deflection);
+  // The expanded model is the robot's, not the file's own text again.
+  std::ifstream text(out);
+  const std::string written((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(written.find("robot:"), std::string::npos);
+  EXPECT_NE(written.find("\"joint_3\": {type: revolute"), std::string::npos);
 }
 
 }  // namespace
