@@ -534,6 +534,20 @@ TEST_F(UrdfErrors, AFlexibleLinkNeedsOneChildJoint) {
                 {"arm.yaml", 6, "robot.links.link_7", "link 'link_7' has 0 child joints: a flexible link runs from its frame's origin"});
 }
 
+// The robot's weights come first among the model's loads; a message about the file's own load
+// still names it as the file does.
+TEST_F(UrdfErrors, ALoadBesideTheWeightsKeepsItsKeyPath) {
+  write("heavy.urdf", chain_urdf([&] {
+          auto heavy = table_;
+          for (auto& j : heavy) j.mass = 2;
+          return heavy;
+        }()));
+  expect_defect([&] {
+    load_model(write("arm.yaml", "format: stiffmsa/1\nrobot:\n  urdf: heavy.urdf\n  default_joint: {stiffness: 1e6}\n"
+                                 "  gravity: [0, 0, -9.81]\nloads:\n  - {at: nowhere, wrench: [1, 0, 0, 0, 0, 0]}\n"));
+  }, {"arm.yaml", 7, "loads[0].at", "no point named 'nowhere'"});
+}
+
 // The URDF's own defects are told at their line in the URDF.
 TEST_F(UrdfErrors, UrdfJointsStiffmsaCannotModelAreNamedAtTheirLine) {
   const std::string robot = "  urdf: bad.urdf\n  default_joint: {stiffness: 1e6}\n";

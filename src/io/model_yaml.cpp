@@ -1129,7 +1129,10 @@ void Loader::read_loads(const Entry& section) {
                 describe(*v.node));
     return;
   }
+  // A robot block's weights come first in the model: its loads[k] is the file's loads[k - first].
+  const std::size_t first = model_.loads.size();
   for (std::size_t i = 0; i < v.node->size(); ++i) {
+    if (first > 0) aliases_.emplace("loads[" + std::to_string(first + i) + "]", "loads[" + std::to_string(i) + "]");
     const Value entry = item(v, i);
     Load load;
     load.origin.location = located(entry.at);
