@@ -567,6 +567,9 @@ TEST_F(UrdfErrors, UrdfJointsStiffmsaCannotModelAreNamedAtTheirLine) {
   expect_defect([&] { load(robot, ""); }, {"bad.urdf", 6, "robot.urdf", "its child link 'd' is not in the URDF"});
   write("bad.urdf", head + "  <joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/>\n</robot>\n");
   expect_defect([&] { load(robot, ""); }, {"bad.urdf", 7, "robot.urdf", "the URDF is not well-formed XML"});
+  write("bad.urdf", head + "  <joint name=\"j1\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 0\"/></joint>\n"
+                           "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/></joint>\n</robot>\n");
+  expect_defect([&] { load(robot, ""); }, {"bad.urdf", 6, "robot.urdf", "axis is a zero vector"});
   write("bad.urdf", head + "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
                            "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/></joint>\n</robot>\n");
   // urdfdom's own check, placed at the joint it names.

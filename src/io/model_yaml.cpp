@@ -1254,6 +1254,7 @@ void Loader::read_robot(const Entry& section) {
   std::optional<detail::JointSpring> default_spring;
   if (const Entry* d = find(e, "default_joint")) default_spring = read_joint_spring(d->value);
   block.springs.assign(tree.joints.size(), {});
+  for (const auto& joint : tree.joints) aliases_.emplace("joints." + joint.name + ".axis", "robot.urdf");  // the URDF's <axis>
   std::vector<bool> sprung(tree.joints.size(), false);
   const Entry* joints = find(e, "joints");
   if (joints)

@@ -123,7 +123,8 @@ class UrdfReader {
     document.Parse(text_.c_str());
     if (document.Error())
       throw InputError({file_, document.ErrorRow(), document.ErrorCol()}, kUrdfKey,
-                       std::string("the URDF is not well-formed XML: ") + document.ErrorDesc());
+                       std::string("the URDF is not well-formed XML (a URDF is an XML file whose root element is <robot>): ") +
+                           document.ErrorDesc());
     const TiXmlElement* robot = document.RootElement();
     if (!robot || std::string(robot->Value()) != "robot")
       throw InputError({file_, robot ? robot->Row() : 1, robot ? robot->Column() : 1}, kUrdfKey,
