@@ -134,6 +134,7 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
   if (e.compliance) print_principal_stiffness(out, *e.compliance);
   print_deflection(out, e.deflection, e.deflection_gravity ? "the loads and self-weight" : "the loads");
   if (e.deflection_gravity) print_deflection(out, e.deflection_gravity, "self-weight alone");
+  if (e.in_own_axes) print_deflection(out, e.in_own_axes->deflection, "the same loads, in the end effector's own axes");
 }
 
 // The entries with the largest force and the largest moment (which may differ), by norm.

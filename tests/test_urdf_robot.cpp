@@ -217,11 +217,20 @@ TEST_F(UrdfRobot, ComplianceAtRandomAnglesIsTheVirtualJointMethods) {
     std::ostringstream yaml;
     yaml.precision(17);
     yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << joints_block(table)
-         << "end_effectors:\n  flange: {frame: link_6}\n  tool: {frame: link_7, offset: [" << offset.x() << ", "
+         << "end_effectors:\n  flange: {frame: link_6, axes: frame}\n  tool: {frame: link_7, offset: [" << offset.x() << ", "
          << offset.y() << ", " << offset.z() << "]}\n";
     const Model model = load_model(write("arm.yaml", yaml.str()));
     const Result result = solve(model);
     const ChainFrames k = forward(table, q);
+    // The flange's results in its own axes are the world's turned into them.
+    ASSERT_TRUE(result.end_effectors[0].in_own_axes);
+    Mat6 turn = Mat6::Zero();
+    turn.topLeftCorner<3, 3>() = k.rotation[5];
+    turn.bottomRightCorner<3, 3>() = k.rotation[5];
+    EXPECT_LT((result.end_effectors[0].in_own_axes->axes - k.rotation[5]).norm(), 1e-12);
+    EXPECT_LT(relative_difference(*result.end_effectors[0].in_own_axes->compliance,
+                                  turn.transpose() * *result.end_effectors[0].compliance * turn),
+              1e-12);
     const Vec3 flange = k.origin[5];
     const Vec3 tcp = k.origin[6] + k.rotation[6] * offset;
     for (const auto& [e, point] : {std::pair{0, flange}, std::pair{1, tcp}}) {

@@ -155,6 +155,8 @@ struct EndEffector {
   std::string name;
   std::string at;
   std::optional<std::string> link;
+  // Results in these axes too (columns: the axes in world axes), e.g. a robot frame's.
+  std::optional<Mat3> axes;
   Origin origin;
 };
 

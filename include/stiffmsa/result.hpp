@@ -51,6 +51,13 @@ struct EndEffectorResult {
   std::optional<Vec6> deflection;  // under the model's loads and preloads
   // Under the self-weight loads alone (Load::self_weight), where the model has any.
   std::optional<Vec6> deflection_gravity;
+  // The same in the end effector's own axes, where the model gives them (EndEffector::axes).
+  struct InAxes {
+    Mat3 axes = Mat3::Identity();
+    std::optional<Mat6> compliance, stiffness;
+    std::optional<Vec6> deflection, deflection_gravity;
+  };
+  std::optional<InAxes> in_own_axes;
 };
 
 // How the solve went: accuracy checks and notes for the user.

@@ -242,7 +242,7 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
     const auto& effector = model.end_effectors[e];
     const int end = ws.topology.effector_ends[e];
     result.end_effectors.push_back({effector.name, effector.at, model.links[static_cast<std::size_t>(end / 2)].name,
-                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt, std::nullopt});
+                                    static_cast<LinkEnd>(end % 2), std::nullopt, std::nullopt, std::nullopt, std::nullopt, std::nullopt});
   }
   return result;
 }
@@ -608,6 +608,23 @@ void add_model_warnings(const Model& model, Result& result) {
   result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(), warnings.end());
 }
 
+// Each result of an end effector with axes of its own, turned into them too.
+void add_results_in_own_axes(const Model& model, Result& result) {
+  for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
+    if (!model.end_effectors[e].axes) continue;
+    EndEffectorResult& r = result.end_effectors[e];
+    EndEffectorResult::InAxes in{*model.end_effectors[e].axes, {}, {}, {}, {}};
+    Mat6 turn = Mat6::Zero();  // own-axes components into world components
+    turn.topLeftCorner<3, 3>() = in.axes;
+    turn.bottomRightCorner<3, 3>() = in.axes;
+    if (r.compliance) in.compliance = turn.transpose() * *r.compliance * turn;
+    if (r.stiffness) in.stiffness = turn.transpose() * *r.stiffness * turn;
+    if (r.deflection) in.deflection = turn.transpose() * *r.deflection;
+    if (r.deflection_gravity) in.deflection_gravity = turn.transpose() * *r.deflection_gravity;
+    r.in_own_axes = in;
+  }
+}
+
 bool has_self_weight(const Model& model) {
   return std::any_of(model.loads.begin(), model.loads.end(), [](const Load& l) { return l.self_weight; });
 }
@@ -641,6 +658,7 @@ Result solve(const Model& model, const SolveOptions& options) {
     Workspace weight_workspace(weight);
     add_gravity_deflections(solve_validated(weight_workspace, weight, options, true), result);
   }
+  add_results_in_own_axes(model, result);
   add_model_warnings(model, result);
   return result;
 }
@@ -652,6 +670,7 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
   Result result = solve_validated(workspace, model, options, false);
   if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
+  add_results_in_own_axes(model, result);
   add_model_warnings(model, result);
   return result;
 }

@@ -60,7 +60,7 @@ const KeyList kRobotKeys{"urdf", "base", "positions", "joints", "default_joint",
 const KeyList kRobotJointKeys{"stiffness", "compliance"};
 const KeyList kRobotLinkKeys{"material", "section", "shear"};
 const KeyList kFrameLoadKeys{"frame", "wrench", "offset", "axes"};
-const KeyList kFrameEndEffectorKeys{"frame", "offset"};
+const KeyList kFrameEndEffectorKeys{"frame", "offset", "axes"};
 const KeyList kFrameAxes{"world", "frame"};
 // A 6×6 joint compliance is symmetric to this relative tolerance (a file's rounding).
 constexpr double kComplianceSymmetryTolerance = 1e-9;
@@ -1175,8 +1175,10 @@ void Loader::read_end_effectors(const Entry& section) {
       const auto link = robot_frame(*frame);
       std::optional<Vec3> offset;
       if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
+      bool frame_axes = false;
+      if (const Entry* a = find(e, "axes")) frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
       if (link && robot_)
-        if (auto problem = robot_->add_end_effector(named.key, *link, offset, ee.origin, model_))
+        if (auto problem = robot_->add_end_effector(named.key, *link, offset, frame_axes, ee.origin, model_))
           fail(frame->value, *problem);
       continue;
     }

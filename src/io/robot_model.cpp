@@ -196,18 +196,21 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
 }
 
 std::optional<std::string> RobotLayout::add_end_effector(std::string name, int frame, const std::optional<Vec3>& offset,
-                                                         Origin origin, Model& model) {
+                                                         bool frame_axes, Origin origin, Model& model) {
   const FrameEnd& end = frame_ends_[static_cast<std::size_t>(frame)];
   const std::string& frame_name = tree_->links[static_cast<std::size_t>(frame)].name;
   if (!in_robot(frame)) return "frame '" + frame_name + "' lies above the base '" + tree_->links[static_cast<std::size_t>(base_)].name + "'";
+  if (frame_axes) effectors_.push_back({model.end_effectors.size(), frame});
   if (!offset) {
     EndEffector& e = model.add_end_effector(std::move(name), end.point, end.link);
     e.origin = std::move(origin);
     return std::nullopt;
   }
-  if (!leaf_[static_cast<std::size_t>(frame)])
+  if (!leaf_[static_cast<std::size_t>(frame)]) {
+    if (frame_axes) effectors_.pop_back();
     return "an offset needs a frame at the end of a chain, where nothing else is attached; '" + frame_name +
            "' has child joints (ROS URDFs attach a `tool0` link by a fixed joint for this)";
+  }
   const std::string tcp = name + ".tcp";
   add_point(model, tcp, frame, *offset, origin.location);
   model.add_rigid_link(tcp, end.point, tcp).origin.location = origin.location;
@@ -248,6 +251,7 @@ void RobotLayout::pose(std::span<const double> positions, Model& model) const {
       k.axis = r * joint.axis;
     }
   }
+  for (const TurningEffector& e : effectors_) model.end_effectors[e.effector].axes = frame(e.link).rotation;
   for (const TurningBeam& b : beams_)
     std::get<BeamLink>(model.links[b.link].kind).zref = frame(b.urdf_link).rotation * b.zref;
   for (const CarriedLoad& l : loads_) {

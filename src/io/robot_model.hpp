@@ -49,8 +49,9 @@ class RobotLayout {
 
   // An end effector at the origin of URDF link `frame`, moved by `offset` in the frame's axes.
   // Returns what is wrong, if anything.
+  // With `frame_axes`, its results are given in the frame's axes too.
   std::optional<std::string> add_end_effector(std::string name, int frame, const std::optional<Vec3>& offset,
-                                              Origin origin, Model& model);
+                                              bool frame_axes, Origin origin, Model& model);
   // A load on URDF link `frame` at its origin moved by `offset` (frame axes); the wrench is in
   // world axes, or with `frame_axes` in the frame's.
   std::optional<std::string> add_load(int frame, const Vec6& wrench, const std::optional<Vec3>& offset, bool frame_axes,
@@ -83,6 +84,10 @@ class RobotLayout {
     Vec6 wrench;   // as given
     bool frame_axes = false;
   };
+  struct TurningEffector {
+    std::size_t effector;
+    int link;
+  };
   struct FrameEnd {
     std::string point, link;
     Vec3 local = Vec3::Zero();  // the point in the frame
@@ -101,6 +106,7 @@ class RobotLayout {
   std::vector<TurningJoint> joints_;
   std::vector<TurningBeam> beams_;
   std::vector<CarriedLoad> loads_;
+  std::vector<TurningEffector> effectors_;
 };
 
 }  // namespace stiffmsa::detail

@@ -152,7 +152,7 @@ Load& Model::add_load(std::string at, std::optional<std::string> link, const Vec
 }
 EndEffector& Model::add_end_effector(std::string name, std::string at,
                                      std::optional<std::string> link) {
-  end_effectors.push_back(EndEffector{std::move(name), std::move(at), std::move(link), {}});
+  end_effectors.push_back(EndEffector{std::move(name), std::move(at), std::move(link), std::nullopt, {}});
   return end_effectors.back();
 }
 
