@@ -85,6 +85,27 @@ int run_solve(const SolveCommand& command) {
   return exit_success;
 }
 
+// The plain model a robot block (or any model file) makes at one pose, to see and edit.
+struct ExpandCommand {
+  std::string model_file;
+  std::string output_file;  // empty: standard output
+  std::vector<std::string> settings;
+  LoadLimits limits;
+};
+
+int run_expand(const ExpandCommand& command) {
+  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+  const Model model = family.build(family.default_values());
+  if (command.output_file.empty()) {
+    std::cout << model_to_yaml(model);
+    return exit_success;
+  }
+  if (same_file(command.model_file, command.output_file))
+    throw UsageError("the output file '" + command.output_file + "' is the model file; choose another name for --output");
+  write_model_file(model, command.output_file);
+  return exit_success;
+}
+
 int run_check(const CheckCommand& command) {
   const Model model = load_model(command.model_file, command.limits);
   print_check_summary(std::cout, model, check(model), find_implausible_values(model));
@@ -204,6 +225,13 @@ int run(int argc, char** argv) {
   add_solver_option(*view_app, view_solver);
   view_app->add_flag("--accept-idle-motions", view_accept_idle_motions, "As for solve");
   add_limit_options(*view_app, view_command.limits);
+  ExpandCommand expand_command;
+  CLI::App* expand_app = app.add_subcommand(
+      "expand", "Write the plain model (format stiffmsa/1) that a robot block or parameters make at one pose");
+  expand_app->add_option("MODEL", expand_command.model_file, "Model file (YAML or JSON)")->required();
+  expand_app->add_option("-o,--output", expand_command.output_file, "Write the model here (default: standard output)");
+  expand_app->add_option("--set", expand_command.settings, "A parameter's value, NAME=VALUE (repeatable)");
+  add_limit_options(*expand_app, expand_command.limits);
 
   try {
     app.parse(argc, argv);
@@ -220,6 +248,7 @@ int run(int argc, char** argv) {
     view_command.solve = solve_options(view_solver, view_accept_idle_motions, {});
     return run_view(view_command);
   }
+  if (expand_app->parsed()) return run_expand(expand_command);
   if (sweep_app->parsed()) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions, sweep_direction);
     return run_sweep(sweep_command);

@@ -125,13 +125,13 @@ void print_directional_stiffness(std::ostream& out, const DirectionalStiffness& 
       << "    against a moment about it [N·m/rad]: " << stiffness_or_unbounded(along.rotational) << '\n';
 }
 
-void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection) {
+void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection, const std::string& under = "the loads") {
   if (!deflection) {
-    out << "  Deflection under the loads: undetermined\n";
+    out << "  Deflection under " << under << ": undetermined\n";
     return;
   }
   const Vec6& d = *deflection;
-  out << "  Deflection under the loads\n";
+  out << "  Deflection under " << under << "\n";
   out << "    translation dx dy dz [m]:  ";
   for (int i = 0; i < 3; ++i) out << scientific(d[i], number_width);
   out << "   magnitude " << scientific(d.head<3>().norm()) << " m\n";
@@ -208,7 +208,9 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
 
   if (e.compliance) print_principal_stiffness(out, *e.compliance);
   if (e.along_direction) print_directional_stiffness(out, *e.along_direction);
-  print_deflection(out, e.deflection);
+  print_deflection(out, e.deflection, e.deflection_gravity ? "the loads and self-weight" : "the loads");
+  if (e.deflection_gravity) print_deflection(out, e.deflection_gravity, "self-weight alone");
+  if (e.in_own_axes) print_deflection(out, e.in_own_axes->deflection, "the same loads, in the end effector's own axes");
 }
 
 // Below this fraction of the wrenches' scale (the largest force times the model's size, or the

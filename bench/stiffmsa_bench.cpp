@@ -21,6 +21,12 @@
 //   <robot>/stage:tree_check      detail::check_block_by_block: residual of every block
 //   <robot>/dense_lu              the same pipeline with Eigen::PartialPivLU on the assembled
 //                                 system as a dense matrix: the naive baseline
+//   urdf_6axis/pose_from_joint_angles  a URDF six-axis robot (examples/robots/six-axis.urdf, its
+//                                 upper arm and forearm flexible as in the 6-axis example)
+//                                 posed from six joint angles: the family's builder (forward
+//                                 kinematics, numbers written into the member) and
+//                                 stiffmsa::solve(Workspace&, member), per pose
+//   urdf_6axis/build              the builder alone
 //   6axis/vjm_floor               closed-form VJM compliance C = Σ J_i·k_i⁻¹·J_iᵀ and K = C⁻¹
 //   chain/solve/S/N               stiffmsa::solve(model) from scratch, N beam links
 //   chain/resolve/S/N             stiffmsa::solve(Workspace&, model), workspace reused (N ≤ 10 000)
@@ -190,6 +196,67 @@ void public_solve(benchmark::State& state, const Robot& robot, SolverKind kind, 
   state.counters["nnz"] = static_cast<double>(robot.matrices.front().nonZeros());
   state.counters["c_diff"] = difference;
   state.counters["residual"] = residual;
+}
+
+// ---- robots from URDF files, posed in joint space -----------------------------------------
+
+// The URDF six-axis robot with every joint a parameter; read as if it stood beside the URDF.
+constexpr const char* kUrdfJointSpace = R"(format: stiffmsa/1
+parameters: {q1: 0, q2: 0.3, q3: 0.4, q4: 0, q5: 0.9, q6: 0}
+materials:
+  steel: {E: 2.1e11, nu: 0.3}
+  aluminium: {E: 7.0e10, nu: 0.33}
+robot:
+  urdf: six-axis.urdf
+  positions: {joint_1: q1, joint_2: q2, joint_3: q3, joint_4: q4, joint_5: q5, joint_6: q6}
+  joints:
+    joint_1: {stiffness: 2.0e6}
+    joint_2: {stiffness: 3.5e6}
+    joint_3: {stiffness: 1.6e6}
+    joint_4: {stiffness: 4.0e5}
+    joint_5: {stiffness: 3.0e5}
+    joint_6: {stiffness: 1.5e5}
+  links:
+    link_2: {material: steel, section: {shape: rect_tube, b: 0.12, h: 0.18, t: 0.008}}
+    link_4: {material: aluminium, section: {shape: tube, D: 0.13, t: 0.008}}
+end_effectors:
+  tcp: {frame: tool0, offset: [0, 0, 0.15]}
+loads:
+  - {frame: tool0, offset: [0, 0, 0.15], wrench: [300, -200, -600, 0, 0, 10]}
+)";
+
+// 16 poses about the file's defaults, each joint turned as the 6-axis benchmark turns it.
+std::vector<std::vector<double>> urdf_joint_poses(const ModelFamily& family) {
+  const double amplitude[] = {0.3, 0.2, 0.2, 0.3, 0.2, 0.3};
+  std::vector<std::vector<double>> poses;
+  for (int p = 0; p < kPoses; ++p) {
+    std::vector<double> q = family.default_values();
+    for (std::size_t k = 0; k < q.size(); ++k)
+      q[k] += amplitude[k] * std::sin(2 * 3.14159265358979323846 * p / kPoses + 1.3 * static_cast<double>(k));
+    poses.push_back(std::move(q));
+  }
+  return poses;
+}
+
+void urdf_pose(benchmark::State& state, bool solve_too) {
+  const ModelFamily family =
+      parse_model_family(kUrdfJointSpace, std::string(STIFFMSA_EXAMPLES_DIR) + "/robots/joint-space.yaml");
+  const auto poses = urdf_joint_poses(family);
+  ModelFamily::Builder build = family.make_builder();
+  Model member;
+  build(poses.front(), member);
+  Workspace workspace(member);
+  std::size_t p = 0;
+  for (auto _ : state) {
+    build(poses[p], member);
+    if (solve_too) {
+      Result result = solve(workspace, member);
+      benchmark::DoNotOptimize(result);
+    }
+    benchmark::DoNotOptimize(member);
+    p = (p + 1) % poses.size();
+  }
+  state.counters["unknowns"] = static_cast<double>(workspace.size().unknowns);
 }
 
 // ---- the internal stages -------------------------------------------------------------------
@@ -719,6 +786,8 @@ int main(int argc, char** argv) {
                                                  std::to_string(robot->matrices.front().nonZeros()) +
                                                  " stored entries");
   }
+  add("urdf_6axis/pose_from_joint_angles", urdf_pose, true);
+  add("urdf_6axis/build", urdf_pose, false);
   add("6axis/vjm_floor", vjm_floor, std::cref(*robots[1]))->Unit(benchmark::kNanosecond);
   for (SolverKind kind : available_solvers()) {
     const std::string s = std::string("/") + to_string(kind);

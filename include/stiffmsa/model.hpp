@@ -145,6 +145,9 @@ struct Load {
   std::string at;
   std::optional<std::string> link;  // may be left out where one link end is at the point
   Vec6 wrench = Vec6::Zero();       // [F; M] global, moment about `at`
+  // A robot link's weight (docs/urdf.md): the result also gives the end effectors' deflection
+  // under these loads alone.
+  bool self_weight = false;
   Origin origin;
 };
 
@@ -152,6 +155,8 @@ struct EndEffector {
   std::string name;
   std::string at;
   std::optional<std::string> link;
+  // Results in these axes too (columns: the axes in world axes), e.g. a robot frame's.
+  std::optional<Mat3> axes;
   Origin origin;
 };
 
@@ -188,6 +193,9 @@ struct Model {
   std::vector<Support> supports;
   std::vector<Load> loads;
   std::vector<EndEffector> end_effectors;
+  // What the reader noticed that does not make the model invalid (a robot's joint position
+  // outside its limits); a solve reports them among its warnings.
+  std::vector<Diagnostic> warnings;
 
   // Verbs for building a model in code; each returns the new entity for further settings.
   Point& add_point(std::string name, const Vec3& position);

@@ -73,6 +73,15 @@ struct EndEffectorResult {
   std::optional<ReducedStiffness> reduced_stiffness;
   // With SolveOptions::direction, where the compliance is determined: the stiffness along it.
   std::optional<DirectionalStiffness> along_direction;
+  // Under the self-weight loads alone (Load::self_weight), where the model has any.
+  std::optional<Vec6> deflection_gravity;
+  // The same in the end effector's own axes, where the model gives them (EndEffector::axes).
+  struct InAxes {
+    Mat3 axes = Mat3::Identity();
+    std::optional<Mat6> compliance, stiffness;
+    std::optional<Vec6> deflection, deflection_gravity;
+  };
+  std::optional<InAxes> in_own_axes;
 };
 
 // How the solve went: accuracy checks and notes for the user.

@@ -1,6 +1,7 @@
 // The analyses of model-format.md: deflections and wrenches under the model's loads, and the
 // compliance and Cartesian stiffness (paper eqs. 20–21) at every end effector.
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
@@ -737,12 +738,65 @@ void finish_result(const Model& model, const detail::ModelIndex& index, const So
     if (e.compliance) e.along_direction = directional_stiffness(*e.compliance, *options.direction);
 }
 
+// What the reader noticed in the model (Model::warnings) comes first among the warnings.
+void add_model_warnings(const Model& model, Result& result) {
+  std::vector<std::string> warnings;
+  for (const Diagnostic& w : model.warnings) warnings.push_back(w.to_string());
+  result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(), warnings.end());
+}
+
+// Each result of an end effector with axes of its own, turned into them too.
+void add_results_in_own_axes(const Model& model, Result& result) {
+  for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
+    if (!model.end_effectors[e].axes) continue;
+    EndEffectorResult& r = result.end_effectors[e];
+    EndEffectorResult::InAxes in{*model.end_effectors[e].axes, {}, {}, {}, {}};
+    Mat6 turn = Mat6::Zero();  // own-axes components into world components
+    turn.topLeftCorner<3, 3>() = in.axes;
+    turn.bottomRightCorner<3, 3>() = in.axes;
+    if (r.compliance) in.compliance = turn.transpose() * *r.compliance * turn;
+    if (r.stiffness) in.stiffness = turn.transpose() * *r.stiffness * turn;
+    if (r.deflection) in.deflection = turn.transpose() * *r.deflection;
+    if (r.deflection_gravity) in.deflection_gravity = turn.transpose() * *r.deflection_gravity;
+    r.in_own_axes = in;
+  }
+}
+
+bool has_self_weight(const Model& model) {
+  return std::any_of(model.loads.begin(), model.loads.end(), [](const Load& l) { return l.self_weight; });
+}
+
+// The model under its self-weight loads alone: its other loads and its preloads at zero, so
+// that its topology is the model's.
+Model self_weight_only(const Model& model) {
+  Model weight = model;
+  for (Load& l : weight.loads)
+    if (!l.self_weight) l.wrench.setZero();
+  for (Joint& j : weight.joints)
+    if (j.connection.preload) j.connection.preload->setZero();
+  for (Support& s : weight.supports)
+    if (s.connection.preload) s.connection.preload->setZero();
+  return weight;
+}
+
+void add_gravity_deflections(const Result& weight, Result& result) {
+  for (std::size_t e = 0; e < result.end_effectors.size(); ++e)
+    result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
+}
+
 }  // namespace
 
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
   Result result = solve_validated(workspace, model, options, true);
+  if (has_self_weight(model)) {
+    const Model weight = self_weight_only(model);
+    Workspace weight_workspace(weight);
+    add_gravity_deflections(solve_validated(weight_workspace, weight, options, true), result);
+  }
+  add_results_in_own_axes(model, result);
+  add_model_warnings(model, result);
   finish_result(model, detail::ModelIndex(model), options, result);
   return result;
 }
@@ -753,6 +807,9 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   detail::validate(model, index);
   if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
   Result result = solve_validated(workspace, model, options, false);
+  if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
+  add_results_in_own_axes(model, result);
+  add_model_warnings(model, result);
   finish_result(model, index, options, result);
   return result;
 }

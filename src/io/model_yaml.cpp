@@ -25,6 +25,8 @@
 
 #include "io/expressions.hpp"
 #include "io/plain_number.hpp"
+#include "io/robot_model.hpp"
+#include "io/urdf_tree.hpp"
 #include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
 #include "model/suggest.hpp"
@@ -44,7 +46,7 @@ constexpr const char* kFormat = "stiffmsa/1";
 
 const KeyList kTopKeys{"format",   "name",     "parameters", "derived", "options",
                        "materials", "sections", "points",    "links",   "joints",
-                       "supports", "loads",    "end_effectors"};
+                       "supports", "loads",    "end_effectors", "robot"};
 const KeyList kParameterKeys{"default", "unit"};
 const KeyList kOptionKeys{"accept_idle_motions"};
 const KeyList kMaterialKeys{"E", "nu", "G"};
@@ -54,8 +56,17 @@ const KeyList kLinkKeys{"type",  "from", "to", "material", "section",
                         "shear", "zref", "K",  "C",        "frame"};
 const KeyList kFrames{"global", "local"};
 const KeyList kSpringKeys{"stiffness", "preload", "actuated"};
-const KeyList kLoadKeys{"at", "link", "wrench"};
+const KeyList kLoadKeys{"at", "link", "wrench", "self_weight"};
 const KeyList kEndEffectorKeys{"at", "link"};
+// The robot block (docs/urdf.md) and what refers to its frames.
+const KeyList kRobotKeys{"urdf", "base", "positions", "joints", "default_joint", "links", "gravity"};
+const KeyList kRobotJointKeys{"stiffness", "compliance"};
+const KeyList kRobotLinkKeys{"material", "section", "shear"};
+const KeyList kFrameLoadKeys{"frame", "wrench", "offset", "axes"};
+const KeyList kFrameEndEffectorKeys{"frame", "offset", "axes"};
+const KeyList kFrameAxes{"world", "frame"};
+// A 6×6 joint compliance is symmetric to this relative tolerance (a file's rounding).
+constexpr double kComplianceSymmetryTolerance = 1e-9;
 
 KeyList operator+(KeyList a, const KeyList& b) {
   a.insert(a.end(), b.begin(), b.end());
@@ -191,6 +202,15 @@ class Loader {
   const std::vector<std::string>& derived_names() const { return derived_names_; }
   const std::vector<ExpressionSite>& derived_sites() const { return derived_sites_; }
 
+  // A robot block's positions, one per URDF joint: a number, or an expression a builder
+  // evaluates for each member before it poses the robot.
+  struct RobotPosition {
+    double value = 0;
+    std::optional<ExpressionSite> expression;
+  };
+  std::shared_ptr<const detail::RobotLayout> robot() const { return robot_; }
+  const std::vector<RobotPosition>& robot_positions() const { return robot_positions_; }
+
   // Values that replace the file's parameter defaults; names that are no parameter are kept in
   // unknown_settings().
   void set_defaults(const ParameterSettings* settings) { settings_ = settings; }
@@ -281,6 +301,10 @@ class Loader {
   void read_supports(const Entry& section);
   void read_loads(const Entry& section);
   void read_end_effectors(const Entry& section);
+  void read_robot(const Entry& section);
+  std::optional<detail::JointSpring> read_joint_spring(const Value& v);
+  std::optional<int> robot_frame(const Entry& frame);
+  std::optional<double> robot_position(const Value& v, ExpressionSite& site);
 
   Material read_material(const Value& v, Origin& origin, const std::string& prefix);
   Section read_section(const Value& v, Origin& origin, const std::string& prefix);
@@ -338,6 +362,10 @@ class Loader {
   // is "supports.S1.links[0]" in the model. Model path → file path.
   std::map<std::string, std::string> aliases_;
   std::vector<Diagnostic> definition_defects_;
+  std::shared_ptr<detail::RobotLayout> robot_;
+  std::vector<RobotPosition> robot_positions_;
+  Position robot_at_;
+  bool find_robot_block_ = false;  // the model has `robot:`, read or not
 };
 
 // ---- mappings and keys -------------------------------------------------------------------
@@ -634,17 +662,24 @@ Model Loader::read(const YamlNode& root) {
   read_name(top);
   const Entry* parameters = find(top, "parameters");
   const Entry* derived = find(top, "derived");
+  find_robot_block_ = find(top, "robot") != nullptr;
   if (parameters || derived) read_parameters(parameters, derived);
   // Materials and sections first: links refer to them wherever they stand in the file.
   using Part = void (Loader::*)(const Entry&);
   const std::pair<const char*, Part> parts[] = {
       {"options", &Loader::read_options},
       {"materials", &Loader::read_materials}, {"sections", &Loader::read_sections},
+      {"robot", &Loader::read_robot},
       {"points", &Loader::read_points},       {"links", &Loader::read_links},
       {"joints", &Loader::read_joints},       {"supports", &Loader::read_supports},
       {"loads", &Loader::read_loads},         {"end_effectors", &Loader::read_end_effectors}};
   for (const auto& [key, read_part] : parts)
     if (const Entry* e = find(top, key)) (this->*read_part)(*e);
+  if (robot_) {
+    std::vector<double> positions;
+    for (const auto& p : robot_positions_) positions.push_back(p.value);
+    robot_->pose(positions, model_);
+  }
   check_definitions();
   return std::move(model_);
 }
@@ -1099,17 +1134,35 @@ void Loader::read_loads(const Entry& section) {
                 describe(*v.node));
     return;
   }
+  // A robot block's weights come first in the model: its loads[k] is the file's loads[k - first].
+  const std::size_t first = model_.loads.size();
   for (std::size_t i = 0; i < v.node->size(); ++i) {
+    if (first > 0) aliases_.emplace("loads[" + std::to_string(first + i) + "]", "loads[" + std::to_string(i) + "]");
     const Value entry = item(v, i);
     Load load;
     load.origin.location = located(entry.at);
     const auto e = fixed_mapping(entry);
-    check_keys(e, entry.path, kLoadKeys, {}, "a load");
     record(load.origin, e, "");
+    if (const Entry* frame = find(e, "frame")) {
+      check_keys(e, entry.path, kFrameLoadKeys, kLoadKeys, "a load on a robot frame");
+      const auto link = robot_frame(*frame);
+      const Entry* w = required(e, entry, "wrench");
+      const auto wrench = w ? fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]") : std::nullopt;
+      std::optional<Vec3> offset;
+      if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
+      bool frame_axes = false;
+      if (const Entry* a = find(e, "axes")) frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
+      if (link && robot_)
+        if (auto problem = robot_->add_load(*link, wrench.value_or(Vec6::Zero()), offset, frame_axes, load.origin, model_))
+          fail(frame->value, *problem);
+      continue;
+    }
+    check_keys(e, entry.path, kLoadKeys, kFrameLoadKeys, "a load");
     if (entry.node->is_mapping()) {
       read_link_end(e, entry, load.at, load.link);
       if (const Entry* w = required(e, entry, "wrench"))
         load.wrench = fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]").value_or(Vec6::Zero());
+      if (const Entry* weight = find(e, "self_weight")) load.self_weight = boolean(weight->value).value_or(false);
     }
     model_.loads.push_back(std::move(load));
   }
@@ -1121,11 +1174,232 @@ void Loader::read_end_effectors(const Entry& section) {
     ee.name = named.key;
     ee.origin.location = located(named.key_at);
     const auto e = fixed_mapping(named.value);
-    check_keys(e, named.value.path, kEndEffectorKeys, {}, "an end effector");
     record(ee.origin, e, "");
+    if (const Entry* frame = find(e, "frame")) {
+      check_keys(e, named.value.path, kFrameEndEffectorKeys, kEndEffectorKeys, "an end effector on a robot frame");
+      const auto link = robot_frame(*frame);
+      std::optional<Vec3> offset;
+      if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
+      bool frame_axes = false;
+      if (const Entry* a = find(e, "axes")) frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
+      if (link && robot_)
+        if (auto problem = robot_->add_end_effector(named.key, *link, offset, frame_axes, ee.origin, model_))
+          fail(frame->value, *problem);
+      continue;
+    }
+    check_keys(e, named.value.path, kEndEffectorKeys, kFrameEndEffectorKeys, "an end effector");
     if (named.value.node->is_mapping()) read_link_end(e, named.value, ee.at, ee.link);
     model_.end_effectors.push_back(std::move(ee));
   }
+}
+
+// ---- the robot block (docs/urdf.md) -------------------------------------------------------
+
+void Loader::read_robot(const Entry& section) {
+  robot_at_ = section.key_at;
+  const Value& v = section.value;
+  const auto e = fixed_mapping(v);
+  check_keys(e, v.path, kRobotKeys, {}, "the robot block");
+  if (!v.node->is_mapping()) return;
+  const Entry* urdf = required(e, v, "urdf");
+  const auto file = urdf ? text(urdf->value) : std::nullopt;
+  if (!file) {
+    spoil("");
+    return;
+  }
+  std::filesystem::path path(*file);
+  if (path.is_relative()) path = std::filesystem::path(file_).parent_path() / path;
+  detail::RobotBlock block;
+  try {
+    block.tree = std::make_shared<const detail::UrdfTree>(detail::read_urdf(path, located(urdf->value.at), urdf->value.path));
+  } catch (const InputError& error) {
+    diagnostics_.insert(diagnostics_.end(), error.diagnostics().begin(), error.diagnostics().end());
+    spoil("");  // what refers to the robot cannot be checked
+    return;
+  }
+  const detail::UrdfTree& tree = *block.tree;
+  const std::string urdf_name = std::filesystem::path(tree.file).filename().string();
+  const auto joint_named = [&](const Entry& named) -> std::optional<std::size_t> {
+    const auto j = tree.find_joint(named.key);
+    if (!j) {
+      fail(named.key_at, named.value.path,
+           "no joint named '" + named.key + "' in " + urdf_name + detail::suggestion(named.key, tree.joint_names(), "its joints are"));
+      return std::nullopt;
+    }
+    const detail::UrdfJoint& joint = tree.joints[static_cast<std::size_t>(*j)];
+    if (!detail::is_movable(joint.type)) {
+      fail(named.key_at, named.value.path,
+           "joint '" + named.key + "' is fixed in " + urdf_name + " (line " + std::to_string(joint.location.line) +
+               "): it has no position and gives way through nothing but its links");
+      return std::nullopt;
+    }
+    return static_cast<std::size_t>(*j);
+  };
+
+  if (const Entry* base = find(e, "base"))
+    if (const auto name = text(base->value)) {
+      if (const auto b = tree.find_link(*name))
+        block.base = *b;
+      else
+        fail(base->value, "no link named '" + *name + "' in " + urdf_name + detail::suggestion(*name, tree.link_names(), "its links are"));
+    }
+
+  robot_positions_.assign(tree.joints.size(), {});
+  block.position_at.assign(tree.joints.size(), located(section.key_at));
+  if (const Entry* positions = find(e, "positions"))
+    for (const auto& named : named_mapping(*positions)) {
+      const auto j = joint_named(named);
+      if (!j) continue;
+      ExpressionSite site;
+      const auto q = robot_position(named.value, site);
+      block.position_at[*j] = located(named.value.at);
+      if (!q) continue;
+      robot_positions_[*j].value = *q;
+      if (!site.text.empty()) robot_positions_[*j].expression = std::move(site);
+    }
+
+  std::optional<detail::JointSpring> default_spring;
+  if (const Entry* d = find(e, "default_joint")) default_spring = read_joint_spring(d->value);
+  block.springs.assign(tree.joints.size(), {});
+  for (const auto& joint : tree.joints) aliases_.emplace("joints." + joint.name + ".axis", "robot.urdf");  // the URDF's <axis>
+  std::vector<bool> sprung(tree.joints.size(), false);
+  const Entry* joints = find(e, "joints");
+  if (joints)
+    for (const auto& named : named_mapping(*joints)) {
+      const auto j = joint_named(named);
+      const auto spring = read_joint_spring(named.value);
+      if (!j || !spring) {
+        if (j) sprung[*j] = true;  // reported already
+        if (j) spoil("joints." + named.key);
+        continue;
+      }
+      block.springs[*j] = *spring;
+      sprung[*j] = true;
+      const std::string key = spring->compliance ? ".compliance" : ".stiffness";
+      aliases_.emplace("joints." + named.key + ".stiffness", named.value.path + key);
+    }
+  for (std::size_t j = 0; j < tree.joints.size(); ++j) {
+    const detail::UrdfJoint& joint = tree.joints[j];
+    if (!detail::is_movable(joint.type) || sprung[j]) continue;
+    if (default_spring) {
+      block.springs[j] = *default_spring;
+      aliases_.emplace("joints." + joint.name + ".stiffness", "robot.default_joint");
+      continue;
+    }
+    spoil("joints." + joint.name);  // its zero spring is this defect
+    fail(joints ? joints->key_at : section.key_at, joints ? joints->value.path : v.path,
+         "the " + std::string(detail::to_string(joint.type)) + " joint '" + joint.name + "' of " + urdf_name + " (line " +
+             std::to_string(joint.location.line) +
+             ") has no stiffness; list it under robot.joints, or give robot.default_joint for every joint not listed");
+  }
+
+  block.flexible.assign(tree.links.size(), std::nullopt);
+  if (const Entry* links = find(e, "links"))
+    for (const auto& named : named_mapping(*links)) {
+      const auto l = tree.find_link(named.key);
+      if (!l) {
+        fail(named.key_at, named.value.path,
+             "no link named '" + named.key + "' in " + urdf_name + detail::suggestion(named.key, tree.link_names(), "its links are"));
+        continue;
+      }
+      const auto le = fixed_mapping(named.value);
+      check_keys(le, named.value.path, kRobotLinkKeys, {}, "a flexible robot link");
+      Link holder;  // collects the key locations of the material and section
+      holder.origin.location = located(named.key_at);
+      record(holder.origin, le, "");
+      BeamLink beam;
+      if (const Entry* m = required(le, named.value, "material"))
+        beam.material = named_or_inline(*m, materials_, "materials", holder, &Loader::read_material);
+      if (const Entry* sec = required(le, named.value, "section"))
+        beam.section = named_or_inline(*sec, sections_, "sections", holder, &Loader::read_section);
+      if (const Entry* shear = find(le, "shear")) beam.shear = boolean(shear->value).value_or(false);
+      block.flexible[static_cast<std::size_t>(*l)] = detail::FlexibleLink{beam, holder.origin};
+      aliases_.emplace("links." + named.key, named.value.path);
+      aliases_.emplace("links." + named.key + ".distal", named.value.path);
+    }
+
+  if (const Entry* g = find(e, "gravity")) block.gravity = fixed_vector<3>(g->value, "[gx, gy, gz]");
+
+  try {
+    robot_ = std::make_shared<detail::RobotLayout>(block, model_);
+  } catch (const InputError& error) {
+    diagnostics_.insert(diagnostics_.end(), error.diagnostics().begin(), error.diagnostics().end());
+    spoil("");
+  }
+}
+
+// A joint's spring: `stiffness` about (along) its axis, or a 6×6 `compliance` in its frame.
+std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
+  const auto e = fixed_mapping(v);
+  check_keys(e, v.path, kRobotJointKeys, {}, "a robot joint");
+  if (!v.node->is_mapping()) return std::nullopt;
+  detail::JointSpring spring;
+  spring.origin.location = located(v.at);
+  record(spring.origin, e, "");
+  const Entry* k = find(e, "stiffness");
+  const Entry* c = find(e, "compliance");
+  if (k && c) {
+    fail(c->key_at, c->value.path, "give either stiffness or compliance, not both");
+    return std::nullopt;
+  }
+  if (!k && !c) {
+    fail(v.at, v.path, "give the joint's stiffness (about or along its axis) or its 6×6 compliance");
+    return std::nullopt;
+  }
+  if (k) {
+    const auto stiffness = number(k->value);
+    if (!stiffness) return std::nullopt;
+    spring.stiffness = *stiffness;
+    spring.origin.key_locations["stiffness"] = located(k->value.at);
+    return spring;
+  }
+  const auto compliance = square_matrix<6>(c->value);
+  if (!compliance) return std::nullopt;
+  spring.origin.key_locations["stiffness"] = located(c->value.at);
+  const double scale = compliance->cwiseAbs().maxCoeff();
+  const bool symmetric = (*compliance - compliance->transpose()).cwiseAbs().maxCoeff() <= kComplianceSymmetryTolerance * scale;
+  const Mat6 symmetric_part = 0.5 * (*compliance + compliance->transpose());
+  if (!symmetric || scale == 0 || Eigen::LLT<Mat6>(symmetric_part).info() != Eigen::Success) {
+    fail(c->value, symmetric ? "the compliance is not positive definite: a joint gives way in every direction, by a "
+                               "positive amount (a rigid direction needs a small compliance, not zero)"
+                             : "the compliance is not symmetric");
+    return std::nullopt;
+  }
+  spring.compliance = symmetric_part;
+  return spring;
+}
+
+// A URDF link named by a load's or end effector's `frame`.
+std::optional<int> Loader::robot_frame(const Entry& frame) {
+  const auto name = text(frame.value);
+  if (!name) return std::nullopt;
+  if (!robot_) {
+    if (!find_robot_block_) fail(frame.value, "`frame:` names a frame of the robot block's URDF, and the model has no `robot:`");
+    return std::nullopt;
+  }
+  if (const auto link = robot_->tree().find_link(*name)) return *link;
+  fail(frame.value, "no frame (URDF link) named '" + *name + "' in " +
+                        std::filesystem::path(robot_->tree().file).filename().string() +
+                        detail::suggestion(*name, robot_->tree().link_names(), "its links are"));
+  return std::nullopt;
+}
+
+// A joint position: a number, or an expression of the parameters that the builder evaluates
+// for each member (forward kinematics turns it into many numbers, where no probe would survive).
+std::optional<double> Loader::robot_position(const Value& v, ExpressionSite& site) {
+  if (!parametric_ || !v.node->is_scalar() || detail::plain_number(v.node->text())) return number(v);
+  const std::string& expression = v.node->text();
+  const auto outcome = expressions_->evaluate(expression);
+  if (outcome.follows_earlier_error) {
+    spoil(v.path);
+    return std::nullopt;
+  }
+  if (!outcome.error.empty()) {
+    fail(v, outcome.error);
+    return std::nullopt;
+  }
+  site = {expression, v.path, located(v.at)};
+  return outcome.value;
 }
 
 // `{at: point, link: name}`, the link optional, as loads and end effectors name a link end.
@@ -1436,6 +1710,9 @@ struct NumberBindings {
   std::vector<ExpressionSite> sites;
   std::vector<ExpressionSite> derived;
   std::vector<std::pair<std::size_t, std::size_t>> filled;  // (number in visiting order, site)
+  // A robot block's layout and joint positions: each member is posed after its numbers are in.
+  std::shared_ptr<const detail::RobotLayout> robot;
+  std::vector<Loader::RobotPosition> robot_positions;
 };
 
 // Reads the file once more with every expression probed, and finds where each probe landed.
@@ -1446,7 +1723,7 @@ std::optional<NumberBindings> bind_numbers(const YamlNode& root, const std::stri
   Loader prober(file_name);
   prober.probe_expressions();
   Model probed = prober.read(root);
-  NumberBindings bindings{std::move(reference), prober.sites(), std::move(derived), {}};
+  NumberBindings bindings{std::move(reference), prober.sites(), std::move(derived), {}, nullptr, {}};
   std::size_t number_count = 0;
   std::vector<bool> bound(bindings.sites.size(), false);
   bool doubtful = false;
@@ -1484,7 +1761,7 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
                                        std::vector<std::string> names, std::vector<std::string> derived_names) {
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
   return [bindings, expressions, site_values = std::vector<double>(bindings->sites.size()),
-          last_member = static_cast<const Model*>(nullptr)](std::span<const double> values, Model& member) mutable {
+          robot_values = std::vector<double>(bindings->robot_positions.size()), last_member = static_cast<const Model*>(nullptr)](std::span<const double> values, Model& member) mutable {
     expressions->set_values(values);
     std::vector<Diagnostic> defects;
     const auto report = [&](const ExpressionSite& site, const detail::ExpressionEvaluator::Outcome& outcome) {
@@ -1498,6 +1775,16 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
       report(bindings->sites[k], outcome);
       all_values = all_values && outcome.error.empty();
       site_values[k] = outcome.value;
+    }
+    std::vector<double>& positions = robot_values;
+    for (std::size_t j = 0; j < bindings->robot_positions.size(); ++j) {
+      const auto& position = bindings->robot_positions[j];
+      positions[j] = position.value;
+      if (!position.expression) continue;
+      const auto outcome = expressions->evaluate(position.expression->text);
+      report(*position.expression, outcome);
+      all_values = all_values && outcome.error.empty();
+      positions[j] = outcome.value;
     }
     // A value that is missing without a defect of its own follows from a derived value's,
     // which is reported: defects is never empty here.
@@ -1514,6 +1801,7 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
       for (; next != bindings->filled.end() && next->first == index; ++next) value = site_values[next->second];
       ++index;
     });
+    if (bindings->robot) bindings->robot->pose(robot_values, member);
     auto member_defects = find_defects(member);
     if (!member_defects.empty()) throw InputError(std::move(member_defects));
   };
@@ -1551,10 +1839,16 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   const std::string name = at_defaults.name;
   std::shared_ptr<const NumberBindings> bindings;
   // A file without parameters is a family of one member, which builders copy: nothing to bind.
+  std::optional<NumberBindings> bound;
   if (names.empty() && derived_names.empty())
-    bindings = std::make_shared<const NumberBindings>(NumberBindings{std::move(at_defaults), {}, {}, {}});
-  else if (auto bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites()))
+    bound = NumberBindings{std::move(at_defaults), {}, {}, {}, {}, {}};
+  else
+    bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites());
+  if (bound) {
+    bound->robot = loader.robot();
+    bound->robot_positions = loader.robot_positions();
     bindings = std::make_shared<const NumberBindings>(std::move(*bound));
+  }
   // The text is kept only for builders that must read it again.
   auto shared_text = bindings ? nullptr : std::make_shared<const std::string>(text);
   auto make_builder = [bindings, shared_text, file_name, limits, names, derived_names]() -> ModelFamily::Builder {

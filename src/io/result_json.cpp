@@ -214,6 +214,20 @@ void write_result(ResultWriter& out, const Result& result) {
                     out.member("rotational", [&] { out.number(e.along_direction->rotational); });
                   });
                 });
+              // Only where the model has self-weight loads (a robot block's `gravity:`).
+              if (e.deflection_gravity) out.member("deflection_gravity", [&] { vector(*e.deflection_gravity); });
+              // Only for an end effector with axes of its own (a robot frame's, `axes: frame`).
+              if (e.in_own_axes)
+                out.member("in_own_axes", [&] {
+                  out.object([&] {
+                    const auto& in = *e.in_own_axes;
+                    out.member("axes", [&] { out.list(3, [&](Eigen::Index r) { out.vector(in.axes.row(r)); }); });
+                    out.member("compliance", or_null(out, in.compliance, mat6));
+                    out.member("stiffness", or_null(out, in.stiffness, mat6));
+                    out.member("deflection", or_null(out, in.deflection, vector));
+                    if (in.deflection_gravity) out.member("deflection_gravity", [&] { vector(*in.deflection_gravity); });
+                  });
+                });
             });
           });
       });

@@ -158,12 +158,12 @@ Support& Model::add_support(std::string name, std::string at, std::vector<std::s
   return supports.back();
 }
 Load& Model::add_load(std::string at, std::optional<std::string> link, const Vec6& wrench) {
-  loads.push_back(Load{std::move(at), std::move(link), wrench, {}});
+  loads.push_back(Load{std::move(at), std::move(link), wrench, false, {}});
   return loads.back();
 }
 EndEffector& Model::add_end_effector(std::string name, std::string at,
                                      std::optional<std::string> link) {
-  end_effectors.push_back(EndEffector{std::move(name), std::move(at), std::move(link), {}});
+  end_effectors.push_back(EndEffector{std::move(name), std::move(at), std::move(link), std::nullopt, {}});
   return end_effectors.back();
 }
 

@@ -54,4 +54,10 @@ ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimit
 ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
                                const LoadLimits& limits = {}, const ParameterSettings& settings = {});
 
+// A model as a plain model file (format stiffmsa/1, no parameters, no robot block), that reads
+// back to the same numbers: what `stiffmsa expand` writes. write_model_file() writes it whole
+// or not at all; it throws IoError.
+std::string model_to_yaml(const Model& model);
+void write_model_file(const Model& model, const std::filesystem::path& path);
+
 }  // namespace stiffmsa
