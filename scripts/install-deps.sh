@@ -13,6 +13,9 @@ set -euo pipefail
 packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev libcli11-dev
           libsuitesparse-dev libopenblas0-serial libmuparser-dev libtbb-dev libcairo2-dev pkg-config
           libgtest-dev libgmock-dev)
+# Sweeps beyond one machine (docs/cluster.md): HDF5 output, MPI ranks, and h5py and pandas to
+# check the HDF5 file in tests/test_sweep_scale.cpp.
+packages+=(libhdf5-dev openmpi-bin libopenmpi-dev python3-h5py python3-pandas)
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
