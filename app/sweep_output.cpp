@@ -175,12 +175,13 @@ std::vector<fs::path> SweepOutput::finish(std::size_t threads, double seconds, c
   SweepResult run = s.description.run;
   run.threads = threads;
   run.seconds = seconds;
-  const fs::path& rows_file = s.files.csv.empty() ? s.files.hdf5 : s.files.csv;
-  std::string summary_json =
-      sweep_summary_to_json(run, s.description.full, s.summary, rows_file.filename().string(), s.first_pose);
-  if (!extra_json.empty()) {
+  std::string summary_json = sweep_summary_to_json(run, s.description.full, s.summary,
+                                                   s.files.csv.filename().string(), s.first_pose);
+  auto extra = extra_json.empty() ? nlohmann::json::object() : nlohmann::json::parse(extra_json);
+  if (!s.files.hdf5.empty()) extra["hdf5"] = s.files.hdf5.filename().string();
+  if (!extra.empty()) {
     auto summary = nlohmann::json::parse(summary_json);
-    summary.update(nlohmann::json::parse(extra_json));
+    summary.update(extra);
     summary_json = summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   }
   std::vector<fs::path> written;

@@ -43,7 +43,7 @@ std::string example(const std::string& name) { return std::string(STIFFMSA_SOURC
 // The summary without what depends on how the sweep ran (and on the rows file's name).
 nlohmann::json run_independent(const fs::path& summary_file) {
   auto summary = nlohmann::json::parse(read_file(summary_file));
-  for (const char* key : {"threads", "seconds", "csv", "ranks"}) summary.erase(key);
+  for (const char* key : {"threads", "seconds", "csv", "hdf5", "ranks"}) summary.erase(key);
   return summary;
 }
 
