@@ -4,8 +4,10 @@
 #   one process with 2 threads; 1 rank (mpirun -n 1 --bind-to none) with 2 threads;
 #   2 ranks bound to a core each (Open MPI's default for 2 ranks), 1 thread each;
 #   2 ranks unbound with 2 threads each (4 threads on 2 cores);
-# alternated, REPEATS times each. Each run prints the sweep's own time (solving and writing, not
-# start-up) and, over ranks, rank 0's CPU time for handing out, receiving and writing rows.
+# alternated, REPEATS times each, each in a session of its own (setsid): with the kernel's
+# autogroup scheduling, the ranks mpirun starts get a CPU share of their own on a loaded
+# machine, and a process started from the shell would compete at a disadvantage. Each run prints the sweep's own time (solving and writing, not
+# start-up) and, over ranks, rank 0's CPU time for receiving and writing rows.
 # Raw output to bench/results-<date>-mpi.txt, then the best of each mode.
 # Environment: BUILD_DIR (a build with -DSTIFFMSA_WITH_MPI=ON; default build), GRID (default
 #   201), REPEATS (default 5), BENCH_DATE, BLOCK (poses per block, default 4096).
@@ -22,10 +24,10 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 sweep=("$build/stiffmsa" sweep "$root/examples/planar-3rpr-parametric.yaml" --grid "x=0.1:0.9:$grid"
        --grid "y=0.05:0.8:$grid" --quiet --block "$block" --csv "$work/rows.csv")
 declare -A modes=(
-  [process-2t]="${sweep[*]} --threads 2"
-  [rank1-2t]="mpirun -n 1 --bind-to none ${sweep[*]} --threads 2"
-  [ranks2-bound-1t]="mpirun -n 2 ${sweep[*]} --threads 1"
-  [ranks2-unbound-2t]="mpirun -n 2 --bind-to none ${sweep[*]} --threads 2"
+  [process-2t]="setsid -w ${sweep[*]} --threads 2"
+  [rank1-2t]="setsid -w mpirun -n 1 --bind-to none ${sweep[*]} --threads 2"
+  [ranks2-bound-1t]="setsid -w mpirun -n 2 ${sweep[*]} --threads 1"
+  [ranks2-unbound-2t]="setsid -w mpirun -n 2 --bind-to none ${sweep[*]} --threads 2"
 )
 {
   echo "== $(date -u +%FT%TZ) $(git -C "$root" log -1 --format=%h) grid ${grid}x${grid} block $block"
