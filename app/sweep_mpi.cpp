@@ -382,6 +382,7 @@ int run_sweep_over_ranks(const SweepCommand& command) {
   } catch (const std::exception& e) {
     // The other ranks wait for this one: only an abort ends them.
     print_error(std::cerr, "rank " + std::to_string(mpi.rank()) + ": " + e.what());
+    output.reset();  // the root's unfinished files go; an abort runs no destructor
     MPI_Abort(MPI_COMM_WORLD, exit_invalid_input);
   }
   return exit_invalid_input;

@@ -288,7 +288,11 @@ print("checked", len(csv), "rows")
 
 TEST_F(SweepScale, Hdf5HoldsTheRowsOfTheCsv) {
 #if !STIFFMSA_TEST_HDF5
-  GTEST_SKIP() << "built without HDF5";
+  const CommandRun refused = cli("sweep " + tripteron + " --quiet --hdf5 rows.h5");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_TRUE(contains(refused.err, "built without HDF5")) << refused.err;
+  EXPECT_FALSE(fs::exists(folder_ / "rows.h5"));
+  GTEST_SKIP() << "built without HDF5: --hdf5 is refused";
 #endif
   if (shell("/usr/bin/python3 -c 'import h5py, pandas'").exit_code != 0)
     GTEST_SKIP() << "no /usr/bin/python3 with h5py and pandas (scripts/install-deps.sh installs them)";
