@@ -123,6 +123,11 @@ SweepOutput::SweepOutput(const SweepDescription& description, SweepFiles files, 
                          std::size_t poses)
     : state_(std::make_unique<State>(description, std::move(files), first_pose)) {
   State& s = *state_;
+  // A plot holds one number per pose of each plotted column; more than its pixels show anyway.
+  constexpr std::size_t max_plotted_poses = 10'000'000;
+  if (!s.files.plotted.empty() && poses > max_plotted_poses)
+    throw UsageError("--plot: the grid has " + std::to_string(poses) + " poses; plots are drawn of at most " +
+                     std::to_string(max_plotted_poses));
   for (std::size_t p = 0; p < s.files.plotted.size(); ++p) s.plotted.emplace_back(poses, NAN);
   if (!s.files.csv.empty()) {
     s.csv.emplace(s.files.csv);
