@@ -321,12 +321,6 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
     nlohmann::json extra;
     extra["shard"] = {{"part", part}, {"parts", parts}, {"first_pose", plan.first}, {"poses_in_all", poses}};
     extra["identity"] = sweep_identity(command, prepared.axes, poses);
-    // For the plots and lines that merge draws and prints: the loads, and the fixed parameters
-    // in the model's order (the summary's object of them is by name).
-    extra["loads"] = description.loads;
-    nlohmann::json fixed_order = nlohmann::json::array();
-    for (const auto& p : description.run.fixed_parameters) fixed_order.push_back(p.name);
-    extra["fixed_parameter_order"] = std::move(fixed_order);
     prepared.extra_summary = extra.dump();
   }
   // A swept name that is no parameter is refused before any pose; what a sweep says of the
@@ -334,6 +328,16 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   const SweepResult none_solved = plan.solve(plan.first, 0);
   description.run.fixed_parameters = none_solved.fixed_parameters;
   description.run.warnings = none_solved.warnings;
+  if (shard) {
+    // For the plots and lines that merge draws and prints: the loads, and the fixed parameters
+    // in the model's order (the summary's object of them is by name).
+    auto extra = nlohmann::json::parse(prepared.extra_summary);
+    extra["loads"] = description.loads;
+    nlohmann::json fixed_order = nlohmann::json::array();
+    for (const auto& p : description.run.fixed_parameters) fixed_order.push_back(p.name);
+    extra["fixed_parameter_order"] = std::move(fixed_order);
+    prepared.extra_summary = extra.dump();
+  }
   if (command.view && poses > kMaxPosesInMemory)
     throw UsageError("--view: the sweep has " + std::to_string(poses) + " poses; a view map holds every pose's "
                      "result in memory and is written of at most " + std::to_string(kMaxPosesInMemory));
