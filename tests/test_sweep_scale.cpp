@@ -323,6 +323,54 @@ TEST_F(SweepScale, Hdf5HoldsTheRowsOfTheCsv) {
 const std::string mpirun = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout 300 " +
                            shell_quoted(STIFFMSA_TEST_MPIEXEC) + " --oversubscribe";
 
+// Issue 18's additions through shards, merge and MPI ranks: 10 of these 20 poses near the
+// singularity deflect beyond the linear range; the fixed parameters, direction columns, count,
+// first such pose, plot subtitles and rings are those of the run in one process.
+TEST_F(SweepScale, LargeDeflectionsAndFixedParametersSurviveShardsMergeAndRanks) {
+  const std::string sweep = shell_quoted(example("planar-3rpr-parametric.yaml")) +
+                            " --grid x=0.3:0.34:5 --grid y=0.74:0.7605:4 --threads 1 --direction 1,0,0";
+  const CommandRun whole = cli("sweep " + sweep + " --quiet --plot --view --csv whole.csv");
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  const auto summary = nlohmann::json::parse(read_file(folder_ / "whole.summary.json"));
+  ASSERT_EQ(summary["large_deflection"], 10);
+  EXPECT_EQ(summary["fixed_parameters"]["r"]["value"], 0.12);
+  EXPECT_TRUE(fs::file_size(folder_ / "whole.html") > 1000u);
+  const std::string first_large = "  first pose with large deflections (x = 0.3 m, y = 0.7468333333333333 m): "
+                                  "the deflections under the loads are too large for the linear method";
+  EXPECT_TRUE(contains(whole.out, "  at phi = 0.0831 rad, r = 0.12 m, k_actuator = 1.5e+07 N/m\n")) << whole.out;
+  EXPECT_TRUE(contains(whole.out, "status: ok 20 (10 with large deflections)\n")) << whole.out;
+  EXPECT_TRUE(contains(whole.out, first_large)) << whole.out;
+
+  for (int k = 1; k <= 3; ++k)
+    ASSERT_EQ(cli("sweep " + sweep + " --quiet --block 2 --shard " + std::to_string(k) + "/3 --csv part" +
+                  std::to_string(k) + ".csv")
+                  .exit_code,
+              0);
+  const CommandRun merged = cli("merge merged.csv part2.csv part3.csv part1.csv --plot");
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  std::vector<std::string> outputs{"merged"};
+  std::vector<CommandRun> runs{merged};
+#if STIFFMSA_TEST_MPI
+  runs.push_back(shell(mpirun + " -n 2 \"$S\" sweep " + sweep + " --block 3 --quiet --plot --csv ranks.csv"));
+  ASSERT_EQ(runs.back().exit_code, 0) << runs.back().err;
+  outputs.push_back("ranks");
+#endif
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string& name = outputs[i];
+    EXPECT_EQ(read_file(folder_ / (name + ".csv")), read_file(folder_ / "whole.csv")) << name;
+    EXPECT_EQ(run_independent(folder_ / (name + ".summary.json")), run_independent(folder_ / "whole.summary.json"))
+        << name;
+    for (const char* plot : {".platform.k_trans_min.png", ".platform.deflection_trans.svg"})
+      EXPECT_EQ(read_file(folder_ / (name + plot)), read_file(folder_ / ("whole" + std::string(plot))))
+          << name << plot;
+    EXPECT_TRUE(contains(runs[i].out, "status: ok 20 (10 with large deflections)\n")) << runs[i].out;
+    EXPECT_TRUE(contains(runs[i].out, first_large)) << runs[i].out;
+    EXPECT_TRUE(contains(runs[i].out, "  at phi = 0.0831 rad, r = 0.12 m, k_actuator = 1.5e+07 N/m\n"))
+        << runs[i].out;
+  }
+  EXPECT_NE(cli("sweep " + sweep + " --quiet --view --shard 1/3 --csv v.csv").exit_code, 0);
+}
+
 TEST_F(SweepScale, RanksWriteTheRowsOfOneProcess) {
 #if !STIFFMSA_TEST_MPI
   GTEST_SKIP() << "built without MPI (STIFFMSA_WITH_MPI=OFF)";
