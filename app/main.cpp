@@ -12,6 +12,7 @@
 
 #include "stiffmsa/config.hpp"
 #include "stiffmsa/stiffmsa.hpp"
+#include "merge_command.hpp"
 #include "summary.hpp"
 #include "sweep_command.hpp"
 #include "view_command.hpp"
@@ -191,7 +192,13 @@ int run(int argc, char** argv) {
   CLI::App* sweep_app = app.add_subcommand(
       "sweep", "Solve a parametric model over a grid or a list of poses and write one CSV row per pose");
   sweep_app->add_option("MODEL", sweep_command.model_file, "Model file with `parameters:`")->required();
-  sweep_app->add_option("--csv", sweep_command.csv_file, "Write the rows to this CSV file")->required();
+  sweep_app->add_option("--csv", sweep_command.csv_file, "Write the rows to this CSV file");
+  sweep_app->add_option("--hdf5", sweep_command.hdf5_file, "Write the rows to this HDF5 file (beside or instead of --csv)");
+  sweep_app->add_option("--shard", sweep_command.shard,
+                        "Solve only the K-th of N equal parts of the poses, K/N (join them with `stiffmsa merge`)");
+  sweep_app->add_option("--block", sweep_command.block, "Poses solved and written at a time (memory, MPI balance)")
+      ->check(at_least_one)
+      ->capture_default_str();
   sweep_app->add_option("--grid", sweep_command.grids,
                         "A swept parameter: NAME=START:STOP:COUNT, both ends included (repeatable; the first "
                         "varies fastest)");
@@ -233,6 +240,9 @@ int run(int argc, char** argv) {
   expand_app->add_option("--set", expand_command.settings, "A parameter's value, NAME=VALUE (repeatable)");
   add_limit_options(*expand_app, expand_command.limits);
 
+  MergeCommand merge_command;
+  CLI::App* merge_app = add_merge_subcommand(app, merge_command);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -253,6 +263,7 @@ int run(int argc, char** argv) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions, sweep_direction);
     return run_sweep(sweep_command);
   }
+  if (merge_app->parsed()) return run_merge(merge_command);
   return run_check(check_command);
 }
 

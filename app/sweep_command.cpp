@@ -3,7 +3,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
+#include <cstdint>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,7 +16,12 @@
 #include <iostream>
 #include <optional>
 
+#include "stiffmsa/config.hpp"
 #include "summary.hpp"
+#include "sweep_output.hpp"
+#if STIFFMSA_CLI_MPI
+#include "sweep_mpi.hpp"
+#endif
 
 namespace stiffmsa::cli {
 
@@ -19,11 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string comma_separated(const std::vector<std::string>& names) {
-  std::string text;
-  for (std::size_t i = 0; i < names.size(); ++i) text += (i > 0 ? ", " : "") + names[i];
-  return text;
-}
+// More poses than a sweep's index can count, with room to spare (a billion poses is 10⁹).
+constexpr std::size_t kMaxPoses = 1'000'000'000'000'000;
 
 // "name=start:stop:count"
 GridAxis parse_grid(const std::string& spec) {
@@ -53,251 +60,110 @@ GridAxis parse_grid(const std::string& spec) {
   return axis;
 }
 
-std::string with_unit(double value, const std::string& unit) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.4g", value);
-  return unit.empty() ? std::string(buffer) : std::string(buffer) + " " + unit;
-}
-
-// "x = 0.1 m, y = 0.2 m"
-std::string pose_text(const SweepResult& sweep, std::size_t pose) {
-  std::string text;
-  const auto values = sweep.poses.pose(pose);
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (k > 0) text += ", ";
-    text += sweep.poses.parameters[k] + " = " + value_with_unit(values[k], sweep.units[k]);
-  }
-  return text;
-}
-
-// "(0, 0, -100)"
-std::string vector_text(const Vec3& v) {
-  return "(" + shortest_text(v(0)) + ", " + shortest_text(v(1)) + ", " + shortest_text(v(2)) + ")";
-}
-
-// The loads a deflection map is computed under: "F (0, 0, -100) N at E"; at most
-// `shown` of them, then how many more.
-std::string loads_text(const Model& model) {
-  constexpr std::size_t shown = 2;
-  std::string text;
-  for (std::size_t i = 0; i < model.loads.size() && i < shown; ++i) {
-    const Load& load = model.loads[i];
-    std::string wrench;
-    if (!load.wrench.head<3>().isZero(0)) wrench = "F " + vector_text(load.wrench.head<3>()) + " N";
-    if (!load.wrench.tail<3>().isZero(0))
-      wrench += (wrench.empty() ? "M " : ", M ") + vector_text(load.wrench.tail<3>()) + " N·m";
-    if (wrench.empty()) wrench = "zero wrench";
-    text += (i > 0 ? "; " : "") + wrench + " at " + load.at;
-  }
-  if (model.loads.size() > shown) text += "; and " + counted(model.loads.size() - shown, "more load");
-  return text.empty() ? "no loads" : text;
-}
-
-// A bar on the terminal, for sweeps long enough to wait for; nothing when stderr is a file.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO) == 1) {}
-
-  void update(std::size_t done, std::size_t total) {
-    if (!enabled_ || total == 0) return;
-    const double elapsed = seconds_since_start();
-    if (elapsed < 1.0 || (done < total && elapsed - last_drawn_ < 0.1)) return;
-    last_drawn_ = elapsed;
-    constexpr int width = 30;
-    const double fraction = static_cast<double>(done) / static_cast<double>(total);
-    const int filled = static_cast<int>(fraction * width);
-    std::string bar(static_cast<std::size_t>(filled), '#');
-    bar.resize(width, '.');
-    std::fprintf(stderr, "\rsweep [%s] %3d%% %zu/%zu poses", bar.c_str(), static_cast<int>(fraction * 100), done,
-                 total);
-    if (done > 0 && done < total)
-      std::fprintf(stderr, ", %.0f s left   ", elapsed * static_cast<double>(total - done) / static_cast<double>(done));
-    drawn_ = true;
-    std::fflush(stderr);
-  }
-
-  // Clears the bar, so that what is printed next starts on a clean line.
-  void finish() {
-    if (drawn_) std::fprintf(stderr, "\r\033[K");
-    drawn_ = false;
-  }
-  ~ProgressBar() { finish(); }
-
- private:
-  double seconds_since_start() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  bool enabled_;
-  bool drawn_ = false;
-  double last_drawn_ = 0;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
-// Stiffness near a singular pose spans decades: a log scale shows the whole map.
-PlotScale scale_for(const std::vector<double>& values) {
-  double low = INFINITY, high = 0;
-  for (double v : values) {
-    if (!std::isfinite(v)) continue;
-    if (v <= 0) return PlotScale::linear;
-    low = std::min(low, v);
-    high = std::max(high, v);
-  }
-  return high > 30 * low ? PlotScale::logarithmic : PlotScale::linear;
-}
-
-std::vector<SweepColumn> plotted_columns(const SweepResult& sweep, const SweepCommand& command) {
-  std::vector<SweepColumn> columns;
-  if (command.plot_columns.empty()) {
-    for (const auto& column : sweep_columns(sweep, false))
-      if (column.quantity == SweepQuantity::k_trans_min || column.quantity == SweepQuantity::deflection_trans)
-        columns.push_back(column);
-    return columns;
-  }
-  for (const auto& name : command.plot_columns) {
-    auto column = find_sweep_column(sweep, name);
-    if (!column) {
-      std::vector<std::string> names;
-      for (const auto& c : sweep_columns(sweep, false)) names.push_back(c.name);
-      throw UsageError("--plot-column '" + name + "': no such column; columns are " + comma_separated(names) +
-                       " and the compliance and stiffness entries E.C11 … E.K66");
-    }
-    columns.push_back(*column);
-  }
-  return columns;
-}
-
-// Plots of every chosen column, PNG and SVG, named after the CSV: map.csv -> map.E.k_trans_min.png.
-// Their subtitles name the parameters held fixed and, on deflection maps, the loads of `model`.
-std::vector<fs::path> write_plots(const SweepResult& sweep, const SweepCommand& command, const Model& model) {
-  std::vector<fs::path> written;
-  const fs::path csv(command.csv_file);
-  const fs::path base = csv.parent_path() / csv.stem();
-  const auto& grid = sweep.poses.grid;
-  for (const auto& column : plotted_columns(sweep, command)) {
-    std::vector<double> values(sweep.results.size());
-    bool any_failed = false, any_rigid = false;
-    for (std::size_t pose = 0; pose < values.size(); ++pose) {
-      values[pose] = column_value(sweep, column, pose);
-      any_failed = any_failed || std::isnan(values[pose]);
-      if (std::isinf(values[pose])) {
-        values[pose] = NAN;  // a rigidly held direction has no colour on the scale
-        any_rigid = true;
-      }
-    }
-    const std::string no_value = any_rigid ? (any_failed ? "no value: failed pose, or rigid (infinite)"
-                                                         : "rigid direction (infinite stiffness)")
-                                           : "no value (failed pose)";
-    const auto worst = worst_pose(sweep, column);
-    const std::string label = worst ? std::string(column.worst_is_largest ? "largest" : "smallest") + ": " +
-                                          with_unit(column_value(sweep, column, *worst), column.unit)
-                                    : std::string();
-    const std::string title = sweep.model + ": " + column.name;
-    const bool deflection =
-        column.quantity == SweepQuantity::deflection_trans || column.quantity == SweepQuantity::deflection_rot;
-    std::string subtitle = sweep.fixed_parameters.empty() ? "" : "at " + parameters_text(sweep.fixed_parameters);
-    if (deflection) subtitle += (subtitle.empty() ? "under " : "; under ") + loads_text(model);
-    std::vector<bool> flagged;
-    for (const auto& r : sweep.results) flagged.push_back(r.large_deflection);
-    if (std::find(flagged.begin(), flagged.end(), true) == flagged.end()) flagged.clear();
-    const std::string flagged_label = "deflections beyond the linear method's range (large_deflection)";
-    const auto axis = [&](std::size_t k) {
-      PlotAxis a{grid[k].parameter, sweep.units[k], {}};
-      for (std::size_t i = 0; i < grid[k].count; ++i) a.values.push_back(grid[k].value(i));
-      return a;
-    };
-    for (const char* extension : {".png", ".svg"}) {
-      const fs::path file = base.string() + "." + column.name + extension;
-      if (grid.size() == 1) {
-        LinePlot plot{title,    axis(0),  column.name, column.unit, values,       scale_for(values),
-                      worst,    label,    no_value,    subtitle,    flagged,      flagged_label};
-        write_plot(plot, file);
-      } else {
-        Heatmap plot{title,    axis(0),  axis(1),  column.name,  column.unit,  values, scale_for(values),
-                     std::nullopt, label, no_value, subtitle, flagged, flagged_label};
-        if (worst) plot.marked = std::pair{*worst % grid[0].count, *worst / grid[0].count};
-        write_plot(plot, file);
-      }
-      written.push_back(file);
-    }
-  }
-  return written;
-}
-
-void print_sweep_summary(std::ostream& out, const SweepResult& sweep, const std::vector<fs::path>& files) {
-  const std::size_t poses = sweep.results.size();
-  out << "sweep of " << sweep.model << ": " << poses << " poses over ";
-  for (std::size_t k = 0; k < sweep.poses.parameters.size(); ++k)
-    out << (k > 0 ? ", " : "") << sweep.poses.parameters[k];
-  char rate[96];
-  std::snprintf(rate, sizeof rate, " in %.3g s (%s, %.0f poses/s)\n", sweep.seconds,
-                counted(sweep.threads, "thread").c_str(),
-                sweep.seconds > 0 ? static_cast<double>(poses) / sweep.seconds : 0.0);
-  out << rate;
-  if (!sweep.fixed_parameters.empty()) out << "  at " << parameters_text(sweep.fixed_parameters) << '\n';
-  for (const auto& warning : sweep.warnings) out << "  warning: " << warning << '\n';
-  out << "  status:";
-  std::size_t large = 0;
-  for (const auto& r : sweep.results) large += r.large_deflection ? 1 : 0;
-  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
-    std::size_t n = 0;
-    for (const auto& r : sweep.results) n += r.status == status ? 1 : 0;
-    if (n > 0) out << ' ' << to_string(status) << ' ' << n;
-    if (status == PoseStatus::ok && large > 0) out << " (" << large << " with large deflections)";
-  }
-  out << '\n';
-  for (std::size_t pose = 0; pose < poses; ++pose) {
-    if (!sweep.results[pose].large_deflection) continue;
-    out << "  first pose with large deflections (" << pose_text(sweep, pose) << "): " << sweep.results[pose].message
-        << '\n';
-    break;
-  }
-  for (std::size_t pose = 0; pose < poses; ++pose) {
-    if (sweep.results[pose].status == PoseStatus::ok) continue;
-    out << "  first failed pose (" << pose_text(sweep, pose) << "): " << to_string(sweep.results[pose].status)
-        << ": " << sweep.results[pose].message << '\n';
-    break;
-  }
-  for (const auto& column : sweep_columns(sweep, false)) {
-    const auto worst = worst_pose(sweep, column);
-    if (!worst) continue;
-    out << "  " << (column.worst_is_largest ? "largest  " : "smallest ") << column.name << " = "
-        << with_unit(column_value(sweep, column, *worst), column.unit) << " at " << pose_text(sweep, *worst) << '\n';
-  }
-  out << "wrote";
-  for (const auto& f : files) out << ' ' << f.string();
-  out << '\n';
-}
-
-// What --plot needs of the grid, checked before any pose is solved.
-void check_plot_grid(const std::vector<GridAxis>& axes, bool from_pose_file) {
-  if (from_pose_file || axes.empty() || axes.size() > 2)
-    throw UsageError("--plot draws a line over a 1-D grid or a map over a 2-D grid; this sweep has " +
-                     (from_pose_file ? std::string("a list of poses") : std::to_string(axes.size()) + " grid axes"));
-  for (const auto& axis : axes) {
-    const bool ascending = axis.start < axis.stop || (axes.size() == 1 && axis.count == 1);
-    if (!ascending || (axes.size() == 2 && axis.count < 2))
-      throw UsageError("--plot: the grid of '" + axis.parameter + "' must run upwards (START < STOP)" +
-                       (axes.size() == 2 ? " with at least 2 values" : "") + " for a plot");
-  }
-}
 
 // Output files must not be inputs or each other, and their folder must exist: checked before
 // the sweep, so that a long sweep does not end in an error that writes nothing.
-void check_files(const SweepCommand& command, const fs::path& csv, const fs::path& summary) {
+struct OutputFile {
+  fs::path path;
+  std::string option;  // "--csv"
+  std::string noun;    // "the CSV"
+};
+
+void check_files(const SweepCommand& command, const std::vector<OutputFile>& outputs) {
   std::vector<std::pair<fs::path, std::string>> inputs{{command.model_file, "the model file"}};
   if (!command.poses_file.empty()) inputs.emplace_back(command.poses_file, "the pose file");
-  for (const auto& [output, option] : {std::pair{csv, "--csv"}, std::pair{summary, "the summary (--summary)"}}) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [output, option, noun] = outputs[i];
     for (const auto& [input, what] : inputs)
       if (same_file(output, input))
-        throw UsageError(std::string(option) + " '" + output.string() + "' is " + what + "; choose another name");
+        throw UsageError(option + " '" + output.string() + "' is " + what + "; choose another name");
+    for (std::size_t j = 0; j < i; ++j)
+      if (same_file(output, outputs[j].path))
+        throw UsageError(noun + " '" + output.string() + "' would replace " + outputs[j].noun + "; choose another name for " +
+                         option);
     const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
     std::error_code error;
     if (!fs::is_directory(folder, error))
-      throw UsageError(std::string(option) + " '" + output.string() + "': the folder '" + folder.string() +
-                       "' does not exist");
+      throw UsageError(option + " '" + output.string() + "': the folder '" + folder.string() + "' does not exist");
   }
-  if (same_file(csv, summary))
-    throw UsageError("the summary '" + summary.string() + "' would replace the CSV; choose another name for --summary");
+}
+
+// "K/N": the K-th (from 1) of N parts.
+std::pair<std::size_t, std::size_t> parse_shard(const std::string& spec) {
+  const auto slash = spec.find('/');
+  std::size_t part = 0, parts = 0;
+  const auto whole = [](std::string_view text, std::size_t& value) {
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return !text.empty() && error == std::errc() && end == text.data() + text.size();
+  };
+  if (slash == std::string::npos || !whole(std::string_view(spec).substr(0, slash), part) ||
+      !whole(std::string_view(spec).substr(slash + 1), parts) || parts == 0 || part == 0 || part > parts)
+    throw UsageError("--shard '" + spec + "': write K/N with 1 <= K <= N, e.g. 3/8 for the third of eight parts");
+  return {part, parts};
+}
+
+// FNV-1a: tells a part of one sweep from a part of another (not a guard against forgery).
+std::string fingerprint(std::string_view bytes) {
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 0x100000001b3ULL;
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+std::string file_fingerprint(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw IoError("cannot read " + what + " '" + path + "'");
+  return fingerprint(text.str());
+}
+
+std::string plain_text(double value) {
+  std::array<char, 32> buffer;
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  return std::string(buffer.data(), error == std::errc() ? end : buffer.data());
+}
+
+// What must be the same for parts to make one sweep: this program, the model file, the values
+// set, the poses, the columns and the solver (docs/cluster.md, "Shards").
+nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<GridAxis>& axes, std::size_t poses) {
+  nlohmann::json identity;
+  identity["stiffmsa"] = STIFFMSA_VERSION;
+  identity["model_file"] = file_fingerprint(command.model_file, "the model file");
+  nlohmann::json settings = nlohmann::json::object();
+  for (const auto& [name, value] : parse_settings(command.settings)) settings[name] = plain_text(value);
+  identity["set"] = std::move(settings);
+  if (command.poses_file.empty()) {
+    nlohmann::json grid = nlohmann::json::array();
+    for (const auto& axis : axes)
+      grid.push_back(axis.parameter + "=" + plain_text(axis.start) + ":" + plain_text(axis.stop) + ":" +
+                     std::to_string(axis.count));
+    identity["grid"] = std::move(grid);
+  } else {
+    identity["pose_file"] = file_fingerprint(command.poses_file, "the pose file");
+  }
+  identity["poses"] = poses;
+  identity["full"] = command.full;
+  identity["solver"] = to_string(command.solve.solver);
+  if (command.solve.direction)
+    identity["direction"] = {(*command.solve.direction)(0), (*command.solve.direction)(1), (*command.solve.direction)(2)};
+  identity["accept_idle_motions"] = command.solve.accept_idle_motions;
+  return identity;
+}
+
+// The number of poses of a grid, refused when it would not fit in memory's index range.
+std::size_t grid_size(const std::vector<GridAxis>& axes) {
+  std::size_t poses = 1;
+  for (const auto& axis : axes) {
+    if (axis.count > kMaxPoses / poses)
+      throw UsageError("the grid has more than " + std::to_string(kMaxPoses) + " poses; sweep fewer values per parameter");
+    poses *= axis.count;
+  }
+  return poses;
 }
 
 }  // namespace
@@ -341,56 +207,178 @@ ParameterSettings parse_settings(const std::vector<std::string>& settings) {
   return parsed;
 }
 
-int run_sweep(const SweepCommand& command) {
+
+SweepResult SweepPlan::solve(std::size_t first, std::size_t count,
+                             const std::function<void(std::size_t, std::size_t)>& progress) const {
+  SweepOptions block_options = options;
+  block_options.progress = progress;
+  if (!axes.empty()) return sweep(*family, grid_pose_block(axes, first, count), block_options);
+  PoseTable block;
+  block.parameters = listed->parameters;
+  const std::size_t width = listed->parameters.size();
+  block.values.assign(listed->values.begin() + static_cast<std::ptrdiff_t>(first * width),
+                      listed->values.begin() + static_cast<std::ptrdiff_t>((first + count) * width));
+  return sweep(*family, block, block_options);
+}
+
+std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   if (command.grids.empty() == command.poses_file.empty())
     throw UsageError("give the poses either as --grid NAME=START:STOP:COUNT (one per swept parameter) or as --poses FILE.csv");
-  std::vector<GridAxis> axes;
-  for (const auto& spec : command.grids) axes.push_back(parse_grid(spec));
-  if (command.plot) check_plot_grid(axes, !command.poses_file.empty());
-  const fs::path csv(command.csv_file);
-  const fs::path summary = command.summary_file.empty()
-                               ? csv.parent_path() / (csv.stem().string() + ".summary.json")
-                               : fs::path(command.summary_file);
-  check_files(command, csv, summary);
-  const fs::path view = csv.parent_path() / (csv.stem().string() + ".html");
-  if (command.view && (same_file(view, command.model_file) || same_file(view, csv)))
-    throw UsageError("--view would write '" + view.string() + "' over an input or the CSV; name the CSV otherwise");
-
-  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
-  const PoseTable poses = command.poses_file.empty() ? grid_poses(std::move(axes)) : read_pose_table(command.poses_file);
-
-  SweepOptions options;
-  options.solve = command.solve;
-  options.keep_matrices = command.full;
-  const Model at_defaults = family.build(family.default_values());
-  if (command.plot) {
-    // The columns to plot exist, and a matrix entry is kept for its plot even without --full.
-    SweepResult columns_of;
-    if (command.solve.direction) columns_of.direction = command.solve.direction;
-    for (const auto& e : at_defaults.end_effectors) columns_of.end_effectors.push_back(e.name);
-    for (const auto& column : plotted_columns(columns_of, command))
-      if (column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness)
-        options.keep_matrices = true;
+  if (command.csv_file.empty() && command.hdf5_file.empty())
+    throw UsageError("give an output for the rows: --csv FILE.csv, --hdf5 FILE.h5, or both");
+  auto owned = std::make_unique<PreparedSweep>();
+  PreparedSweep& prepared = *owned;
+  for (const auto& spec : command.grids) prepared.axes.push_back(parse_grid(spec));
+  std::optional<std::pair<std::size_t, std::size_t>> shard;
+  if (!command.shard.empty()) {
+    shard = parse_shard(command.shard);
+    if (command.plot)
+      throw UsageError("--plot with --shard: a part holds only some of the poses; draw the plots when merging "
+                       "(stiffmsa merge OUT.csv PART... --plot)");
+    if (command.view)
+      throw UsageError("--view with --shard: a part holds only some of the poses; the map is of a whole sweep "
+                       "run in one process");
   }
+  if (command.plot) check_plot_grid(prepared.axes, !command.poses_file.empty());
+  if (!command.grids.empty()) {
+    // grid_poses' own checks (empty axes, repeated names) on a grid of one pose per axis.
+    std::vector<GridAxis> probe = prepared.axes;
+    for (auto& axis : probe) axis.count = std::min<std::size_t>(axis.count, 1);
+    (void)grid_poses(probe);
+  }
+  const fs::path rows_file(command.csv_file.empty() ? command.hdf5_file : command.csv_file);
+  prepared.files.csv = command.csv_file;
+  prepared.files.hdf5 = command.hdf5_file;
+  prepared.files.summary = command.summary_file.empty()
+                               ? rows_file.parent_path() / (rows_file.stem().string() + ".summary.json")
+                               : fs::path(command.summary_file);
+  prepared.files.plot_base = rows_file.parent_path() / rows_file.stem();
+  std::vector<OutputFile> outputs;
+  if (!command.csv_file.empty()) outputs.push_back({command.csv_file, "--csv", "the CSV"});
+  if (!command.hdf5_file.empty()) outputs.push_back({command.hdf5_file, "--hdf5", "the HDF5 file"});
+  outputs.push_back({prepared.files.summary, "--summary", "the summary"});
+  if (command.view) {
+    prepared.view_file = rows_file.parent_path() / (rows_file.stem().string() + ".html");
+    outputs.push_back({prepared.view_file, "--view", "the view map"});
+  }
+  check_files(command, outputs);
+#if !STIFFMSA_CLI_HDF5
+  if (!command.hdf5_file.empty())
+    throw UsageError("--hdf5: this build of stiffmsa writes no HDF5 (built without HDF5); write --csv");
+#endif
+
+  prepared.family.emplace(load_model_family(command.model_file, command.limits, parse_settings(command.settings)));
+  std::size_t poses = 0;
+  if (command.poses_file.empty()) {
+    poses = grid_size(prepared.axes);
+  } else {
+    prepared.listed = read_pose_table(command.poses_file);
+    poses = prepared.listed.size();
+  }
+
+  // What the summary says of the sweep: the rows' columns come from the model at the defaults.
+  SweepDescription& description = prepared.description;
+  const Model reference = prepared.family->build(prepared.family->default_values());
+  description.run.model = reference.name;
+  for (const auto& e : reference.end_effectors) description.run.end_effectors.push_back(e.name);
+  description.run.poses.parameters = command.poses_file.empty() ? std::vector<std::string>{} : prepared.listed.parameters;
+  for (const auto& axis : prepared.axes) description.run.poses.parameters.push_back(axis.parameter);
+  description.run.poses.grid = prepared.axes;
+  if (command.solve.direction) description.run.direction = command.solve.direction->normalized();
+  description.loads = loads_text(reference);
+  for (const auto& name : description.run.poses.parameters) {
+    const auto index = prepared.family->find_parameter(name);
+    description.run.units.push_back(index ? prepared.family->parameters()[*index].unit : "");
+  }
+  description.full = command.full;
+  description.columns = sweep_columns(description.run, command.full);
+  description.poses = poses;
+
+  SweepPlan& plan = prepared.plan;
+  plan.family = &*prepared.family;
+  plan.axes = prepared.axes;
+  plan.listed = &prepared.listed;
+  plan.block = command.block;
+  plan.options.solve = command.solve;
+  plan.options.keep_matrices = command.full;
+  plan.options.threads = command.threads;
+  if (command.plot) {
+    prepared.files.plotted = plotted_columns(description.run, command.plot_columns);
+    // A matrix entry is kept for its plot even without --full.
+    for (const auto& column : prepared.files.plotted)
+      if (column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness)
+        plan.options.keep_matrices = true;
+  }
+  plan.first = 0;
+  plan.end = poses;
+  if (shard) {
+    const auto [part, parts] = *shard;
+    const auto bound = [&](std::size_t k) {
+      return poses / parts * k + poses % parts * k / parts;  // ⌊poses·k/parts⌋ without overflow
+    };
+    plan.first = bound(part - 1);
+    plan.end = bound(part);
+    nlohmann::json extra;
+    extra["shard"] = {{"part", part}, {"parts", parts}, {"first_pose", plan.first}, {"poses_in_all", poses}};
+    extra["identity"] = sweep_identity(command, prepared.axes, poses);
+    prepared.extra_summary = extra.dump();
+  }
+  // A swept name that is no parameter is refused before any pose; what a sweep says of the
+  // parameters it holds fixed and of the model's plausibility comes with no pose solved.
+  const SweepResult none_solved = plan.solve(plan.first, 0);
+  description.run.fixed_parameters = none_solved.fixed_parameters;
+  description.run.warnings = none_solved.warnings;
+  if (shard) {
+    // For the plots and lines that merge draws and prints: the loads, and the fixed parameters
+    // in the model's order (the summary's object of them is by name).
+    auto extra = nlohmann::json::parse(prepared.extra_summary);
+    extra["loads"] = description.loads;
+    nlohmann::json fixed_order = nlohmann::json::array();
+    for (const auto& p : description.run.fixed_parameters) fixed_order.push_back(p.name);
+    extra["fixed_parameter_order"] = std::move(fixed_order);
+    prepared.extra_summary = extra.dump();
+  }
+  if (command.view && poses > kMaxPosesInMemory)
+    throw UsageError("--view: the sweep has " + std::to_string(poses) + " poses; a view map holds every pose's "
+                     "result in memory and is written of at most " + std::to_string(kMaxPosesInMemory));
+  return owned;
+}
+
+int run_sweep(const SweepCommand& command) {
+#if STIFFMSA_CLI_MPI
+  if (started_by_mpi_launcher()) return run_sweep_over_ranks(command);
+#endif
+  const auto owned = prepare_sweep(command);
+  const PreparedSweep& prepared = *owned;
+  const SweepPlan& plan = prepared.plan;
+  SweepOutput output(prepared.description, prepared.files, plan.first, plan.end - plan.first);
 
   ProgressBar bar(!command.quiet);
-  options.threads = command.threads;
-  options.progress = [&bar](std::size_t done, std::size_t total) { bar.update(done, total); };
-  const SweepResult result = sweep(family, poses, options);
+  const std::size_t poses = plan.end - plan.first;
+  SweepResult viewed = prepared.description.run;  // with --view: every pose's result
+  std::size_t threads = 1;
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t first = plan.first; first < plan.end; first += plan.block) {
+    const std::size_t count = std::min(plan.block, plan.end - first);
+    const std::size_t done = first - plan.first;
+    const SweepResult solved =
+        plan.solve(first, count, [&](std::size_t in_block, std::size_t) { bar.update(done + in_block, poses); });
+    output.write(make_block(output.shape(), solved, first));
+    threads = std::max(threads, solved.threads);
+    if (command.view) {
+      // The map shows every pose: the only output that holds the whole sweep in memory.
+      viewed.poses.values.insert(viewed.poses.values.end(), solved.poses.values.begin(), solved.poses.values.end());
+      viewed.results.insert(viewed.results.end(), solved.results.begin(), solved.results.end());
+    }
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bar.finish();
-
-  std::vector<fs::path> files{csv, summary};
-  write_sweep_csv(result, command.full, csv);
-  write_sweep_summary(result, command.full, csv.filename().string(), summary);
-  if (command.plot) {
-    const auto plots = write_plots(result, command, at_defaults);
-    files.insert(files.end(), plots.begin(), plots.end());
-  }
+  auto files = output.finish(threads, seconds, prepared.extra_summary);
   if (command.view) {
-    write_sweep_view(result, view);
-    files.push_back(view);
+    write_sweep_view(viewed, prepared.view_file);
+    files.push_back(prepared.view_file);
   }
-  print_sweep_summary(std::cout, result, files);
+  print_sweep_summary(std::cout, prepared.description, output.summary(), threads, seconds, files);
   return exit_success;
 }
 

@@ -19,6 +19,9 @@ packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev li
           liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev libconsole-bridge-dev)
 # libjs-three: three.js r111 (Debian 12's 111+dfsg1-3), built into the viewer's pages.
 packages+=(libjs-three)
+# Sweeps beyond one machine (docs/cluster.md): HDF5 output, MPI ranks, and h5py and pandas to
+# check the HDF5 file in tests/test_sweep_scale.cpp.
+packages+=(libhdf5-dev openmpi-bin libopenmpi-dev python3-h5py python3-pandas)
 for group in "$@"; do
   case "$group" in
     fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;

@@ -7,7 +7,8 @@ cd "$root"
 
 bash scripts/install-deps.sh viewer python
 source scripts/build-cache.sh
-cmake -S . -B build -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Release
+# With MPI and HDF5, so that the tests cover sweeps over ranks and HDF5 rows (docs/cluster.md).
+cmake -S . -B build -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Release -DSTIFFMSA_WITH_MPI=ON -DSTIFFMSA_WITH_HDF5=ON
 cmake --build build -j2
 ctest --test-dir build --output-on-failure
 

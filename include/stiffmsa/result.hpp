@@ -3,6 +3,7 @@
 // that the model does not determine (free motion, indeterminate internal wrench) is nullopt.
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "stiffmsa/model.hpp"
@@ -101,8 +102,11 @@ struct SolveReport {
   std::vector<std::string> failed_checks;
   // The warning that some deflection under the loads is beyond the range of the linear method
   // (also in warnings; docs/model-format.md, "Plausibility warnings"); empty where none is.
+  // It starts with kLargeDeflectionWarning, by which a sweep's row read back tells it.
   std::string large_deflection;
 };
+inline constexpr std::string_view kLargeDeflectionWarning =
+    "the deflections under the loads are too large for the linear method";
 
 struct Result {
   std::string model;

@@ -45,6 +45,10 @@ struct PoseTable {
 // parameter or a grid of more than `max_poses` poses.
 PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses = 10'000'000);
 
+// The poses `first` … `first + count - 1` of the grid of `axes` (in grid_poses' order), without
+// `grid`: a block of a sweep too large to hold at once. The axes are not checked here.
+PoseTable grid_pose_block(const std::vector<GridAxis>& axes, std::size_t first, std::size_t count);
+
 enum class PoseStatus {
   ok,           // every end effector's compliance is determined
   singular,     // the system is singular to working precision, or fails its accuracy checks

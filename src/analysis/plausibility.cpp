@@ -54,7 +54,7 @@ void add_plausibility_warnings(const Model& model, const ModelIndex& index, Resu
   const bool turns = largest.rotation > kLargestLinearRotation;
   const bool moves = largest.translation > kLargestLinearTranslationFraction * size;
   if (!turns && !moves) return;
-  std::string text = "the deflections under the loads are too large for the linear method, which assumes small ones:";
+  std::string text = std::string(kLargeDeflectionWarning) + ", which assumes small ones:";
   if (turns)
     text += " link end '" + end_name(result, largest.rotation_at) + "' turns " + rounded(largest.rotation) + " rad (more than " +
             shortest_text(kLargestLinearRotation) + " rad)";

@@ -66,15 +66,22 @@ PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses) {
     table.parameters.push_back(axis.parameter);
   }
   if (axes.empty()) return table;
-  table.values.resize(poses * axes.size());
-  for (std::size_t pose = 0; pose < poses; ++pose) {
-    std::size_t rest = pose;
+  table = grid_pose_block(axes, 0, poses);
+  table.grid = std::move(axes);
+  return table;
+}
+
+PoseTable grid_pose_block(const std::vector<GridAxis>& axes, std::size_t first, std::size_t count) {
+  PoseTable table;
+  for (const auto& axis : axes) table.parameters.push_back(axis.parameter);
+  table.values.resize(count * axes.size());
+  for (std::size_t row = 0; row < count; ++row) {
+    std::size_t rest = first + row;
     for (std::size_t k = 0; k < axes.size(); ++k) {
-      table.values[pose * axes.size() + k] = axes[k].value(rest % axes[k].count);
+      table.values[row * axes.size() + k] = axes[k].value(rest % axes[k].count);
       rest /= axes[k].count;
     }
   }
-  table.grid = std::move(axes);
   return table;
 }
 

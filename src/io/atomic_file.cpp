@@ -7,9 +7,11 @@
 #include <atomic>
 #include <cerrno>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include "stiffmsa/errors.hpp"
+#include "stiffmsa/io/atomic_file.hpp"
 #include "stiffmsa/io/result_file.hpp"
 
 namespace stiffmsa {
@@ -59,7 +61,9 @@ class TemporaryFile {
     if (!path_.empty()) ::unlink(path_.c_str());
   }
 
-  void write_all(const std::string& contents) {
+  const fs::path& path() const { return path_; }
+
+  void write_all(std::string_view contents) {
     const char* data = contents.data();
     std::size_t remaining = contents.size();
     while (remaining > 0) {
@@ -122,20 +126,39 @@ void sync_folder(const fs::path& folder) {
   ::close(fd);
 }
 
-}  // namespace
-
-void write_file_atomically(const std::filesystem::path& path, const std::string& contents) {
+fs::path folder_of(const fs::path& path) {
   if (path.empty() || !path.has_filename()) {
     throw IoError("cannot write '" + path.string() + "': not a file name");
   }
-  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  return path.has_parent_path() ? path.parent_path() : fs::path(".");
+}
 
-  TemporaryFile temporary(path, folder);
-  temporary.write_all(contents);
-  temporary.copy_permissions_of_target();
-  temporary.flush_and_close();
-  temporary.rename_over_target();
-  sync_folder(folder);
+}  // namespace
+
+struct AtomicFileWriter::Temporary : TemporaryFile {
+  using TemporaryFile::TemporaryFile;
+};
+
+AtomicFileWriter::AtomicFileWriter(const fs::path& target)
+    : target_(target), temporary_(std::make_unique<Temporary>(target, folder_of(target))) {}
+
+AtomicFileWriter::~AtomicFileWriter() = default;
+
+void AtomicFileWriter::append(std::string_view bytes) { temporary_->write_all(bytes); }
+
+const fs::path& AtomicFileWriter::temporary_path() const { return temporary_->path(); }
+
+void AtomicFileWriter::commit() {
+  temporary_->copy_permissions_of_target();
+  temporary_->flush_and_close();
+  temporary_->rename_over_target();
+  sync_folder(folder_of(target_));
+}
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& contents) {
+  AtomicFileWriter file(path);
+  file.append(contents);
+  file.commit();
 }
 
 }  // namespace stiffmsa

@@ -1,6 +1,11 @@
 #include "stiffmsa/io/sweep_file.hpp"
 
+#include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -17,6 +22,8 @@ std::optional<double> parse_plain_number(std::string_view text) { return detail:
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr std::array kStatuses{PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid};
 
 // ---- reading poses -----------------------------------------------------------------------
 
@@ -214,16 +221,21 @@ double column_value(const SweepResult& sweep, const SweepColumn& column, std::si
   return kNaN;
 }
 
+bool is_worse(const SweepColumn& column, double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return !std::isnan(a) && std::isnan(b);
+  if (column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness) {
+    a = std::abs(a);
+    b = std::abs(b);
+  }
+  return column.worst_is_largest ? a > b : a < b;
+}
+
 std::optional<std::size_t> worst_pose(const SweepResult& sweep, const SweepColumn& column) {
   std::optional<std::size_t> worst;
-  double worst_value = 0;
-  const bool by_magnitude = column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness;
+  double worst_value = kNaN;
   for (std::size_t pose = 0; pose < sweep.results.size(); ++pose) {
-    double value = column_value(sweep, column, pose);
-    if (std::isnan(value)) continue;
-    if (by_magnitude) value = std::abs(value);
-    const bool worse = column.worst_is_largest ? value > worst_value : value < worst_value;
-    if (!worst || worse) {
+    const double value = column_value(sweep, column, pose);
+    if (is_worse(column, value, worst_value)) {
       worst = pose;
       worst_value = value;
     }
@@ -231,10 +243,30 @@ std::optional<std::size_t> worst_pose(const SweepResult& sweep, const SweepColum
   return worst;
 }
 
-std::string sweep_to_csv(const SweepResult& sweep, bool full) {
-  const auto columns = sweep_columns(sweep, full);
+SweepRows sweep_rows(const SweepResult& sweep, const std::vector<SweepColumn>& columns, std::size_t first_pose) {
+  SweepRows rows;
+  rows.first_pose = first_pose;
+  rows.parameter_count = sweep.poses.parameters.size();
+  rows.column_count = columns.size();
+  const std::size_t count = sweep.results.size();
+  rows.parameters.assign(sweep.poses.values.begin(),
+                         sweep.poses.values.begin() + static_cast<std::ptrdiff_t>(count * rows.parameter_count));
+  rows.statuses.reserve(count);
+  rows.messages.reserve(count);
+  rows.large_deflections.reserve(count);
+  rows.values.reserve(count * columns.size());
+  for (std::size_t pose = 0; pose < count; ++pose) {
+    rows.statuses.push_back(sweep.results[pose].status);
+    rows.messages.push_back(sweep.results[pose].message);
+    rows.large_deflections.push_back(sweep.results[pose].large_deflection ? 1 : 0);
+    for (const auto& column : columns) rows.values.push_back(column_value(sweep, column, pose));
+  }
+  return rows;
+}
+
+std::string sweep_csv_header(const std::vector<std::string>& parameters, const std::vector<SweepColumn>& columns) {
   std::string out;
-  for (const auto& p : sweep.poses.parameters) {
+  for (const auto& p : parameters) {
     append_text(out, p);
     out += ',';
   }
@@ -244,77 +276,350 @@ std::string sweep_to_csv(const SweepResult& sweep, bool full) {
     append_text(out, c.name);
   }
   out += '\n';
-  for (std::size_t pose = 0; pose < sweep.results.size(); ++pose) {
-    for (double value : sweep.poses.pose(pose)) {
-      append_number(out, value);
-      out += ',';
-    }
-    out += to_string(sweep.results[pose].status);
-    out += ',';
-    append_text(out, sweep.results[pose].message);
-    for (const auto& c : columns) {
-      out += ',';
-      append_number(out, column_value(sweep, c, pose));
-    }
-    out += '\n';
-  }
   return out;
 }
 
+void append_sweep_csv_rows(std::string& out, const SweepRows& rows) {
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    for (double value : rows.pose(row)) {
+      append_number(out, value);
+      out += ',';
+    }
+    out += to_string(rows.statuses[row]);
+    out += ',';
+    append_text(out, rows.messages[row]);
+    for (std::size_t column = 0; column < rows.column_count; ++column) {
+      out += ',';
+      append_number(out, rows.value(row, column));
+    }
+    out += '\n';
+  }
+}
+
+std::string sweep_to_csv(const SweepResult& sweep, bool full) {
+  const auto columns = sweep_columns(sweep, full);
+  std::string out = sweep_csv_header(sweep.poses.parameters, columns);
+  append_sweep_csv_rows(out, sweep_rows(sweep, columns));
+  return out;
+}
+
+std::optional<PoseStatus> pose_status_from_string(std::string_view name) {
+  for (auto status : kStatuses)
+    if (name == to_string(status)) return status;
+  return std::nullopt;
+}
+
+SweepSummary::SweepSummary(std::vector<SweepColumn> columns)
+    : columns_(std::move(columns)), worst_(columns_.size()) {}
+
+void SweepSummary::offer_worst(std::size_t column, Pose candidate) {
+  auto& worst = worst_[column];
+  if (!worst || is_worse(columns_[column], candidate.value, worst->value) ||
+      (!is_worse(columns_[column], worst->value, candidate.value) && candidate.index < worst->index))
+    worst = std::move(candidate);
+}
+
+void SweepSummary::offer_first(std::optional<Pose>& first, Pose candidate) {
+  if (!first || candidate.index < first->index) first = std::move(candidate);
+}
+
+void SweepSummary::add(const SweepRows& rows) {
+  poses_ += rows.size();
+  // The block's own first failure and worst rows first, then one offer each: a pass over the
+  // block costs a comparison per value, not a copy of its parameters.
+  std::optional<std::size_t> block_failed, block_large_deflection;
+  std::vector<std::optional<std::size_t>> block_worst(columns_.size());
+  for (std::size_t row = 0; row < rows.size(); ++row) {
+    ++counts_[static_cast<std::size_t>(rows.statuses[row])];
+    if (rows.statuses[row] != PoseStatus::ok && !block_failed) block_failed = row;
+    if (rows.large_deflections[row] != 0) {
+      ++large_deflections_;
+      if (!block_large_deflection) block_large_deflection = row;
+    }
+    for (std::size_t column = 0; column < columns_.size(); ++column)
+      if (is_worse(columns_[column], rows.value(row, column),
+                   block_worst[column] ? rows.value(*block_worst[column], column) : kNaN))
+        block_worst[column] = row;
+  }
+  const auto pose_of = [&](std::size_t row, double value) {
+    const bool told = rows.statuses[row] != PoseStatus::ok || rows.large_deflections[row] != 0;
+    return Pose{rows.first_pose + row, {rows.pose(row).begin(), rows.pose(row).end()}, value, rows.statuses[row],
+                told ? rows.messages[row] : std::string()};
+  };
+  if (block_failed) offer_first(first_failed_, pose_of(*block_failed, kNaN));
+  if (block_large_deflection) offer_first(first_large_deflection_, pose_of(*block_large_deflection, kNaN));
+  for (std::size_t column = 0; column < columns_.size(); ++column)
+    if (const auto row = block_worst[column]) offer_worst(column, pose_of(*row, rows.value(*row, column)));
+}
+
+void SweepSummary::add(const SweepSummary& other) {
+  poses_ += other.poses_;
+  for (std::size_t k = 0; k < counts_.size(); ++k) counts_[k] += other.counts_[k];
+  for (std::size_t column = 0; column < columns_.size() && column < other.worst_.size(); ++column)
+    if (other.worst_[column]) offer_worst(column, *other.worst_[column]);
+  if (other.first_failed_) offer_first(first_failed_, *other.first_failed_);
+  large_deflections_ += other.large_deflections_;
+  if (other.first_large_deflection_) offer_first(first_large_deflection_, *other.first_large_deflection_);
+}
+
+namespace {
+
+void put_size(std::string& out, std::size_t value) {
+  const auto v = static_cast<std::uint64_t>(value);
+  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+void put_double(std::string& out, double value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); }
+
+void put_pose(std::string& out, const SweepSummary::Pose& pose) {
+  put_size(out, pose.index);
+  put_size(out, pose.parameters.size());
+  for (double v : pose.parameters) put_double(out, v);
+  put_double(out, pose.value);
+  put_size(out, static_cast<std::size_t>(pose.status));
+  put_size(out, pose.message.size());
+  out += pose.message;
+}
+
+// Reads what put_* wrote; a short or inconsistent buffer is an internal error between ranks.
+class Unpacker {
+ public:
+  explicit Unpacker(std::string_view bytes) : bytes_(bytes) {}
+  std::size_t size() {
+    std::uint64_t v = 0;
+    take(&v, sizeof v);
+    return static_cast<std::size_t>(v);
+  }
+  double number() {
+    double v = 0;
+    take(&v, sizeof v);
+    return v;
+  }
+  std::string text(std::size_t length) {
+    if (length > bytes_.size()) throw Error("sweep data passed between processes is truncated");
+    std::string t(bytes_.substr(0, length));
+    bytes_.remove_prefix(length);
+    return t;
+  }
+  SweepSummary::Pose pose() {
+    SweepSummary::Pose p;
+    p.index = size();
+    p.parameters.resize(size());
+    for (double& v : p.parameters) v = number();
+    p.value = number();
+    const std::size_t status = size();
+    if (status >= kStatuses.size()) throw Error("a sweep summary passed between processes has an unknown status");
+    p.status = static_cast<PoseStatus>(status);
+    p.message = text(size());
+    return p;
+  }
+
+ private:
+  void take(void* out, std::size_t n) {
+    if (n > bytes_.size()) throw Error("sweep data passed between processes is truncated");
+    std::memcpy(out, bytes_.data(), n);
+    bytes_.remove_prefix(n);
+  }
+  std::string_view bytes_;
+};
+
+}  // namespace
+
+void serialize_rows(std::string& out, const SweepRows& rows) {
+  put_size(out, rows.first_pose);
+  put_size(out, rows.parameter_count);
+  put_size(out, rows.column_count);
+  put_size(out, rows.size());
+  put_size(out, rows.parameters.size());
+  for (double v : rows.parameters) put_double(out, v);
+  for (auto status : rows.statuses) put_size(out, static_cast<std::size_t>(status));
+  put_size(out, rows.large_deflections.size());
+  out.append(reinterpret_cast<const char*>(rows.large_deflections.data()), rows.large_deflections.size());
+  put_size(out, rows.messages.size());
+  for (const auto& message : rows.messages) {
+    put_size(out, message.size());
+    out += message;
+  }
+  put_size(out, rows.values.size());
+  for (double v : rows.values) put_double(out, v);
+}
+
+SweepRows deserialize_rows(std::string_view bytes) {
+  Unpacker in(bytes);
+  SweepRows rows;
+  rows.first_pose = in.size();
+  rows.parameter_count = in.size();
+  rows.column_count = in.size();
+  const std::size_t count = in.size();
+  rows.parameters.resize(in.size());
+  for (double& v : rows.parameters) v = in.number();
+  for (std::size_t row = 0; row < count; ++row) {
+    const std::size_t status = in.size();
+    if (status >= kStatuses.size()) throw Error("sweep rows passed between processes have an unknown status");
+    rows.statuses.push_back(static_cast<PoseStatus>(status));
+  }
+  const std::string flags = in.text(in.size());
+  rows.large_deflections.assign(flags.begin(), flags.end());
+  rows.messages.resize(in.size());
+  for (auto& message : rows.messages) message = in.text(in.size());
+  rows.values.resize(in.size());
+  for (double& v : rows.values) v = in.number();
+  return rows;
+}
+
+std::string SweepSummary::serialize() const {
+  std::string out;
+  put_size(out, poses_);
+  for (std::size_t count : counts_) put_size(out, count);
+  put_size(out, worst_.size());
+  for (const auto& worst : worst_) {
+    put_size(out, worst ? 1 : 0);
+    if (worst) put_pose(out, *worst);
+  }
+  put_size(out, first_failed_ ? 1 : 0);
+  if (first_failed_) put_pose(out, *first_failed_);
+  put_size(out, large_deflections_);
+  put_size(out, first_large_deflection_ ? 1 : 0);
+  if (first_large_deflection_) put_pose(out, *first_large_deflection_);
+  return out;
+}
+
+SweepSummary SweepSummary::deserialize(std::vector<SweepColumn> columns, std::string_view bytes) {
+  SweepSummary summary(std::move(columns));
+  Unpacker in(bytes);
+  summary.poses_ = in.size();
+  for (std::size_t& count : summary.counts_) count = in.size();
+  if (in.size() != summary.worst_.size()) throw Error("a sweep summary passed between processes has other columns");
+  for (auto& worst : summary.worst_)
+    if (in.size() != 0) worst = in.pose();
+  if (in.size() != 0) summary.first_failed_ = in.pose();
+  summary.large_deflections_ = in.size();
+  if (in.size() != 0) summary.first_large_deflection_ = in.pose();
+  return summary;
+}
+
+SweepCsvReader::SweepCsvReader(const std::filesystem::path& file, std::vector<std::string> parameters,
+                               std::vector<SweepColumn> columns)
+    : name_(file.string()), in_(file, std::ios::binary), parameters_(std::move(parameters)),
+      columns_(std::move(columns)) {
+  std::error_code error;
+  if (!in_ || std::filesystem::is_directory(file, error)) throw IoError("cannot read the sweep rows '" + name_ + "'");
+  std::string header;
+  const std::string expected = sweep_csv_header(parameters_, columns_);
+  if (!next_record(header) || header + '\n' != expected)
+    throw InputError({name_, 1, 0}, "",
+                     "the header is not the one this sweep writes (" + expected.substr(0, expected.size() - 1) + ")");
+}
+
+bool SweepCsvReader::next_record(std::string& record) {
+  record.clear();
+  std::string line;
+  std::size_t quotes = 0;
+  while (std::getline(in_, line)) {
+    ++line_;
+    quotes += static_cast<std::size_t>(std::count(line.begin(), line.end(), '"'));
+    record += line;
+    if (quotes % 2 == 0) return true;
+    record += '\n';  // a quoted field goes on on the next line
+  }
+  if (in_.bad()) throw IoError("cannot read the sweep rows '" + name_ + "'");
+  return !record.empty();
+}
+
+SweepRows SweepCsvReader::read(std::size_t first_pose, std::size_t count) {
+  SweepRows rows;
+  rows.first_pose = first_pose;
+  rows.parameter_count = parameters_.size();
+  rows.column_count = columns_.size();
+  std::string record;
+  const std::size_t fields_per_row = parameters_.size() + 2 + columns_.size();
+  while (rows.size() < count && next_record(record)) {
+    const auto defect = [&](const std::string& key, const std::string& message) {
+      return InputError({name_, static_cast<int>(line_), 0}, key, message);
+    };
+    const auto fields = split_fields(record);
+    if (fields.size() != fields_per_row)
+      throw defect("", "expected " + std::to_string(fields_per_row) + " fields, got " + std::to_string(fields.size()) +
+                           " (a row cut short?)");
+    const auto number = [&](const std::string& text, const std::string& key, bool may_be_empty) {
+      if (text.empty() && may_be_empty) return kNaN;
+      if (text == "inf" || text == "-inf") return text[0] == '-' ? -kInfinity : kInfinity;
+      const auto value = detail::plain_number(text);
+      if (!value) throw defect(key, "expected a number, got '" + text + "'");
+      return *value;
+    };
+    for (std::size_t k = 0; k < parameters_.size(); ++k)
+      rows.parameters.push_back(number(fields[k], parameters_[k], false));
+    const auto status = pose_status_from_string(fields[parameters_.size()]);
+    if (!status) throw defect("status", "'" + fields[parameters_.size()] + "' is not a pose status");
+    rows.statuses.push_back(*status);
+    rows.messages.push_back(fields[parameters_.size() + 1]);
+    rows.large_deflections.push_back(*status == PoseStatus::ok && rows.messages.back().starts_with(kLargeDeflectionWarning));
+    for (std::size_t c = 0; c < columns_.size(); ++c)
+      rows.values.push_back(number(fields[parameters_.size() + 2 + c], columns_[c].name, true));
+  }
+  rows_read_ += rows.size();
+  return rows;
+}
+
 std::string sweep_summary_to_json(const SweepResult& sweep, bool full, const std::string& csv_file) {
+  SweepSummary summary(sweep_columns(sweep, full));
+  summary.add(sweep_rows(sweep, summary.columns()));
+  return sweep_summary_to_json(sweep, full, summary, csv_file);
+}
+
+std::string sweep_summary_to_json(const SweepResult& run, bool full, const SweepSummary& summary,
+                                  const std::string& csv_file, std::size_t csv_first_pose) {
   using nlohmann::json;
-  json summary;
-  summary["format"] = "stiffmsa-sweep/1";
-  summary["model"] = sweep.model;
-  if (!csv_file.empty()) summary["csv"] = csv_file;
-  summary["poses"] = sweep.results.size();
+  json out;
+  out["format"] = "stiffmsa-sweep/1";
+  out["model"] = run.model;
+  if (!csv_file.empty()) out["csv"] = csv_file;
+  out["poses"] = summary.poses();
   json parameters = json::array();
-  for (std::size_t k = 0; k < sweep.poses.parameters.size(); ++k) {
-    json p{{"name", sweep.poses.parameters[k]}, {"unit", k < sweep.units.size() ? sweep.units[k] : ""}};
-    for (const auto& axis : sweep.poses.grid)
-      if (axis.parameter == sweep.poses.parameters[k])
+  for (std::size_t k = 0; k < run.poses.parameters.size(); ++k) {
+    json p{{"name", run.poses.parameters[k]}, {"unit", k < run.units.size() ? run.units[k] : ""}};
+    for (const auto& axis : run.poses.grid)
+      if (axis.parameter == run.poses.parameters[k])
         p["grid"] = {{"start", axis.start}, {"stop", axis.stop}, {"count", axis.count}};
     parameters.push_back(std::move(p));
   }
-  summary["parameters"] = std::move(parameters);
+  out["parameters"] = std::move(parameters);
   json fixed = json::object();
-  for (const ParameterValue& p : sweep.fixed_parameters)
+  for (const ParameterValue& p : run.fixed_parameters)
     fixed[p.name] = {{"value", p.value}, {"unit", p.unit}, {"set", p.set}};
-  summary["fixed_parameters"] = std::move(fixed);
-  if (sweep.direction) summary["direction"] = {(*sweep.direction)(0), (*sweep.direction)(1), (*sweep.direction)(2)};
+  out["fixed_parameters"] = std::move(fixed);
+  if (run.direction) out["direction"] = {(*run.direction)(0), (*run.direction)(1), (*run.direction)(2)};
+  out["end_effectors"] = run.end_effectors;
+  out["full"] = full;
   json counts;
-  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
-    std::size_t n = 0;
-    for (const auto& r : sweep.results) n += r.status == status ? 1 : 0;
-    counts[to_string(status)] = n;
-  }
-  summary["status"] = std::move(counts);
-  std::size_t large = 0;
-  for (const auto& r : sweep.results) large += r.large_deflection ? 1 : 0;
-  summary["large_deflection"] = large;
-  summary["warnings"] = sweep.warnings;
+  for (auto status : kStatuses) counts[to_string(status)] = summary.count(status);
+  out["status"] = std::move(counts);
+  out["large_deflection"] = summary.large_deflections();
+  out["warnings"] = run.warnings;
   json worst = json::object();
-  for (const auto& column : sweep_columns(sweep, full)) {
-    const auto pose = worst_pose(sweep, column);
+  for (std::size_t c = 0; c < summary.columns().size(); ++c) {
+    const SweepColumn& column = summary.columns()[c];
+    const auto& pose = summary.worst(c);
     if (!pose) {
       worst[column.name] = nullptr;
       continue;
     }
     json at = json::object();
-    const auto values = sweep.poses.pose(*pose);
-    for (std::size_t k = 0; k < values.size(); ++k) at[sweep.poses.parameters[k]] = values[k];
-    worst[column.name] = {{"value", json_number(column_value(sweep, column, *pose))},
+    for (std::size_t k = 0; k < pose->parameters.size() && k < run.poses.parameters.size(); ++k)
+      at[run.poses.parameters[k]] = pose->parameters[k];
+    worst[column.name] = {{"value", json_number(pose->value)},
                           {"unit", column.unit},
                           {"criterion", column.worst_is_largest ? "largest" : "smallest"},
-                          {"pose", *pose},
-                          {"csv_line", *pose + 2},
+                          {"pose", pose->index},
+                          {"csv_line", pose->index - csv_first_pose + 2},
                           {"parameters", std::move(at)}};
   }
-  summary["worst"] = std::move(worst);
-  summary["threads"] = sweep.threads;
-  summary["seconds"] = sweep.seconds;
+  out["worst"] = std::move(worst);
+  out["threads"] = run.threads;
+  out["seconds"] = run.seconds;
   // Names come from the user's files, which may hold bytes that are not UTF-8.
-  return summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  return out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 void write_sweep_csv(const SweepResult& sweep, bool full, const std::filesystem::path& file) {
