@@ -76,8 +76,7 @@ int run_solve(const SolveCommand& command) {
     const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
     return family.build(family.default_values());
   }();
-  Result result = solve(model, options);
-  result.parameters = model.parameters;
+  const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
   const auto vtk_files = command.vtk_file.empty() ? std::vector<fs::path>{} : write_vtk(model, result, command.vtk_file);

@@ -110,9 +110,8 @@ inline constexpr std::string_view kLargeDeflectionWarning =
 
 struct Result {
   std::string model;
-  // The parameters of a model built from a family, at their values (Model::parameters): filled
-  // by the caller that built it (the stiffmsa command), so that a result tells which member it
-  // is. Empty otherwise.
+  // The parameters of a model built from a family, at their values (Model::parameters, copied
+  // by solve), so that a result tells which member it is. Empty otherwise.
   std::vector<ParameterValue> parameters;
   // The diagonal of the box around the model's points (at least 1 mm): the lever that makes
   // moments comparable with forces, and rotations with translations.

@@ -126,7 +126,7 @@ void bind_errors(py::module_&) {
       raise("InputError", error_class("InputError")(e.what(), diagnostics));
     } catch (const SingularModelError& e) {
       const char* cause = e.cause() == SingularModelError::Cause::free_motion ? "free_motion" : "numerical";
-      raise("SingularModelError", error_class("SingularModelError")(e.what(), cause, e.details()));
+      raise("SingularModelError", error_class("SingularModelError")(e.summary(), cause, e.details()));
     } catch (const IoError& e) {
       raise("IoError", error_class("IoError")(e.what()));
     } catch (const UsageError& e) {

@@ -732,6 +732,7 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
 // What every solve adds to its result, however it was solved.
 void finish_result(const Model& model, const detail::ModelIndex& index, const SolveOptions& options, Result& result) {
   result.model_size = detail::characteristic_length(model);
+  result.parameters = model.parameters;
   detail::add_plausibility_warnings(model, index, result);
   if (!options.direction) return;
   for (EndEffectorResult& e : result.end_effectors)
