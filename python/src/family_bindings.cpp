@@ -91,7 +91,11 @@ std::vector<double> member_values(const ModelFamily& family, const std::map<std:
 
 Model build_member(const ModelFamily& family, const std::map<std::string, double>& values) {
   try {
-    return family.build(member_values(family, values));
+    Model member = family.build(member_values(family, values));
+    // A value the caller gives is set, as `--set` sets it on the command line.
+    for (ParameterValue& p : member.parameters)
+      if (values.contains(p.name)) p.set = true;
+    return member;
   } catch (const PythonBuildError& e) {
     e.restore();
     throw py::error_already_set();
