@@ -592,6 +592,38 @@ Result solve_robot_example(const std::string& file) {
   return solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/robots/" + file));
 }
 
+// The six-axis example's tool centre point lies beyond tool0, fixed at the chain's end: the link
+// that ends at tool0 runs on to it, so the robot has the seven links of the hand-written 6-axis
+// example; an end effector at tool0 itself keeps tool0 a link end and the tool link apart. The
+// numbers at the tool centre point are the same either way.
+TEST_F(UrdfRobot, AToolCentrePointExtendsTheLinkThatEndsAtItsFrame) {
+  const fs::path examples = fs::path(STIFFMSA_SOURCE_DIR) / "examples" / "robots";
+  const Model folded = load_model(examples / "six-axis.yaml");
+  EXPECT_EQ(folded.links.size(), 7u);
+  EXPECT_EQ(folded.find_link("tcp.tcp"), nullptr);
+  ASSERT_NE(folded.find_link("link_6"), nullptr);
+  EXPECT_EQ(folded.find_link("link_6")->to, "tcp.tcp");
+  EXPECT_EQ(folded.end_effectors.at(0).link, "link_6");
+  EXPECT_NE(folded.find_point("tool0"), nullptr);
+
+  fs::copy_file(examples / "six-axis.urdf", folder_ / "six-axis.urdf");
+  std::ostringstream text;
+  text << std::ifstream(examples / "six-axis.yaml").rdbuf();
+  std::string yaml = text.str();
+  const std::string tcp = "  tcp: {frame: tool0, offset: [0, 0, 0.15]}\n";
+  ASSERT_NE(yaml.find(tcp), std::string::npos);
+  yaml.replace(yaml.find(tcp), tcp.size(), tcp + "  flange: {frame: tool0}\n");
+  const Model apart = load_model(write("six-axis.yaml", yaml));
+  EXPECT_EQ(apart.links.size(), 8u);
+  ASSERT_NE(apart.find_link("tcp.tcp"), nullptr);
+  EXPECT_EQ(apart.find_link("link_6")->to, "tool0");
+
+  const Result a = solve(folded), b = solve(apart);
+  ASSERT_TRUE(a.end_effectors.at(0).compliance && b.end_effectors.at(0).compliance);
+  EXPECT_LT(relative_difference(*a.end_effectors[0].compliance, *b.end_effectors[0].compliance), 1e-12);
+  EXPECT_LT(relative_difference(*a.end_effectors[0].deflection, *b.end_effectors[0].deflection), 1e-12);
+}
+
 TEST_F(UrdfRobot, TheRobotExamplesSolveCleanly) {
   for (const char* file : {"six-axis.yaml", "seven-axis.yaml", "tripod.yaml"}) {
     const Result result = solve_robot_example(file);

@@ -676,6 +676,7 @@ Model Loader::read(const YamlNode& root) {
   for (const auto& [key, read_part] : parts)
     if (const Entry* e = find(top, key)) (this->*read_part)(*e);
   if (robot_) {
+    robot_->fold_tool_links(model_);
     std::vector<double> positions;
     for (const auto& p : robot_positions_) positions.push_back(p.value);
     robot_->pose(positions, model_);

@@ -1,6 +1,7 @@
 #include "io/robot_model.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -214,6 +215,7 @@ std::optional<std::string> RobotLayout::add_end_effector(std::string name, int f
   const std::string tcp = name + ".tcp";
   add_point(model, tcp, frame, *offset, origin.location);
   model.add_rigid_link(tcp, end.point, tcp).origin.location = origin.location;
+  tool_links_.push_back({tcp, frame, *offset, model.end_effectors.size()});
   EndEffector& e = model.add_end_effector(std::move(name), tcp, tcp);
   e.origin = std::move(origin);
   return std::nullopt;
@@ -229,6 +231,52 @@ std::optional<std::string> RobotLayout::add_load(int frame, const Vec6& wrench, 
   Load& load = model.add_load(end.point, end.link, Vec6::Zero());
   load.origin = std::move(origin);
   return std::nullopt;
+}
+
+void RobotLayout::fold_tool_links(Model& model) {
+  for (const ToolLink& tool : tool_links_) {
+    FrameEnd& end = frame_ends_[static_cast<std::size_t>(tool.frame)];
+    const std::string point = end.point;
+    const auto reaching = std::find_if(model.links.begin(), model.links.end(), [&](const Link& l) { return l.name == end.link; });
+    // A beam's length is its stiffness: only a rigid link may run on.
+    if (reaching == model.links.end() || reaching->to != point || !std::holds_alternative<RigidLink>(reaching->kind)) continue;
+    // Anything else attached at the frame's point needs the point as a link end: no fold there.
+    const auto is_tool_link = [&](const Link& l) {
+      return l.from == point &&
+             std::any_of(tool_links_.begin(), tool_links_.end(), [&](const ToolLink& t) { return t.link == l.name; });
+    };
+    const auto carried_here = [&](std::size_t load) {
+      return std::any_of(loads_.begin(), loads_.end(),
+                         [&](const CarriedLoad& c) { return c.load == load && c.link == tool.frame; });
+    };
+    bool alone = true;
+    for (const Link& l : model.links)
+      if ((l.from == point || l.to == point) && &l != &*reaching && !is_tool_link(l)) alone = false;
+    for (const Joint& j : model.joints) alone = alone && j.at != point;
+    for (const Support& s : model.supports) alone = alone && s.at != point;
+    for (const EndEffector& e : model.end_effectors) alone = alone && e.at != point;
+    for (std::size_t k = 0; k < model.loads.size(); ++k)
+      if (model.loads[k].at == point && !carried_here(k)) alone = false;
+    if (!alone) continue;
+
+    // The frame's point stays, posed with the robot, with no link end at it.
+    const Link* tool_link = model.find_link(tool.link);
+    if (!tool_link) continue;
+    const std::string tcp = tool_link->to;
+    reaching->to = tcp;
+    model.end_effectors[tool.effector].link = reaching->name;
+    for (Link& l : model.links)
+      if (is_tool_link(l)) l.from = tcp;
+    for (CarriedLoad& c : loads_)
+      if (model.loads[c.load].at == point) {
+        model.loads[c.load].at = tcp;
+        c.lever -= tool.local - end.local;
+      }
+    end.point = tcp;
+    end.local = tool.local;
+    // Tool links are the model's last links (end effectors are read last): no index above it moves.
+    std::erase_if(model.links, [&](const Link& l) { return l.name == tool.link; });
+  }
 }
 
 void RobotLayout::pose(std::span<const double> positions, Model& model) const {
