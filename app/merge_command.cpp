@@ -7,10 +7,14 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "summary.hpp"
 #include "sweep_command.hpp"
 #include "sweep_output.hpp"
+#if STIFFMSA_CLI_HDF5
+#include "stiffmsa/io/sweep_hdf5.hpp"
+#endif
 
 namespace stiffmsa::cli {
 
@@ -23,7 +27,7 @@ using nlohmann::json;
 constexpr std::size_t kRowsPerBlock = 4096;
 
 struct Part {
-  fs::path csv;
+  fs::path csv;  // the rows: a CSV, or an HDF5 file (.h5, .hdf5)
   fs::path summary_file;
   json summary;
   std::size_t part = 0, parts = 0, first_pose = 0, poses = 0, poses_in_all = 0;
@@ -31,13 +35,32 @@ struct Part {
 
 fs::path summary_beside(const fs::path& rows) { return rows.parent_path() / (rows.stem().string() + ".summary.json"); }
 
+bool is_hdf5_name(const fs::path& file) {
+  const std::string extension = file.extension().string();
+  return extension == ".h5" || extension == ".hdf5";
+}
+
+// An HDF5 part carries its summary; a copy of the part without the file beside it still merges.
+std::optional<std::string> summary_inside(const fs::path& rows) {
+#if STIFFMSA_CLI_HDF5
+  if (is_hdf5_name(rows)) return SweepHdf5Reader::summary_of(rows);
+#endif
+  (void)rows;
+  return std::nullopt;
+}
+
 Part read_part(const std::string& csv) {
   Part part{csv, summary_beside(csv), {}};
   std::ifstream in(part.summary_file, std::ios::binary);
-  if (!in)
+  if (in) {
+    part.summary = json::parse(in, nullptr, false);
+  } else if (const auto inside = summary_inside(part.csv)) {
+    part.summary_file = part.csv;
+    part.summary = json::parse(*inside, nullptr, false);
+  } else {
     throw IoError("cannot read '" + part.summary_file.string() + "', the summary of the part '" + csv +
                   "' (merge expects each part's summary beside it, as `stiffmsa sweep --shard` writes it)");
-  part.summary = json::parse(in, nullptr, false);
+  }
   const json& s = part.summary;
   if (s.is_discarded() || !s.is_object() || s.value("format", "") != "stiffmsa-sweep/1")
     throw InputError({part.summary_file.string(), 0, 0}, "format", "not a sweep summary (format stiffmsa-sweep/1)");
@@ -109,10 +132,39 @@ SweepDescription description_of(const Part& part) {
   return description;
 }
 
-bool is_hdf5_name(const fs::path& file) {
-  const std::string extension = file.extension().string();
-  return extension == ".h5" || extension == ".hdf5";
-}
+// A part's rows block by block, from its CSV or its HDF5 file.
+class PartRows {
+ public:
+  PartRows(const fs::path& file, const SweepDescription& description) {
+    if (!is_hdf5_name(file)) {
+      csv_.emplace(file, description.run.poses.parameters, description.columns);
+      return;
+    }
+#if STIFFMSA_CLI_HDF5
+    hdf5_.emplace(file, description.run.poses.parameters, description.columns);
+#else
+    throw UsageError("'" + file.string() + "': this build of stiffmsa reads no HDF5 (built without HDF5); merge the parts' CSV files");
+#endif
+  }
+  SweepRows read(std::size_t first_pose, std::size_t count) {
+#if STIFFMSA_CLI_HDF5
+    if (hdf5_) return hdf5_->read(first_pose, count);
+#endif
+    return csv_->read(first_pose, count);
+  }
+  std::size_t rows_read() const {
+#if STIFFMSA_CLI_HDF5
+    if (hdf5_) return hdf5_->rows_read();
+#endif
+    return csv_->rows_read();
+  }
+
+ private:
+  std::optional<SweepCsvReader> csv_;
+#if STIFFMSA_CLI_HDF5
+  std::optional<SweepHdf5Reader> hdf5_;
+#endif
+};
 
 }  // namespace
 
@@ -120,7 +172,8 @@ CLI::App* add_merge_subcommand(CLI::App& app, MergeCommand& command) {
   CLI::App* merge = app.add_subcommand(
       "merge", "Join the parts of a sweep run with --shard K/N into the files one run writes");
   merge->add_option("OUT", command.output, "The joined rows: a .csv, or .h5 / .hdf5 for HDF5")->required();
-  merge->add_option("PARTS", command.parts, "Every part's CSV (its summary beside it), in any order")->required();
+  merge->add_option("PARTS", command.parts,
+                    "Every part's CSV or HDF5 file (its summary beside it), in any order")->required();
   merge->add_option("--summary", command.summary_file,
                     "Write the JSON summary here (default: beside OUT, NAME.summary.json)");
   merge->add_flag("--plot", command.plot, "Draw the maps or line plots, as `stiffmsa sweep --plot`");
@@ -178,7 +231,7 @@ int run_merge(const MergeCommand& command) {
     if (part.first_pose != next_pose)
       throw UsageError("'" + part.csv.string() + "' starts at pose " + std::to_string(part.first_pose) +
                        " where the previous part ends at " + std::to_string(next_pose));
-    SweepCsvReader reader(part.csv, description.run.poses.parameters, description.columns);
+    PartRows reader(part.csv, description);
     for (;;) {
       SweepRows rows = reader.read(next_pose, kRowsPerBlock);
       if (rows.size() == 0) break;

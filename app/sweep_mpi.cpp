@@ -308,7 +308,7 @@ RootRun lead(const SweepPlan& plan, SweepOutput& output, int ranks, bool quiet) 
 char temporary_files[2][4096];
 extern "C" void on_termination(int) {
   static const char message[] =
-      "stiffmsa: error: the MPI job was stopped before the sweep ended (a rank died, or the job was cancelled); "
+      "stiffmsa: error: the MPI job was stopped before the sweep ended (a rank died: the launcher names it; or the job was cancelled); "
       "no output file was written\n";
   (void)!::write(STDERR_FILENO, message, sizeof message - 1);
   for (const char* path : temporary_files)
