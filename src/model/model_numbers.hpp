@@ -3,7 +3,9 @@
 // (stiffmsa/structure.hpp). A number's place in this order is its slot; its SlotName says
 // which key of which entity it is (`links.upper.material.E`). Two models of the same structure
 // (same entities, kinds and optional values present) visit the same numbers in the same order.
+#include <algorithm>
 #include <optional>
+#include <type_traits>
 #include <string>
 #include <variant>
 
@@ -17,7 +19,8 @@ struct SlotName {
   const std::string* entity = nullptr;  // its name; loads have none and are numbered
   std::size_t entity_index = 0;
   const char* key = nullptr;            // within the entity; none for a point's coordinates
-  Eigen::Index rows = 0;                // of a matrix; 0 for a scalar, 1 for a vector
+  int rows = 0;                         // 0 for a scalar, 1 for a vector, 2 for a matrix
+  Eigen::Index matrix_rows = 0;         // of a matrix
   Eigen::Index element = 0;             // column-major within the matrix or vector
 
   std::string str() const {
@@ -26,7 +29,7 @@ struct SlotName {
     else text += "[" + std::to_string(entity_index) + "]";
     if (key) text += std::string(".") + key;
     if (rows == 1) text += "[" + std::to_string(element) + "]";
-    else if (rows > 1) text += "[" + std::to_string(element % rows) + "][" + std::to_string(element / rows) + "]";
+    else if (rows > 1) text += "[" + std::to_string(element % matrix_rows) + "][" + std::to_string(element / matrix_rows) + "]";
     return text;
   }
 };
@@ -43,7 +46,9 @@ void for_each_named_number(ModelRef& model, Visit&& visit) {
   };
   const auto each = [&](auto& dense, const char* key) {
     at.key = key;
-    at.rows = dense.cols() == 1 ? 1 : dense.rows();
+    // A vector's entries are numbered once, a matrix's by row and column (a 1×1 spring too).
+    at.rows = std::decay_t<decltype(dense)>::ColsAtCompileTime == 1 ? 1 : 2;
+    at.matrix_rows = dense.rows();
     for (Eigen::Index i = 0; i < dense.size(); ++i) {
       at.element = i;
       visit(dense.data()[i], at);
@@ -97,7 +102,10 @@ void for_each_named_number(ModelRef& model, Visit&& visit) {
     each(c.kinematics.axis, universal ? "axes[0]" : "axis");
     each(c.kinematics.axis_b, universal ? "axes[1]" : "axis_b");
     each(c.kinematics.normal, "normal");
-    for (auto& row : c.kinematics.free_rows) each(row, "free");
+    // A custom joint has at most 6 free directions (validation refuses more).
+    static constexpr const char* free_row[] = {"free[0]", "free[1]", "free[2]", "free[3]", "free[4]", "free[5]"};
+    for (std::size_t r = 0; r < c.kinematics.free_rows.size(); ++r)
+      each(c.kinematics.free_rows[r], r < 6 ? free_row[r] : "free[>5]");
     maybe_dense(c.stiffness, "stiffness");
     maybe_dense(c.preload, "preload");
   };
