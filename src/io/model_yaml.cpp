@@ -1751,8 +1751,20 @@ ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> binding
                                      std::vector<std::string> derived_names) {
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
   const Structure& structure = bindings->structure;
-  return [bindings, expressions, defaults = structure.default_values(),
-          site_values = std::vector<double>(bindings->sites.size()),
+  // An expression written at several places (a point and an axis through it) is evaluated once
+  // per member: `distinct` holds the first site of each text, `site_text` each site's.
+  std::vector<std::size_t> distinct, site_text;
+  {
+    std::unordered_map<std::string_view, std::size_t> seen;
+    for (std::size_t k = 0; k < bindings->sites.size(); ++k) {
+      const auto [at, added] = seen.try_emplace(bindings->sites[k].text, distinct.size());
+      if (added) distinct.push_back(k);
+      site_text.push_back(at->second);
+    }
+  }
+  std::vector<double> text_values(distinct.size());
+  return [bindings, expressions, defaults = structure.default_values(), distinct = std::move(distinct),
+          site_text = std::move(site_text), text_values = std::move(text_values),
           robot_values = std::vector<double>(bindings->robot_positions.size()),
           posed = bindings->robot ? std::make_shared<Model>(structure.model()) : nullptr](
              std::span<const double> parameters, std::span<double> values,
@@ -1765,11 +1777,18 @@ ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> binding
     for (std::size_t i = 0; i < bindings->derived.size(); ++i)
       report(bindings->derived[i], expressions->evaluate_derived(i, bindings->derived[i].text));
     bool all_values = true;
-    for (std::size_t k = 0; k < bindings->sites.size(); ++k) {
-      const auto outcome = expressions->evaluate(bindings->sites[k].text);
-      report(bindings->sites[k], outcome);
-      all_values = all_values && outcome.error.empty();
-      site_values[k] = outcome.value;
+    std::vector<std::pair<std::size_t, detail::ExpressionEvaluator::Outcome>> failed;  // (text, outcome)
+    for (std::size_t t = 0; t < distinct.size(); ++t) {
+      auto outcome = expressions->evaluate(bindings->sites[distinct[t]].text);
+      text_values[t] = outcome.value;
+      if (!outcome.error.empty()) failed.emplace_back(t, std::move(outcome));
+    }
+    if (!failed.empty()) {
+      // Every site of a failed text is reported at its own key, the sites in reading order.
+      all_values = false;
+      for (std::size_t k = 0; k < site_text.size(); ++k)
+        for (const auto& [t, outcome] : failed)
+          if (site_text[k] == t) report(bindings->sites[k], outcome);
     }
     for (std::size_t j = 0; j < bindings->robot_positions.size(); ++j) {
       const auto& position = bindings->robot_positions[j];
@@ -1784,7 +1803,7 @@ ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> binding
     // which is reported: defects is never empty here.
     if (!all_values) throw InputError(std::move(defects));
     std::copy(defaults.begin(), defaults.end(), values.begin());
-    for (const auto& [slot, site] : bindings->filled) values[slot] = site_values[site];
+    for (const auto& [slot, site] : bindings->filled) values[slot] = text_values[site_text[site]];
     if (!posed) {
       warnings = bindings->structure.model().warnings;
       return;
