@@ -242,18 +242,19 @@ void urdf_pose(benchmark::State& state, bool solve_too) {
   const ModelFamily family =
       parse_model_family(kUrdfJointSpace, std::string(STIFFMSA_EXAMPLES_DIR) + "/robots/joint-space.yaml");
   const auto poses = urdf_joint_poses(family);
-  ModelFamily::Builder build = family.make_builder();
-  Model member;
-  build(poses.front(), member);
-  Workspace workspace(member);
+  const Structure structure = family.structure();
+  ModelFamily::ValueWriter write = family.make_writer(structure);
+  std::vector<double> values(structure.value_count());
+  std::vector<Diagnostic> warnings;
+  Workspace workspace(structure);
   std::size_t p = 0;
   for (auto _ : state) {
-    build(poses[p], member);
+    write(poses[p], values, warnings);
     if (solve_too) {
-      Result result = solve(workspace, member);
+      Result result = solve(workspace, values);
       benchmark::DoNotOptimize(result);
     }
-    benchmark::DoNotOptimize(member);
+    benchmark::DoNotOptimize(values);
     p = (p + 1) % poses.size();
   }
   state.counters["unknowns"] = static_cast<double>(workspace.size().unknowns);

@@ -140,41 +140,45 @@ int main(int argc, char** argv) {
         if (result.threads != threads) std::cerr << "stiffmsa_sweep: asked for " << threads << " threads, got " << result.threads << "\n";
       }
 
-    // Where one pose goes, on one thread: building every member with one builder into one
-    // model (what each sweep thread does), then solving the members, kept aside untimed, with
-    // one workspace.
+    // Where one pose goes, on one thread: writing every member's values with one writer (what
+    // each sweep thread does), then solving them, kept aside untimed, with one workspace of the
+    // structure.
     const auto values = full_values(family, poses);
     auto start = Clock::now();
-    stiffmsa::ModelFamily::Builder build = family.make_builder();
+    const stiffmsa::Structure structure = family.structure();
+    stiffmsa::ModelFamily::ValueWriter write = family.make_writer(structure);
     const double make_builder_s = seconds_since(start);
     std::vector<double> build_s, solve_s;
-    stiffmsa::Model member;
+    std::vector<double> member(structure.value_count());
+    std::vector<stiffmsa::Diagnostic> warnings;
     for (int r = 0; r < repeats; ++r) {
       start = Clock::now();
       for (const auto& v : values) {
         try {
-          build(v, member);
+          write(v, member, warnings);
         } catch (const stiffmsa::InputError&) {
           // an invalid pose (e.g. out of reach): the sweep pays for the attempt too
         }
       }
       build_s.push_back(seconds_since(start));
     }
-    std::vector<stiffmsa::Model> members;
+    std::vector<std::vector<double>> members;
     members.reserve(values.size());
     for (const auto& v : values) {
       try {
-        build(v, member);
+        write(v, member, warnings);
         members.push_back(member);
       } catch (const stiffmsa::InputError&) {
       }
     }
-    stiffmsa::Workspace workspace(family.build(family.default_values()));
+    stiffmsa::Workspace workspace(structure);
     for (int r = 0; r < repeats; ++r) {
       start = Clock::now();
-      for (const stiffmsa::Model& built : members) {
+      for (const auto& built : members) {
         try {
           stiffmsa::solve(workspace, built, options.solve);
+        } catch (const stiffmsa::InputError&) {
+          // an invalid pose (e.g. out of reach): the sweep pays for the attempt too
         } catch (const stiffmsa::SingularModelError&) {
           // a singular or free-moving pose: the sweep pays for the attempt too
         }

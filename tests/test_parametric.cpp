@@ -77,6 +77,14 @@ std::string with(const std::string& from, const std::string& to) {
   return text.replace(at, from.size(), to);
 }
 
+// The member for `values` as one writer writes it, a sweep's thread writing its poses in turn.
+Model written(const Structure& structure, ModelFamily::ValueWriter& write, const std::vector<double>& values) {
+  std::vector<double> slots(structure.value_count());
+  std::vector<Diagnostic> warnings;
+  write(values, slots, warnings);
+  return structure.model_with(slots);
+}
+
 TEST(ParametricFile, DefaultsGiveTheModel) {
   const Model m = parse_model(kCantilever, "p.yaml");
   EXPECT_EQ(m.points[1].position, Vec3(0.25, 0, 0));
@@ -101,11 +109,11 @@ TEST(ParametricFile, FamilyListsParametersWithUnitsAndLocations) {
 
 TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
-  auto build = family.make_builder();
-  Model m;  // handed back at every call, as a sweep does
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
   for (double length : {0.3, 0.8, 1.7}) {
     const std::vector<double> values{length, 0.03, 250};
-    build(values, m);
+    const Model m = written(structure, write, values);
     EXPECT_EQ(m.points[1].position(0), length / 2);
     EXPECT_EQ(m.points[2].position(0), length);
     EXPECT_EQ(m.loads[0].wrench(1), -250.0);
@@ -116,15 +124,13 @@ TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
   }
 }
 
-TEST(ParametricFile, BuilderLeavesNoNumberOfAnEarlierMember) {
+TEST(ParametricFile, WriterLeavesNoNumberOfAnEarlierMember) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
-  auto build = family.make_builder();
-  Model member;
-  build(std::vector<double>{0.4, 0.02, 100}, member);
-  const Model first = member;
-  build(std::vector<double>{2.0, 0.05, 7}, member);
-  build(std::vector<double>{0.4, 0.02, 100}, member);
-  const Model& again = member;
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
+  const Model first = written(structure, write, {0.4, 0.02, 100});
+  written(structure, write, {2.0, 0.05, 7});
+  const Model again = written(structure, write, {0.4, 0.02, 100});
   EXPECT_EQ(first.points[2].position, again.points[2].position);
   EXPECT_EQ(first.loads[0].wrench, again.loads[0].wrench);
 }
@@ -349,17 +355,17 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
     text << in.rdbuf();
     return text.str();
   };
-  // The last holds a real number in the range of the probe values: its builders read the file
-  // for each member instead of refilling, with the same result.
+  // The last holds a real number in the range of the probe values: its writers read the file
+  // for each member instead of evaluating the bound expressions, with the same result.
   for (const std::string& text : {std::string(kCantilever), read_text("planar-3rpr-parametric.yaml"),
                                   read_text("tripteron-parametric.yaml"), with("E: 2.1e11", "E: 2.1e301")}) {
     const ModelFamily family = parse_model_family(text, "p.yaml");
-    auto build = family.make_builder();
-    Model member;
+    const Structure structure = family.structure();
+    auto write = family.make_writer(structure);
     for (int pose = 0; pose < 5; ++pose) {
       std::vector<double> values = family.default_values();
       for (double& v : values) v *= 1 + nudge(random);
-      build(values, member);
+      const Model member = written(structure, write, values);
       const Model read = parse_model(with_defaults(text, family, values), "p.yaml");
       EXPECT_EQ(numbers_of(member), numbers_of(read)) << family.name() << " pose " << pose;
       ASSERT_EQ(member.points.size(), read.points.size());
@@ -369,10 +375,9 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
   }
 }
 
-// A builder writes only the numbers into the model it made at its previous call: any other
-// model, a fresh one or one the caller emptied, gets the whole member, and a member that failed
-// its checks leaves nothing behind for the next.
-TEST(ParametricFile, ABuilderRefillsOnlyTheModelItMadeAndFillsAnyOtherWhole) {
+// A writer writes every slot of a member: a member written after another, or after a failed
+// one, is the member built on its own, with the structure's names and source locations.
+TEST(ParametricFile, AWriterWritesEveryValueOfAMember) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
   const std::vector<double> long_one{1.5, 0.04, 30}, short_one{0.3, 0.01, 900};
   const Model expected_long = family.build(long_one), expected_short = family.build(short_one);
@@ -386,26 +391,15 @@ TEST(ParametricFile, ABuilderRefillsOnlyTheModelItMadeAndFillsAnyOtherWhole) {
     }
     EXPECT_EQ(member.loads.size(), expected.loads.size());
   };
-  auto build = family.make_builder();
-  Model kept;
-  build(long_one, kept);
-  expect_member(kept, expected_long);
-  build(short_one, kept);  // refilled in place
-  expect_member(kept, expected_short);
-  Model other;
-  build(long_one, other);  // not the model of the previous call
-  expect_member(other, expected_long);
-  Model renamed = expected_short;  // the entities of a member, not the model of the previous call
-  renamed.links[0].name = "renamed";
-  renamed.points[0].position.x() = 7;
-  build(long_one, renamed);
-  expect_member(renamed, expected_long);
-  kept = Model{};  // the same object, emptied by its owner
-  build(short_one, kept);
-  expect_member(kept, expected_short);
-  EXPECT_THROW(build(std::vector<double>{0.0, 0.02, 100}, kept), InputError);  // zero-length links
-  build(long_one, kept);
-  expect_member(kept, expected_long);
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
+  expect_member(written(structure, write, long_one), expected_long);
+  expect_member(written(structure, write, short_one), expected_short);
+  // Zero-length links: the values are written, and their checks refuse them.
+  const std::vector<double> zero{0.0, 0.02, 100};
+  EXPECT_FALSE(structure.find_value_defects(structure.values_of(written(structure, write, zero))).empty());
+  EXPECT_THROW(family.build(zero), InputError);
+  expect_member(written(structure, write, long_one), expected_long);
 }
 
 TEST(ParametricFile, ExpressionFailureOfAMemberNamesItsKey) {

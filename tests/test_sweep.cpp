@@ -196,13 +196,11 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SweepWithEverySolver,
                          ::testing::Values(SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
-TEST(Sweep, ABuilderThatThrowsFailsOnlyItsPose) {
+TEST(Sweep, AFunctionThatThrowsFailsOnlyItsPose) {
   const ModelFamily base = parse_model_family(kTwoBarTruss, "truss.yaml");
-  const ModelFamily family("picky", base.parameters(), [&base] {
-    return ModelFamily::Builder([build = base.make_builder()](std::span<const double> v, Model& member) mutable {
-      if (v[0] == 0.25) throw std::runtime_error("no model at h = 0.25");
-      build(v, member);
-    });
+  const ModelFamily family("picky", base.parameters(), [&base](std::span<const double> v) {
+    if (v[0] == 0.25) throw std::runtime_error("no model at h = 0.25");
+    return base.build(v);
   });
   const SweepResult s = sweep(family, grid_poses({{"h", 0.25, 0.5, 2}}));
   EXPECT_EQ(s.results[0].status, PoseStatus::invalid);
@@ -263,9 +261,7 @@ TEST(Sweep, TopologyChangeIsAnInvalidPose) {
     m.add_support("clamp", "a", {}, Connection{});
     return m;
   };
-  const ModelFamily family("grows", {{"n", 0, "", {}}}, [make] {
-    return ModelFamily::Builder([make](std::span<const double> v, Model& member) { member = make(v); });
-  });
+  const ModelFamily family("grows", {{"n", 0, "", {}}}, ModelFamily::MemberFunction(make));
   const SweepResult s = sweep(family, grid_poses({{"n", 0, 1, 2}}));
   EXPECT_EQ(s.results[0].status, PoseStatus::ok) << s.results[0].message;
   EXPECT_EQ(s.results[1].status, PoseStatus::invalid);

@@ -399,11 +399,9 @@ TEST_F(UrdfRobot, JointSpaceMembersAreTheRobotAtThoseAngles) {
        << "  positions: {joint_2: q2, joint_3: q3, joint_5: \"q2 - q3\"}\n" << joints_block(table)
        << "end_effectors:\n  tool: {frame: link_7, offset: [0, 0, 0.1]}\n";
   const ModelFamily family = load_model_family(write("arm.yaml", yaml.str()));
-  auto builder = family.make_builder();
-  Model member;
   for (const auto& [q2, q3] : {std::pair{0.3, 1.1}, std::pair{-1.0, 0.2}, std::pair{0.7, 2.4}, std::pair{-0.2, -0.9}}) {
     const std::vector<double> values{q2, q3};
-    builder(values, member);
+    const Model member = family.build(values);
     const Result posed = solve(member);
     std::vector<double> q(table.size(), 0.0);
     q[1] = q2;
@@ -659,12 +657,8 @@ TEST_F(UrdfRobot, AnExpressionForwardKinematicsTransformsStillGivesEachMember) {
        << "  positions: {joint_2: q2}\n" << joints_block(table) << "  gravity: [0, 0, -g]\n"
        << "end_effectors:\n  tool: {frame: link_7}\n";
   const ModelFamily family = load_model_family(write("arm.yaml", yaml.str()));
-  auto builder = family.make_builder();
-  Model member;
-  builder(std::vector<double>{9.81, 0.5}, member);
-  const Vec6 earth = *solve(member).end_effectors[0].deflection_gravity;
-  builder(std::vector<double>{1.62, 0.5}, member);
-  const Vec6 moon = *solve(member).end_effectors[0].deflection_gravity;
+  const Vec6 earth = *solve(family.build(std::vector<double>{9.81, 0.5})).end_effectors[0].deflection_gravity;
+  const Vec6 moon = *solve(family.build(std::vector<double>{1.62, 0.5})).end_effectors[0].deflection_gravity;
   EXPECT_LT((moon - earth * (1.62 / 9.81)).norm(), 1e-12 * moon.norm());
 }
 

@@ -3,10 +3,12 @@
 // depends only on topology (index maps, sparsity pattern, symbolic factorisation), so a model
 // whose numbers change but whose topology does not is solved without re-analysis.
 #include <memory>
+#include <span>
 #include <string>
 
 #include "stiffmsa/model.hpp"
 #include "stiffmsa/result.hpp"
+#include "stiffmsa/structure.hpp"
 
 namespace stiffmsa {
 
@@ -62,6 +64,9 @@ class Workspace {
   // blocks; the sparsity pattern follows when a factorising solve first needs it (a tree solve
   // needs none). Throws InputError on an invalid model.
   explicit Workspace(const Model& model);
+  // The workspace of a structure's poses (solve(Workspace&, values)): the topology is the
+  // structure's, its blocks those of the structure's default values.
+  explicit Workspace(const Structure& structure);
   ~Workspace();
   Workspace(Workspace&&) noexcept;
   Workspace& operator=(Workspace&&) noexcept;
@@ -85,6 +90,15 @@ Result solve(const Model& model, const SolveOptions& options = {});
 // The same with a workspace built for a model of identical topology: only numbers are
 // refilled and the factorisation is redone numerically.
 Result solve(Workspace& workspace, const Model& model, const SolveOptions& options = {});
+
+// The solve of one pose of a structure: the workspace's structure (Workspace(const Structure&))
+// with these values, one per value slot. Only the values are checked (InputError names the
+// slot's key and the structure's source location); nothing of the structure is redone.
+Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options = {});
+// The same, saying which structure the values are of: UsageError when the workspace was not
+// built for it.
+Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,
+             const SolveOptions& options = {});
 
 // Stiffness against a pure force (translational) and a pure moment (rotational): eigenvalues,
 // ascending, of the inverses of the 3×3 diagonal blocks of a compliance matrix. An entry is

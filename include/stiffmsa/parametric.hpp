@@ -1,9 +1,11 @@
 #pragma once
-// A family of models of one topology whose numbers depend on named parameters: a parametric
-// model file (its `parameters:` and expressions), or a function of the caller's that builds
-// a Model from parameter values. Sweeps (sweep.hpp) solve one member per pose.
+// A family of models of one structure whose numbers depend on named parameters: a parametric
+// model file (its `parameters:` and expressions), or a plain function of the caller's that
+// returns a Model for parameter values. A family has one Structure (structure.hpp); a member
+// is a set of values for its slots. Sweeps (sweep.hpp) solve one member per pose.
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include "stiffmsa/model.hpp"
 #include "stiffmsa/result.hpp"
+#include "stiffmsa/structure.hpp"
 
 namespace stiffmsa {
 
@@ -26,19 +29,26 @@ struct Parameter {
 
 class ModelFamily {
  public:
-  // Writes into `member` the member for one value per parameter, in parameter order; throws
-  // InputError when those values make an invalid model (`member` then holds no valid member;
-  // the next call writes a valid one over it). The caller hands one builder the same model at every call
-  // and changes it in no other way in between (a model shared by two builders breaks this):
-  // a builder may then keep in it what all members share and write only the numbers that
-  // differ, so that a sweep builds its members without copying the model. Any model other than
-  // the one of its previous call, an empty one at the first call for instance, is filled
-  // whole. A builder may keep caches between calls and is used by one thread at a time; each
+  // Writes a member's values (one per slot of the family's structure, in slot order) for one
+  // value per parameter, in parameter order, and replaces `warnings` by what the member's
+  // reader noticed that does not make it invalid (Model::warnings: a robot's joint position
+  // outside its limits); throws InputError when the parameter values give no member (an
+  // expression that cannot be evaluated there, say). The values are checked by the solve, not
+  // here. A writer may keep caches between calls and is used by one thread at a time; each
   // thread of a sweep makes its own.
-  using Builder = std::function<void(std::span<const double> values, Model& member)>;
-  using BuilderFactory = std::function<Builder()>;
+  using ValueWriter = std::function<void(std::span<const double> parameters, std::span<double> values,
+                                         std::vector<Diagnostic>& warnings)>;
+  using ValueWriterFactory = std::function<ValueWriter()>;
+  // A member as a model, for one value per parameter.
+  using MemberFunction = std::function<Model(std::span<const double> parameters)>;
 
-  ModelFamily(std::string name, std::vector<Parameter> parameters, BuilderFactory make_builder);
+  // A family whose members' values are written straight into the structure's slots (a model
+  // file's expressions bound to them when it was read).
+  ModelFamily(std::string name, std::vector<Parameter> parameters, Structure structure,
+              ValueWriterFactory make_writer);
+  // A family of a plain function: the member at the defaults fixes the structure (made when a
+  // structure is first needed); every member must have it (InputError otherwise).
+  ModelFamily(std::string name, std::vector<Parameter> parameters, MemberFunction member);
 
   const std::string& name() const { return name_; }
   const std::vector<Parameter>& parameters() const { return parameters_; }
@@ -51,16 +61,22 @@ class ModelFamily {
   // parameters a sweep does not vary keep.
   ModelFamily with_defaults(std::span<const double> values) const;
 
-  // A builder of the family's members; it throws UsageError when not given one value per
-  // parameter.
-  Builder make_builder() const;
-  // One member; for many, make a builder once.
+  // The family's structure. Throws InputError when the member at the defaults is invalid.
+  Structure structure() const;
+  // A writer of the members' values into the slots of `structure`, which structure() made; it
+  // throws UsageError when not given one value per parameter or one per slot.
+  ValueWriter make_writer(const Structure& structure) const;
+  // One member as a model, validated (InputError names what is wrong). For many, write values
+  // with one writer and solve them with one workspace.
   Model build(std::span<const double> values) const;
 
  private:
   std::string name_;
   std::vector<Parameter> parameters_;
-  BuilderFactory make_builder_;
+  // Of a file family; a function family makes its structure from its member at the defaults.
+  std::optional<Structure> structure_;
+  ValueWriterFactory make_writer_;
+  MemberFunction member_;
 };
 
 }  // namespace stiffmsa

@@ -103,9 +103,17 @@ struct SweepResult {
   double seconds = 0;               // wall time of the solves
 };
 
-// Solves the family at each pose. The model at the family's defaults fixes the end effectors
-// and the topology; a pose whose values change the topology is invalid, with a message saying
-// so. Throws InputError when the defaults themselves give an invalid model and UsageError when
+// The core of a sweep: a structure solved at many sets of values, `value_sets` holding
+// structure.value_count() values per pose (row-major), each pose solved and measured as
+// sweep() does (its status and message; a pose whose values fail their checks is invalid).
+// The first pose's index is 0; `progress` and `threads` as in SweepOptions.
+std::vector<PoseResult> solve_poses(const Structure& structure, std::span<const double> value_sets,
+                                    const SweepOptions& options = {});
+
+// Solves the family at each pose: its structure, and at each pose the values its writer writes
+// for the pose's parameter values (the defaults for the parameters not swept). A pose whose
+// values fail their checks, or whose member (a function family's) has another structure, is
+// invalid, with a message saying so. Throws InputError when the defaults themselves give an invalid model and UsageError when
 // a swept name is not a parameter.
 SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const SweepOptions& options = {});
 

@@ -52,25 +52,23 @@ ModelFamily family_from_function(py::object function, std::vector<std::string> n
   std::vector<Parameter> parameters;
   for (std::size_t k = 0; k < names.size(); ++k) parameters.push_back(Parameter{names[k], defaults[k], units[k], {}});
   const SharedPyObject shared = share(std::move(function));
-  auto make_builder = [shared, names]() -> ModelFamily::Builder {
-    return [shared, names](std::span<const double> values, Model& member) {
-      py::gil_scoped_acquire gil;
-      py::dict kwargs;
-      for (std::size_t k = 0; k < names.size(); ++k) kwargs[py::str(names[k])] = values[k];
-      py::object built;
-      try {
-        built = (*shared)(**kwargs);
-      } catch (py::error_already_set& e) {
-        const std::string message = call_text(*shared, kwargs) + " raised " + e.what();
-        throw PythonBuildError(message, std::make_shared<py::error_already_set>(std::move(e)));
-      }
-      if (!py::isinstance<Model>(built))
-        throw UsageError(call_text(*shared, kwargs) + " returned " + py::repr(built).cast<std::string>() +
-                         ", not a stiffmsa.Model");
-      member = built.cast<const Model&>();
-    };
+  auto member = [shared, names](std::span<const double> values) -> Model {
+    py::gil_scoped_acquire gil;
+    py::dict kwargs;
+    for (std::size_t k = 0; k < names.size(); ++k) kwargs[py::str(names[k])] = values[k];
+    py::object built;
+    try {
+      built = (*shared)(**kwargs);
+    } catch (py::error_already_set& e) {
+      const std::string message = call_text(*shared, kwargs) + " raised " + e.what();
+      throw PythonBuildError(message, std::make_shared<py::error_already_set>(std::move(e)));
+    }
+    if (!py::isinstance<Model>(built))
+      throw UsageError(call_text(*shared, kwargs) + " returned " + py::repr(built).cast<std::string>() +
+                       ", not a stiffmsa.Model");
+    return built.cast<Model>();
   };
-  return ModelFamily(std::move(name), std::move(parameters), std::move(make_builder));
+  return ModelFamily(std::move(name), std::move(parameters), ModelFamily::MemberFunction(std::move(member)));
 }
 
 // Every parameter's value: the family's defaults, with `values` (name -> number) replacing some.

@@ -14,6 +14,7 @@
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
 #include "model/link_ends.hpp"
+#include "model/structure_impl.hpp"
 #include "solver/frame_solver.hpp"
 #include "solver/sparse_solver.hpp"
 #include "solver/tree_solver.hpp"
@@ -75,6 +76,9 @@ struct Workspace::Impl {
   std::optional<detail::FramePlan> frame;
   // The rods whose idle spin this workspace's blocks hold (empty in the model's own workspace).
   std::vector<detail::SpinLock> spin_locks;
+  // A structure's workspace: the structure, and the model its poses' values are written into.
+  std::optional<Structure> structure;
+  Model member;
   // Where the model has rods with ball joints at both ends: the same model with their spins held,
   // which `auto` solves, where idle motions are accepted, instead of analysing the free motions
   // of a singular system at every pose. Its own workspace, as its blocks have another pattern.
@@ -89,18 +93,34 @@ struct Workspace::Impl {
   }
 };
 
+namespace {
+// The rest of a workspace once its topology is known.
+void prepare(Workspace::Impl& ws, const Model& model) {
+  ws.record(model);
+  std::vector<detail::SpinLock> locks = detail::find_spin_locks(model, ws.topology);
+  if (!locks.empty()) {
+    ws.spin_locked = std::make_unique<Workspace::Impl>();
+    ws.spin_locked->topology = ws.topology;
+    ws.spin_locked->spin_locks = std::move(locks);
+    ws.spin_locked->record(model);
+  }
+}
+}  // namespace
+
 Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
   const detail::ModelIndex index(model);
   detail::validate(model, index);
   impl_->topology = detail::build_topology(model, index);
-  impl_->record(model);
-  std::vector<detail::SpinLock> locks = detail::find_spin_locks(model, impl_->topology);
-  if (!locks.empty()) {
-    impl_->spin_locked = std::make_unique<Impl>();
-    impl_->spin_locked->topology = impl_->topology;
-    impl_->spin_locked->spin_locks = std::move(locks);
-    impl_->spin_locked->record(model);
-  }
+  prepare(*impl_, model);
+}
+
+Workspace::Workspace(const Structure& structure) : impl_(std::make_unique<Impl>()) {
+  impl_->structure = structure;
+  impl_->member = structure.model();
+  // The reader's notices are the model's at the structure's defaults, not a pose's.
+  impl_->member.warnings.clear();
+  impl_->topology = structure.impl().topology;
+  prepare(*impl_, impl_->member);
 }
 Workspace::~Workspace() = default;
 Workspace::Workspace(Workspace&&) noexcept = default;
@@ -800,6 +820,31 @@ Result solve(const Model& model, const SolveOptions& options) {
   add_model_warnings(model, result);
   finish_result(model, detail::ModelIndex(model), options, result);
   return result;
+}
+
+Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {
+  options.validate();
+  Workspace::Impl& ws = workspace.impl();
+  if (!ws.structure)
+    throw UsageError("solving values needs the workspace of their structure: build it as Workspace(structure)");
+  const Structure& structure = *ws.structure;
+  structure.write_values(values, ws.member);
+  const Model& model = ws.member;
+  auto defects = detail::find_value_defects(model, structure.impl().index);
+  if (!defects.empty()) throw InputError(std::move(defects));
+  Result result = solve_validated(workspace, model, options, false);
+  if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
+  add_results_in_own_axes(model, result);
+  add_model_warnings(model, result);
+  finish_result(model, structure.impl().index, options, result);
+  return result;
+}
+
+Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,
+             const SolveOptions& options) {
+  if (!workspace.impl().structure || !(*workspace.impl().structure == structure))
+    throw UsageError("the workspace was built for another structure; build it as Workspace(structure)");
+  return solve(workspace, values, options);
 }
 
 Result solve(Workspace& workspace, const Model& model, const SolveOptions& options) {

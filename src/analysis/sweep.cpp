@@ -15,6 +15,8 @@
 #include <optional>
 #include <new>
 #include <set>
+#include <exception>
+#include <functional>
 
 #include "model/suggest.hpp"
 #include "stiffmsa/validate.hpp"
@@ -148,14 +150,11 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
   return pose;
 }
 
-// Builds, solves and measures one pose; every failure that belongs to the pose becomes its
-// status.
-PoseResult solve_one(ModelFamily::Builder& build, Model& member, Workspace& workspace, std::span<const double> values,
-                     const SweepOptions& options) {
+// Classifies what a pose threw into its status; rethrows what is not the pose's fault.
+PoseResult failed_pose(std::exception_ptr thrown) {
   PoseResult pose;
   try {
-    build(values, member);
-    return measure(solve(workspace, member, options.solve), options);
+    std::rethrow_exception(thrown);
   } catch (const InputError& e) {
     pose.status = PoseStatus::invalid;
     pose.message = one_line(e);
@@ -170,11 +169,88 @@ PoseResult solve_one(ModelFamily::Builder& build, Model& member, Workspace& work
   } catch (const std::bad_alloc&) {
     throw;  // not the pose's fault: the sweep as a whole cannot go on
   } catch (const std::exception& e) {
-    // A caller's builder may throw anything; the pose fails, the sweep goes on.
+    // A caller's family may throw anything; the pose fails, the sweep goes on.
     pose.status = PoseStatus::invalid;
     pose.message = std::string("the model could not be built: ") + e.what();
   }
   return pose;
+}
+
+// One thread's share of a sweep: its workspace, the values of its pose, and how it writes them.
+struct Worker {
+  Workspace workspace;
+  std::vector<double> values;
+  std::vector<Diagnostic> warnings;  // the member's reader's, from the writer
+  // Writes pose i's values and warnings.
+  std::function<void(std::size_t, std::span<double>, std::vector<Diagnostic>&)> write;
+};
+
+// Writes, solves and measures one pose; every failure that belongs to the pose becomes its
+// status.
+PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& options) {
+  try {
+    worker.write(pose, worker.values, worker.warnings);
+    Result result = solve(worker.workspace, worker.values, options.solve);
+    if (!worker.warnings.empty()) {
+      std::vector<std::string> warnings;
+      for (const Diagnostic& w : worker.warnings) warnings.push_back(w.to_string());
+      result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(), warnings.end());
+    }
+    return measure(result, options);
+  } catch (...) {
+    return failed_pose(std::current_exception());
+  }
+}
+
+// The sweep of one structure over `count` poses, each thread writing its poses' values with
+// the writer `make_write` makes for it.
+using MakeWrite = std::function<std::function<void(std::size_t, std::span<double>, std::vector<Diagnostic>&)>()>;
+std::vector<PoseResult> run_poses(const Structure& structure, std::size_t count, const MakeWrite& make_write,
+                                  const SweepOptions& options, std::size_t& threads_used, double& seconds) {
+  // The workspace built here goes to the first thread, so a one-thread sweep analyses the
+  // topology once.
+  std::optional<Workspace> first_workspace(std::in_place, structure);
+  std::mutex first_workspace_lock;
+  const auto take_workspace = [&] {
+    std::lock_guard lock(first_workspace_lock);
+    if (!first_workspace) return Workspace(structure);
+    Workspace taken = std::move(*first_workspace);
+    first_workspace.reset();
+    return taken;
+  };
+  std::vector<PoseResult> results(count);
+
+  // More threads than this only queue for the same cores.
+  constexpr std::size_t max_threads = 1024;
+  const std::size_t threads = std::min(
+      max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency()) : options.threads);
+  tbb::enumerable_thread_specific<Worker> workers(
+      [&] { return Worker{take_workspace(), std::vector<double>(structure.value_count()), {}, make_write()}; });
+
+  std::atomic<std::size_t> done{0};
+  std::mutex progress_lock;
+  const auto report_progress = [&](std::size_t finished) {
+    if (!options.progress) return;
+    std::unique_lock lock(progress_lock, std::try_to_lock);
+    if (lock.owns_lock()) options.progress(finished, count);
+  };
+
+  const auto start = std::chrono::steady_clock::now();
+  tbb::task_arena arena(static_cast<int>(threads));
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& range) {
+      Worker& worker = workers.local();
+      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = solve_one(worker, i, options);
+      report_progress(done += range.size());
+    });
+  });
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  threads_used = std::max<std::size_t>(1, workers.size());  // the threads that took part
+  if (options.progress) {
+    std::lock_guard lock(progress_lock);
+    options.progress(count, count);
+  }
+  return results;
 }
 
 // The full values of every parameter at one pose: defaults, with the swept ones replaced.
@@ -199,31 +275,35 @@ PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
   return values;
 }
 
-struct Worker {
-  ModelFamily::Builder build;
-  Model member;  // the builder's, from pose to pose
-  Workspace workspace;
-  PoseValues values;
-};
-
 }  // namespace
+
+std::vector<PoseResult> solve_poses(const Structure& structure, std::span<const double> value_sets,
+                                    const SweepOptions& options) {
+  options.solve.validate();
+  const std::size_t slots = structure.value_count();
+  if (slots == 0 ? !value_sets.empty() : value_sets.size() % slots != 0)
+    throw UsageError("the value sets hold " + std::to_string(value_sets.size()) + " values, not a multiple of the " +
+                     std::to_string(slots) + " value slots of the structure");
+  const std::size_t count = slots == 0 ? 0 : value_sets.size() / slots;
+  const MakeWrite make_write = [&] {
+    return [&](std::size_t pose, std::span<double> values, std::vector<Diagnostic>&) {
+      const auto row = value_sets.subspan(pose * slots, slots);
+      std::copy(row.begin(), row.end(), values.begin());
+    };
+  };
+  std::size_t threads = 0;
+  double seconds = 0;
+  return run_poses(structure, count, make_write, options, threads, seconds);
+}
 
 SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const SweepOptions& options) {
   options.solve.validate();
   const PoseValues defaults = pose_values(family, poses);
-  // The defaults' own defects are the caller's error, not a pose's: they throw here, and the
-  // defaults fix the topology every thread's workspace is built for. The workspace built here
-  // goes to the first thread, so a one-thread sweep analyses the topology once.
+  // The defaults' own defects are the caller's error, not a pose's: they throw here. The
+  // member at the defaults is every workspace's reference pose.
   const Model reference = family.build(defaults.all);
-  std::optional<Workspace> first_workspace(std::in_place, reference);
-  std::mutex first_workspace_lock;
-  const auto take_workspace = [&] {
-    std::lock_guard lock(first_workspace_lock);
-    if (!first_workspace) return Workspace(reference);
-    Workspace taken = std::move(*first_workspace);
-    first_workspace.reset();
-    return taken;
-  };
+  const Structure family_structure = family.structure();
+  const Structure structure = family_structure.with_default_values(family_structure.values_of(reference));
 
   SweepResult sweep_result;
   sweep_result.model = reference.name;
@@ -236,42 +316,16 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
       sweep_result.fixed_parameters.push_back(all_parameters[i]);
   if (options.solve.direction) sweep_result.direction = options.solve.direction->normalized();
   for (const Diagnostic& d : find_implausible_values(reference)) sweep_result.warnings.push_back(d.to_string());
-  const std::size_t count = poses.size();
-  sweep_result.results.resize(count);
 
-  // More threads than this only queue for the same cores.
-  constexpr std::size_t max_threads = 1024;
-  const std::size_t threads = std::min(
-      max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency()) : options.threads);
-  tbb::enumerable_thread_specific<Worker> workers(
-      [&] { return Worker{family.make_builder(), Model{}, take_workspace(), defaults}; });
-
-  std::atomic<std::size_t> done{0};
-  std::mutex progress_lock;
-  const auto report_progress = [&](std::size_t finished) {
-    if (!options.progress) return;
-    std::unique_lock lock(progress_lock, std::try_to_lock);
-    if (lock.owns_lock()) options.progress(finished, count);
+  const MakeWrite make_write = [&] {
+    return [write = family.make_writer(family_structure), parameters = defaults, &poses](
+               std::size_t pose, std::span<double> values, std::vector<Diagnostic>& warnings) mutable {
+      parameters.set(poses.pose(pose));
+      write(parameters.all, values, warnings);
+    };
   };
-
-  const auto start = std::chrono::steady_clock::now();
-  tbb::task_arena arena(static_cast<int>(threads));
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& range) {
-      Worker& worker = workers.local();
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        worker.values.set(poses.pose(i));
-        sweep_result.results[i] = solve_one(worker.build, worker.member, worker.workspace, worker.values.all, options);
-      }
-      report_progress(done += range.size());
-    });
-  });
-  sweep_result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  sweep_result.threads = std::max<std::size_t>(1, workers.size());  // the threads that took part
-  if (options.progress) {
-    std::lock_guard lock(progress_lock);
-    options.progress(count, count);
-  }
+  sweep_result.results = run_poses(structure, poses.size(), make_write, options, sweep_result.threads,
+                                   sweep_result.seconds);
   return sweep_result;
 }
 

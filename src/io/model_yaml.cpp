@@ -29,6 +29,7 @@
 #include "io/urdf_tree.hpp"
 #include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
+#include "stiffmsa/structure.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
@@ -1704,66 +1705,72 @@ std::string read_model_text(const std::filesystem::path& path, const LoadLimits&
   return text;
 }
 
-// What a builder needs to make a member without reading the file again: the member at the
-// defaults, each expression's site, and which of the member's numbers each one fills.
-struct NumberBindings {
-  Model reference;
+// What a writer needs to write a member's values without reading the file again: which slot
+// of the structure each expression fills, and each expression's site for its messages (the
+// source map of the family's values).
+struct SlotBindings {
+  Structure structure;
   std::vector<ExpressionSite> sites;
   std::vector<ExpressionSite> derived;
-  std::vector<std::pair<std::size_t, std::size_t>> filled;  // (number in visiting order, site)
+  std::vector<std::pair<std::size_t, std::size_t>> filled;  // (slot, site), slots ascending
   // A robot block's layout and joint positions: each member is posed after its numbers are in.
   std::shared_ptr<const detail::RobotLayout> robot;
   std::vector<Loader::RobotPosition> robot_positions;
 };
 
-// Reads the file once more with every expression probed, and finds where each probe landed.
-// Nullopt when that cannot be told for sure (a probe value lost or changed on its way into
-// the model, a real number in the probes' range): builders then read the file for each member.
-std::optional<NumberBindings> bind_numbers(const YamlNode& root, const std::string& file_name, Model reference,
-                                           std::vector<ExpressionSite> derived) {
+// Reads the file once more with every expression probed, and finds the slot where each probe
+// landed. Nullopt when that cannot be told for sure (a probe value lost or changed on its way
+// into the model, a real number in the probes' range): writers then read the file for each
+// member.
+std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& file_name, const Structure& structure,
+                                       std::vector<ExpressionSite> derived) {
   Loader prober(file_name);
   prober.probe_expressions();
   Model probed = prober.read(root);
-  NumberBindings bindings{std::move(reference), prober.sites(), std::move(derived), {}, nullptr, {}};
-  std::size_t number_count = 0;
+  SlotBindings bindings{structure, prober.sites(), std::move(derived), {}, nullptr, {}};
+  std::size_t slot = 0;
   std::vector<bool> bound(bindings.sites.size(), false);
   bool doubtful = false;
   detail::for_each_number(probed, [&](double& value) {
     if (const auto site = probed_site(value); site && *site < bound.size()) {
-      bindings.filled.emplace_back(number_count, *site);
+      bindings.filled.emplace_back(slot, *site);
       bound[*site] = true;
     } else if (std::isfinite(value) && std::abs(value) > 0x1p999) {
       doubtful = true;  // a changed probe, or a real number that could be mistaken for one
     }
-    ++number_count;
+    ++slot;
   });
-  std::size_t reference_count = 0;
-  detail::for_each_number(bindings.reference, [&](double&) { ++reference_count; });
-  if (doubtful || reference_count != number_count || std::find(bound.begin(), bound.end(), false) != bound.end())
+  if (doubtful || slot != structure.value_count() || std::find(bound.begin(), bound.end(), false) != bound.end())
     return std::nullopt;
   return bindings;
 }
 
-// Whether `member` has the entities of `reference`, in number: a model the caller made afresh
-// (an empty one, at a builder's first call) has not.
-bool same_entity_counts(const Model& member, const Model& reference) {
-  return member.points.size() == reference.points.size() && member.links.size() == reference.links.size() &&
-         member.joints.size() == reference.joints.size() && member.supports.size() == reference.supports.size() &&
-         member.loads.size() == reference.loads.size() && member.end_effectors.size() == reference.end_effectors.size();
-}
-
-// A builder that evaluates the expressions for the member's values and writes them into the
-// member, then validates it: the file is not read again. The member at the defaults is copied
-// into the caller's model at the first call only; after that, the caller handing back the model
-// of the previous call (Builder's contract), only the numbers the expressions fill are written:
-// names, references and source locations are the same in every member, and copying them per
-// member cost more than solving a 3-RPR pose.
-ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bindings,
-                                       std::vector<std::string> names, std::vector<std::string> derived_names) {
+// A writer that evaluates the expressions for the member's parameter values and writes them
+// into their slots; the other slots keep the structure's defaults. A robot block's member is
+// posed on a model of the writer's own, whose numbers are then the member's values.
+ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> bindings, std::vector<std::string> names,
+                                     std::vector<std::string> derived_names) {
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
-  return [bindings, expressions, site_values = std::vector<double>(bindings->sites.size()),
-          robot_values = std::vector<double>(bindings->robot_positions.size()), last_member = static_cast<const Model*>(nullptr)](std::span<const double> values, Model& member) mutable {
-    expressions->set_values(values);
+  const Structure& structure = bindings->structure;
+  // An expression written at several places (a point and an axis through it) is evaluated once
+  // per member: `distinct` holds the first site of each text, `site_text` each site's.
+  std::vector<std::size_t> distinct, site_text;
+  {
+    std::unordered_map<std::string_view, std::size_t> seen;
+    for (std::size_t k = 0; k < bindings->sites.size(); ++k) {
+      const auto [at, added] = seen.try_emplace(bindings->sites[k].text, distinct.size());
+      if (added) distinct.push_back(k);
+      site_text.push_back(at->second);
+    }
+  }
+  std::vector<double> text_values(distinct.size());
+  return [bindings, expressions, defaults = structure.default_values(), distinct = std::move(distinct),
+          site_text = std::move(site_text), text_values = std::move(text_values),
+          robot_values = std::vector<double>(bindings->robot_positions.size()),
+          posed = bindings->robot ? std::make_shared<Model>(structure.model()) : nullptr](
+             std::span<const double> parameters, std::span<double> values,
+             std::vector<Diagnostic>& warnings) mutable {
+    expressions->set_values(parameters);
     std::vector<Diagnostic> defects;
     const auto report = [&](const ExpressionSite& site, const detail::ExpressionEvaluator::Outcome& outcome) {
       if (!outcome.error.empty() && !outcome.follows_earlier_error) defects.push_back({site.at, site.path, outcome.error});
@@ -1771,52 +1778,61 @@ ModelFamily::Builder refilling_builder(std::shared_ptr<const NumberBindings> bin
     for (std::size_t i = 0; i < bindings->derived.size(); ++i)
       report(bindings->derived[i], expressions->evaluate_derived(i, bindings->derived[i].text));
     bool all_values = true;
-    for (std::size_t k = 0; k < bindings->sites.size(); ++k) {
-      const auto outcome = expressions->evaluate(bindings->sites[k].text);
-      report(bindings->sites[k], outcome);
-      all_values = all_values && outcome.error.empty();
-      site_values[k] = outcome.value;
+    std::vector<std::pair<std::size_t, detail::ExpressionEvaluator::Outcome>> failed;  // (text, outcome)
+    for (std::size_t t = 0; t < distinct.size(); ++t) {
+      auto outcome = expressions->evaluate(bindings->sites[distinct[t]].text);
+      text_values[t] = outcome.value;
+      if (!outcome.error.empty()) failed.emplace_back(t, std::move(outcome));
     }
-    std::vector<double>& positions = robot_values;
+    if (!failed.empty()) {
+      // Every site of a failed text is reported at its own key, the sites in reading order.
+      all_values = false;
+      for (std::size_t k = 0; k < site_text.size(); ++k)
+        for (const auto& [t, outcome] : failed)
+          if (site_text[k] == t) report(bindings->sites[k], outcome);
+    }
     for (std::size_t j = 0; j < bindings->robot_positions.size(); ++j) {
       const auto& position = bindings->robot_positions[j];
-      positions[j] = position.value;
+      robot_values[j] = position.value;
       if (!position.expression) continue;
       const auto outcome = expressions->evaluate(position.expression->text);
       report(*position.expression, outcome);
       all_values = all_values && outcome.error.empty();
-      positions[j] = outcome.value;
+      robot_values[j] = outcome.value;
     }
     // A value that is missing without a defect of its own follows from a derived value's,
     // which is reported: defects is never empty here.
     if (!all_values) throw InputError(std::move(defects));
-    if (&member != last_member || !same_entity_counts(member, bindings->reference)) {
-      last_member = nullptr;  // until the copy below is whole
-      member = bindings->reference;
-      last_member = &member;
+    std::copy(defaults.begin(), defaults.end(), values.begin());
+    for (const auto& [slot, site] : bindings->filled) values[slot] = text_values[site_text[site]];
+    if (!posed) {
+      warnings = bindings->structure.model().warnings;
+      return;
     }
-    for (std::size_t i = 0; i < values.size() && i < member.parameters.size(); ++i) member.parameters[i].value = values[i];
-    auto next = bindings->filled.begin();
-    std::size_t index = 0;
-    detail::for_each_number(member, [&](double& value) {
-      for (; next != bindings->filled.end() && next->first == index; ++next) value = site_values[next->second];
-      ++index;
-    });
-    if (bindings->robot) bindings->robot->pose(robot_values, member);
-    auto member_defects = find_defects(member);
-    if (!member_defects.empty()) throw InputError(std::move(member_defects));
+    bindings->structure.write_values(values, *posed);
+    bindings->robot->pose(robot_values, *posed);
+    double* next = values.data();
+    detail::for_each_number(*posed, [&](double v) { *next++ = v; });
+    warnings = posed->warnings;
   };
 }
 
-// Builders of a file whose numbers could not be bound read the file for each member: each
-// parses the text once into a tree of its own, so builders on different threads share nothing.
-ModelFamily::Builder rereading_builder(std::shared_ptr<const std::string> text, const std::string& file_name,
-                                       const LoadLimits& limits, std::vector<std::string> names,
-                                       std::vector<std::string> derived_names) {
+// Writers of a file whose numbers could not be bound read the file for each member: each
+// parses the text once into a tree of its own, so writers on different threads share nothing.
+ModelFamily::ValueWriter rereading_writer(std::shared_ptr<const std::string> text, const std::string& file_name,
+                                          const LoadLimits& limits, const Structure& structure,
+                                          std::vector<std::string> names, std::vector<std::string> derived_names) {
   auto own_tree = std::make_shared<const detail::YamlTree>(parse_tree(*text, file_name, limits));
   auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
-  return [own_tree, expressions, file_name](std::span<const double> values, Model& member) {
-    member = read_checked(own_tree->root(), file_name, expressions.get(), values);
+  return [own_tree, expressions, file_name, structure](std::span<const double> parameters, std::span<double> values,
+                                                       std::vector<Diagnostic>& warnings) {
+    Loader loader(file_name, expressions.get(), parameters);
+    const Model member = loader.read(own_tree->root());
+    auto defects = loader.merge({});
+    if (!defects.empty()) throw InputError(std::move(defects));
+    const std::vector<double> read = structure.values_of(member);
+    std::copy(read.begin(), read.end(), values.begin());
+    warnings = member.warnings;
   };
 }
 
@@ -1834,29 +1850,36 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   std::vector<std::string> names;
   for (const auto& p : loader.parameters()) names.push_back(p.name);
   if (!unknown.empty()) throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
-  auto defects = loader.merge(find_defects(at_defaults));
-  if (!defects.empty()) throw InputError(std::move(defects));
+  // The structure validates the model at the defaults; its defects join the loader's own.
+  if (!loader.merge({}).empty()) throw InputError(loader.merge(find_defects(at_defaults)));
+  std::optional<Structure> structure;
+  try {
+    structure.emplace(std::move(at_defaults));
+  } catch (const InputError& e) {
+    throw InputError(loader.merge(e.diagnostics()));
+  }
   const std::vector<std::string> derived_names = loader.derived_names();
-  const std::string name = at_defaults.name;
-  std::shared_ptr<const NumberBindings> bindings;
-  // A file without parameters is a family of one member, which builders copy: nothing to bind.
-  std::optional<NumberBindings> bound;
+  const std::string name = structure->model().name;
+  std::shared_ptr<const SlotBindings> bindings;
+  // A file without parameters is a family of one member: nothing to bind.
+  std::optional<SlotBindings> bound;
   if (names.empty() && derived_names.empty())
-    bound = NumberBindings{std::move(at_defaults), {}, {}, {}, {}, {}};
+    bound = SlotBindings{*structure, {}, {}, {}, {}, {}};
   else
-    bound = bind_numbers(root, file_name, std::move(at_defaults), loader.derived_sites());
+    bound = bind_slots(root, file_name, *structure, loader.derived_sites());
   if (bound) {
     bound->robot = loader.robot();
     bound->robot_positions = loader.robot_positions();
-    bindings = std::make_shared<const NumberBindings>(std::move(*bound));
+    bindings = std::make_shared<const SlotBindings>(std::move(*bound));
   }
-  // The text is kept only for builders that must read it again.
+  // The text is kept only for writers that must read it again.
   auto shared_text = bindings ? nullptr : std::make_shared<const std::string>(text);
-  auto make_builder = [bindings, shared_text, file_name, limits, names, derived_names]() -> ModelFamily::Builder {
-    if (bindings) return refilling_builder(bindings, names, derived_names);
-    return rereading_builder(shared_text, file_name, limits, names, derived_names);
+  auto make_writer = [bindings, shared_text, file_name, limits, names, derived_names,
+                      structure = *structure]() -> ModelFamily::ValueWriter {
+    if (bindings) return slot_writer(bindings, names, derived_names);
+    return rereading_writer(shared_text, file_name, limits, structure, names, derived_names);
   };
-  return ModelFamily(name, loader.parameters(), make_builder);
+  return ModelFamily(name, loader.parameters(), *structure, make_writer);
 }
 
 }  // namespace

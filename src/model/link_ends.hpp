@@ -106,4 +106,8 @@ class ModelIndex {
 // from the same index).
 void validate(const Model& model, const ModelIndex& index);
 
+// The defects of a model's values alone (Structure::find_value_defects), `index` being that of
+// a model with the same names and connectivity.
+std::vector<Diagnostic> find_value_defects(const Model& model, const ModelIndex& index);
+
 }  // namespace stiffmsa::detail

@@ -1,12 +1,19 @@
 #include "stiffmsa/parametric.hpp"
 
 #include "stiffmsa/number_text.hpp"
+#include "stiffmsa/validate.hpp"
 
 namespace stiffmsa {
 
-ModelFamily::ModelFamily(std::string name, std::vector<Parameter> parameters,
-                         BuilderFactory make_builder)
-    : name_(std::move(name)), parameters_(std::move(parameters)), make_builder_(std::move(make_builder)) {}
+ModelFamily::ModelFamily(std::string name, std::vector<Parameter> parameters, Structure structure,
+                         ValueWriterFactory make_writer)
+    : name_(std::move(name)),
+      parameters_(std::move(parameters)),
+      structure_(std::move(structure)),
+      make_writer_(std::move(make_writer)) {}
+
+ModelFamily::ModelFamily(std::string name, std::vector<Parameter> parameters, MemberFunction member)
+    : name_(std::move(name)), parameters_(std::move(parameters)), member_(std::move(member)) {}
 
 std::optional<std::size_t> ModelFamily::find_parameter(const std::string& name) const {
   for (std::size_t i = 0; i < parameters_.size(); ++i)
@@ -37,17 +44,53 @@ std::vector<ParameterValue> ModelFamily::parameter_values() const {
   return values;
 }
 
-ModelFamily::Builder ModelFamily::make_builder() const {
-  return [count = parameters_.size(), name = name_, build = make_builder_()](std::span<const double> values,
-                                                                             Model& member) mutable {
-    check_value_count(name, count, values.size());
-    build(values, member);
+Structure ModelFamily::structure() const {
+  if (structure_) return *structure_;
+  return Structure(build(default_values()));
+}
+
+ModelFamily::ValueWriter ModelFamily::make_writer(const Structure& structure) const {
+  const std::size_t count = parameters_.size(), slots = structure.value_count();
+  const auto check_counts = [name = name_, count, slots](std::span<const double> parameters,
+                                                        std::span<double> values) {
+    check_value_count(name, count, parameters.size());
+    if (values.size() != slots)
+      throw UsageError("the model '" + name + "' has " + counted(slots, "value slot") + "; got room for " +
+                       counted(values.size(), "value"));
+  };
+  if (structure_)
+    return [check_counts, write = make_writer_()](std::span<const double> parameters, std::span<double> values,
+                                                  std::vector<Diagnostic>& warnings) mutable {
+      check_counts(parameters, values);
+      write(parameters, values, warnings);
+    };
+  return [check_counts, structure, member = member_](std::span<const double> parameters, std::span<double> values,
+                                                     std::vector<Diagnostic>& warnings) {
+    check_counts(parameters, values);
+    Model built = member(parameters);
+    const std::vector<double> written = structure.values_of(built);
+    std::copy(written.begin(), written.end(), values.begin());
+    warnings = std::move(built.warnings);
   };
 }
 
 Model ModelFamily::build(std::span<const double> values) const {
+  check_value_count(name_, parameters_.size(), values.size());
   Model member;
-  make_builder()(values, member);
+  if (structure_) {
+    std::vector<double> slots(structure_->value_count());
+    std::vector<Diagnostic> warnings;
+    make_writer_()(values, slots, warnings);
+    // The structure was validated when the file was read: its values alone are new here.
+    auto defects = structure_->find_value_defects(slots);
+    if (!defects.empty()) throw InputError(std::move(defects));
+    member = structure_->model_with(slots);
+    member.warnings = std::move(warnings);
+  } else {
+    member = member_(values);
+    validate(member);
+  }
+  for (std::size_t i = 0; i < values.size() && i < member.parameters.size(); ++i) member.parameters[i].value = values[i];
   return member;
 }
 

@@ -216,6 +216,20 @@ class Checker {
     return std::move(found_);
   }
 
+  // The checks of values alone, for a model whose structure (names, references, connectivity,
+  // sizes) was validated: what a new pose of a Structure needs.
+  std::vector<Diagnostic> run_value_checks() {
+    for (std::size_t i = 0; i < model_.points.size(); ++i) check_point(i);
+    for (std::size_t i = 0; i < model_.links.size(); ++i) check_link(i);
+    for (std::size_t i = 0; i < model_.joints.size(); ++i)
+      check_connection_values(subject_of(kJoints, model_.joints[i], i), model_.joints[i].connection);
+    for (std::size_t i = 0; i < model_.supports.size(); ++i)
+      check_connection_values(subject_of(kSupports, model_.supports[i], i), model_.supports[i].connection);
+    for (std::size_t i = 0; i < model_.loads.size(); ++i)
+      require_finite(Subject{"loads", nullptr, i, &model_.loads[i].origin}, "wrench", model_.loads[i].wrench);
+    return std::move(found_);
+  }
+
  private:
   void report(const Subject& s, const std::string& key, std::string message) {
     const std::string subject_path = s.path();
@@ -544,6 +558,13 @@ class Checker {
     }
   }
 
+  // check_connection's checks of values, the sizes being known right.
+  void check_connection_values(const Subject& s, const Connection& c) {
+    check_kinematics(s, c.kinematics);
+    if (c.stiffness) require_positive_definite(s, "stiffness", *c.stiffness);
+    if (c.preload) require_finite(s, "preload", *c.preload);
+  }
+
   // Records that `owner` takes the link end; a second taker is a defect.
   void claim(const Subject& s, const Key& key, const detail::LinkEndRef& end, const Owner& owner) {
     Owner& holder = end_owner_[static_cast<std::size_t>(end.id())];
@@ -801,6 +822,10 @@ std::vector<Diagnostic> detail::find_implausible_values(const Model& model, cons
 }
 
 void validate(const Model& model) { detail::validate(model, detail::ModelIndex(model)); }
+
+std::vector<Diagnostic> detail::find_value_defects(const Model& model, const ModelIndex& index) {
+  return Checker(model, index).run_value_checks();
+}
 
 void detail::validate(const Model& model, const ModelIndex& index) {
   auto defects = Checker(model, index).run();
