@@ -296,7 +296,7 @@ void print_sweep_summary(std::ostream& out, const SweepDescription& description,
   if (!fixed.empty()) out << "  at " << parameters_text(fixed) << '\n';
   for (const auto& warning : description.run.warnings) out << "  warning: " << warning << '\n';
   out << "  status:";
-  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
+  for (auto status : kPoseStatuses) {
     if (summary.count(status) > 0) out << ' ' << to_string(status) << ' ' << summary.count(status);
     if (status == PoseStatus::ok && summary.large_deflections() > 0)
       out << " (" << summary.large_deflections() << " with large deflections)";

@@ -27,7 +27,7 @@ Model chain(int segments) {
     m.add_point("P" + std::to_string(i), Vec3(0.01 * i, 0, 0));
     m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel, Section::circle(0.05));
   }
-  m.add_support("ground", "P0", {}, Connection{});
+  m.add_support("ground", "P0", {}, Connection::rigid());
   m.add_end_effector("tip", "P" + std::to_string(segments));
   return m;
 }
@@ -73,20 +73,20 @@ TEST(Equilibration, PowersOfTwoBringEveryRowAndColumnToAMaximumNearOne) {
 }
 
 TEST(AutomaticSolver, TakesTheTreeSolveForAChainOrAParallelRobotAndTheFrameSolveForABuildingFrame) {
-  EXPECT_EQ(solve(chain(50)).report.solver, "tree");
+  EXPECT_EQ(solve(chain(50)).report.solver, stiffmsa::SolverUsed::tree);
   // Its legs meet at the platform: a tree cut at the reactions of supports screw_y and screw_z
   // and at its nine passive hinges.
   EXPECT_EQ(solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")).report.solver,
-            "tree_with_cuts");
+            stiffmsa::SolverUsed::tree_with_cuts);
   // Loops through its girders, every link a beam, every connection a weld (test_frame_solve.cpp).
-  EXPECT_EQ(solve(building(3, 3, 4)).report.solver, "frame");
+  EXPECT_EQ(solve(building(3, 3, 4)).report.solver, stiffmsa::SolverUsed::frame);
   // Where the frame solve is not taken (a rigid link in it), KLU's predicted fill of the mixed
   // system is far above 10 × nnz(A): SparseLU.
   if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "built without SuiteSparse";
   Model stiffened = building(3, 3, 4);
   stiffened.links.front().kind = RigidLink{};
   const Result frame = solve(stiffened);
-  EXPECT_EQ(frame.report.solver, "sparse_lu");
+  EXPECT_EQ(frame.report.solver, stiffmsa::SolverUsed::sparse_lu);
   SolveOptions options;
   options.solver = SolverKind::klu;
   const Result by_klu = solve(stiffened, options);

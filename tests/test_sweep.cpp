@@ -162,7 +162,7 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
        {load_model_family(example("tripteron-parametric.yaml")), parse_model_family(kSerialArm, "arm.yaml")}) {
     SCOPED_TRACE(family.name());
     if (family.name() == "serial-arm" && GetParam() == SolverKind::automatic)
-      EXPECT_EQ(solve(family.build(family.default_values())).report.solver, "tree");
+      EXPECT_EQ(solve(family.build(family.default_values())).report.solver, stiffmsa::SolverUsed::tree);
     SweepOptions one, two;
     one.threads = 1;
     two.threads = 2;
@@ -260,7 +260,7 @@ TEST(Sweep, TopologyChangeIsAnInvalidPose) {
     } else {
       m.add_end_effector("tip", "b");
     }
-    m.add_support("clamp", "a", {}, Connection{});
+    m.add_support("clamp", "a", {}, Connection::rigid());
     return m;
   };
   const ModelFamily family("grows", {{"n", 0, "", {}}}, [make] {

@@ -378,7 +378,7 @@ TEST_F(UrdfRobot, TheSameRobotWrittenByHandGivesTheSameNumbers) {
     }
     hand.add_joint("j" + std::to_string(i), "p" + std::to_string(i + 1), {"l" + std::to_string(i), "l" + std::to_string(i + 1)}, c);
   }
-  hand.add_support("ground", "p0", {}, Connection{});
+  hand.add_support("ground", "p0", {}, Connection::rigid());
   hand.add_load("tip", std::nullopt, (Vec6() << 10, 20, -300, 4, 5, 6).finished());
   hand.add_end_effector("tool", "tip");
   const Result by_hand = solve(hand);

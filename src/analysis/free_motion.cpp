@@ -136,7 +136,7 @@ std::vector<PassiveConnection> passive_connections(const Model& model, const Top
       const std::string& at = support ? model.supports[source].at : model.joints[source].at;
       const Connection& connection = support ? model.supports[source].connection : model.joints[source].connection;
       const auto directions = free_directions(connection.kinematics);
-      if (directions.free().rows() == 0 || connection.stiffness || connection.actuated) continue;
+      if (directions.free().rows() == 0 || connection.stiffness || connection.is_actuated) continue;
       PassiveConnection c;
       c.support = support;
       c.label = "'" + name + "' (" + to_string(connection.kinematics.type) + " at " + at + ")";

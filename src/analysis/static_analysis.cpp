@@ -11,6 +11,7 @@
 #include "analysis/cartesian.hpp"
 #include "analysis/free_motion.hpp"
 #include "analysis/plausibility.hpp"
+#include "analysis/workspace_access.hpp"
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
 #include "model/link_ends.hpp"
@@ -201,7 +202,7 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
       const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
       // The joint's block holds its directions, except a locked actuator's, which it holds rigidly:
       // its effort is still along the joint's own free directions.
-      const bool locked = joint.connection.actuated && !joint.connection.stiffness;
+      const bool locked = joint.connection.is_actuated && !joint.connection.stiffness;
       const detail::FreeDirections* held = problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
       const detail::FreeDirections directions =
           locked || !held ? detail::free_directions(joint.connection.kinematics) : *held;
@@ -212,7 +213,7 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
         q.push_back(directions.free() * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
       r.relative_deflection = std::move(q);
       r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
-      if (joint.connection.actuated)
+      if (joint.connection.is_actuated)
         r.effort = VecX(directions.gram().ldlt().solve(directions.free() * *r.wrench));
     } else if (group.kind == detail::ConnectionGroup::Kind::support) {
       Vec6 reaction = Vec6::Zero();
@@ -256,7 +257,7 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
   for (const auto& j : model.joints) {
     JointResult joint;
     joint.name = j.name;
-    joint.actuated = j.connection.actuated;
+    joint.actuated = j.connection.is_actuated;
     result.joints.push_back(std::move(joint));
   }
   for (const auto& s : model.supports) result.supports.push_back({s.name, std::nullopt});
@@ -390,7 +391,7 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
   result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
-  result.report.solver = solver;
+  result.report.solver = solver_used_from_string(solver).value_or(SolverUsed::none);
   result.report.reciprocal_condition = reciprocal_condition;
   fill_loads_and_compliance(problem, x, check.relative_residual, result);
   check_accuracy(problem.options, result);
@@ -639,7 +640,7 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
 
 SystemSize check(const Model& model) {
   Workspace workspace(model);
-  auto& ws = workspace.impl();
+  auto& ws = detail::WorkspaceAccess::impl(workspace);
   detail::Assembler& assembler = ws.pattern(ws.recorded_blocks);
   assembler.fill(ws.recorded_blocks, ws.matrix);
   SystemSize size = assembler.size();
@@ -679,7 +680,7 @@ void report_held_spins(const Model& model, const detail::Topology& topology, con
 Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known);
 
 Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
-  Workspace::Impl& ws = workspace.impl();
+  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   if (accept_idle && options.solver == SolverKind::automatic && ws.spin_locked) {
     Result result = solve_in(*ws.spin_locked, model, options, topology_known);
@@ -713,7 +714,7 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
   result.system = assembler.size();
   result.system.nonzeros = count_nonzero_values(ws.matrix);
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
-  result.report.solver = ws.system->solver_name();  // `auto` has chosen by now
+  result.report.solver = solver_used_from_string(ws.system->solver_name()).value_or(SolverUsed::none);  // `auto` has chosen by now
   result.report.reciprocal_condition = ws.system->reciprocal_condition();
   if (regular) {
     solve_regular(problem, result);
@@ -806,7 +807,7 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   options.validate();
   const detail::ModelIndex index(model);
   detail::validate(model, index);
-  if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
+  if (!(detail::build_topology(model, index) == detail::WorkspaceAccess::impl(workspace).topology)) detail::throw_topology_changed();
   Result result = solve_validated(workspace, model, options, false);
   if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
   add_results_in_own_axes(model, result);

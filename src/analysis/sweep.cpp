@@ -91,6 +91,8 @@ const char* to_string(PoseStatus status) {
     case PoseStatus::singular: return "singular";
     case PoseStatus::free_motion: return "free-motion";
     case PoseStatus::invalid: return "invalid";
+    case PoseStatus::inaccurate: return "inaccurate";
+    case PoseStatus::error: return "error";
   }
   return "?";
 }
@@ -116,8 +118,8 @@ std::string one_line(const SingularModelError& e) {
 // What the sweep keeps of a solve.
 PoseResult measure(const Result& result, const SweepOptions& options) {
   PoseResult pose;
-  if (!result.report.failed_checks.empty()) {
-    pose.status = PoseStatus::singular;
+  if (!result.report.usable()) {
+    pose.status = PoseStatus::inaccurate;
     pose.message = result.report.failed_checks.front();
     return pose;
   }
@@ -153,8 +155,10 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
 PoseResult solve_one(ModelFamily::Builder& build, Model& member, Workspace& workspace, std::span<const double> values,
                      const SweepOptions& options) {
   PoseResult pose;
+  bool built = false;
   try {
     build(values, member);
+    built = true;
     return measure(solve(workspace, member, options.solve), options);
   } catch (const InputError& e) {
     pose.status = PoseStatus::invalid;
@@ -164,15 +168,16 @@ PoseResult solve_one(ModelFamily::Builder& build, Model& member, Workspace& work
                                                                         : PoseStatus::singular;
     pose.message = one_line(e);
   } catch (const Error& e) {
-    // A factorisation that failed on this pose's numbers (a QR of a near-mechanism, say).
-    pose.status = PoseStatus::singular;
+    // Not the pose's values (those are InputError, SingularModelError or a failed accuracy
+    // check): a factorisation or a step of the library that failed.
+    pose.status = PoseStatus::error;
     pose.message = e.what();
   } catch (const std::bad_alloc&) {
     throw;  // not the pose's fault: the sweep as a whole cannot go on
   } catch (const std::exception& e) {
     // A caller's builder may throw anything; the pose fails, the sweep goes on.
-    pose.status = PoseStatus::invalid;
-    pose.message = std::string("the model could not be built: ") + e.what();
+    pose.status = built ? PoseStatus::error : PoseStatus::invalid;
+    pose.message = std::string(built ? "the solve failed: " : "the model could not be built: ") + e.what();
   }
   return pose;
 }

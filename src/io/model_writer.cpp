@@ -116,7 +116,7 @@ std::string connection(const Connection& c) {
   }
   if (c.stiffness) text += ", stiffness: " + matrix(*c.stiffness);
   if (c.preload) text += ", preload: " + list(*c.preload);
-  if (c.actuated) text += ", actuated: true";
+  if (c.is_actuated) text += ", actuated: true";
   return text;
 }
 

@@ -135,7 +135,7 @@ SweepHdf5Writer::SweepHdf5Writer(const std::filesystem::path& target, const std:
   f.check(H5Tset_cset(f.text_type.get(), H5T_CSET_UTF8), "a string type");
   // The status as an HDF5 enumeration, which h5py reads with its names (h5py.check_enum_dtype).
   f.status_type = Handle(f.check(H5Tenum_create(H5T_NATIVE_INT8), "the status type"), H5Tclose);
-  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
+  for (auto status : kPoseStatuses) {
     const auto code = static_cast<std::int8_t>(status);
     f.check(H5Tenum_insert(f.status_type.get(), to_string(status), &code), "the status type");
   }
@@ -187,7 +187,7 @@ void SweepHdf5Writer::commit(const std::string& summary_json, const SweepSummary
   File& f = *file_;
   f.attribute_text(f.file.get(), "summary", summary_json);
   f.attribute_count(f.file.get(), "poses", summary.poses());
-  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid})
+  for (auto status : kPoseStatuses)
     f.attribute_count(f.file.get(), std::string("status.") + to_string(status), summary.count(status));
   f.parameters.clear();
   f.values.clear();

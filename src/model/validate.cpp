@@ -537,7 +537,7 @@ class Checker {
                "preload must hold p values" + sized() + "; got " + std::to_string(c.preload->size()));
       else
         require_finite(s, "preload", *c.preload);
-      if (c.actuated && !c.stiffness)
+      if (c.is_actuated && !c.stiffness)
         report(s, "preload",
                "a preload on a locked actuator (actuated, no stiffness) has no "
                "effect; give the actuator a stiffness or remove the preload");
