@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "builders.hpp"
 #include "closed_forms.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -17,9 +18,7 @@ constexpr double kE = 2.1e11;
 constexpr double kG = 8.0e10;
 const Material kSteel{kE, std::nullopt, kG};
 
-Vec6 wrench(double fx, double fy, double fz, double mx = 0, double my = 0, double mz = 0) {
-  return (Vec6() << fx, fy, fz, mx, my, mz).finished();
-}
+using stiffmsa::testing::wrench;
 
 void expect_healthy(const Result& r) {
   EXPECT_LT(r.report.relative_residual, 1e-12);
@@ -29,15 +28,8 @@ void expect_healthy(const Result& r) {
 
 // A straight cantilever along local x from O, split into `segments` beam links.
 Model cantilever(int segments, double length, const Section& section, bool shear = false) {
-  Model m;
-  m.add_point("P0", Vec3::Zero());
-  for (int i = 1; i <= segments; ++i) {
-    m.add_point("P" + std::to_string(i), Vec3(length * i / segments, 0, 0));
-    Link& link = m.link(m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel, section));
-    std::get<BeamLink>(link.kind).shear = shear;
-  }
-  m.add_support("ground", "P0", {}, Connection::rigid());
-  m.add_end_effector("tip", "P" + std::to_string(segments));
+  Model m = stiffmsa::testing::beam_chain(segments, [&](int i) { return Vec3(length * i / segments, 0, 0); }, kSteel, section);
+  for (Link& link : m.links) std::get<BeamLink>(link.kind).shear = shear;
   return m;
 }
 

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <string>
 
+#include "builders.hpp"
 #include "assembly/topology.hpp"
 #include "solve_comparison.hpp"
 #include "solver/frame_solver.hpp"
@@ -19,9 +20,7 @@ using namespace stiffmsa::testing;
 
 namespace {
 
-Vec6 wrench(double fx, double fy, double fz, double mx, double my, double mz) {
-  return (Vec6() << fx, fy, fz, mx, my, mz).finished();
-}
+using stiffmsa::testing::wrench;
 
 // The building of test_solver.cpp, loaded on its roof and on a floor, in three directions.
 Model loaded_building() {

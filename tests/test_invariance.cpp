@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "builders.hpp"
 #include "closed_forms.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -39,7 +40,7 @@ Model spatial_arm() {
                   .preloaded(VecX::Constant(2, 4.0)));
   m.add_joint("elbow", "B", {"upper", "fore"},
               Connection::actuated(Kinematics::revolute(Vec3(0.1, 1, 0)), 1.5e5));
-  m.add_load("E", std::nullopt, (Vec6() << 15, -20, -60, 1, 2, -3).finished());
+  m.add_load("E", std::nullopt, stiffmsa::testing::wrench(15, -20, -60, 1, 2, -3));
   m.add_end_effector("tool", "E");
   m.add_end_effector("elbow", "B", "fore");
   return m;
@@ -118,7 +119,7 @@ TEST(Invariance, BeamMatrixAndComplianceLinksAgree) {
     m.add_rigid_link("tool", "Q", "T");
     m.add_support("clamp", "P", {}, Connection::rigid());
     m.add_end_effector("T", "T");
-    m.add_load("T", std::nullopt, (Vec6() << 5, 10, -30, 0, 1, 0).finished());
+    m.add_load("T", std::nullopt, stiffmsa::testing::wrench(5, 10, -30, 0, 1, 0));
     return m;
   };
   const Result beam = solve(build(0)), matrix = solve(build(1)), compliance = solve(build(2));

@@ -7,6 +7,7 @@
 
 #include <Eigen/QR>
 
+#include "builders.hpp"
 #include "analysis/cartesian.hpp"
 #include "solve_comparison.hpp"
 #include "solver/sparse_solver.hpp"
@@ -21,15 +22,7 @@ namespace {
 const Material kSteel{2.1e11, 0.3, std::nullopt};
 
 Model chain(int segments) {
-  Model m;
-  m.add_point("P0", Vec3::Zero());
-  for (int i = 1; i <= segments; ++i) {
-    m.add_point("P" + std::to_string(i), Vec3(0.01 * i, 0, 0));
-    m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel, Section::circle(0.05));
-  }
-  m.add_support("ground", "P0", {}, Connection::rigid());
-  m.add_end_effector("tip", "P" + std::to_string(segments));
-  return m;
+  return stiffmsa::testing::beam_chain(segments, [](int i) { return Vec3(0.01 * i, 0, 0); }, kSteel, Section::circle(0.05));
 }
 
 bool is_power_of_two(double f) {

@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "builders.hpp"
 #include "assembly/topology.hpp"
 #include "solve_comparison.hpp"
 #include "solver/tree_solver.hpp"
@@ -55,9 +56,9 @@ Model branched_arm() {
   wrist_k << 2e4, 5e2, 5e2, 3e4;
   const Connection elbow_b = Connection::elastic(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 0.6, 0.8)), wrist_k);
   m.add_joint("elbow_b", "elbow_b", {"fore_b", "upper_b"}, elbow_b);  // end 1 is the outer link
-  m.add_load("tip_a", std::nullopt, (Vec6() << 10, -40, -120, 2, 0, 1).finished());
-  m.add_load("tip_b", std::nullopt, (Vec6() << -5, 20, -60, 0, 3, 0).finished());
-  m.add_load("stub", std::nullopt, (Vec6() << 0, 0, -30, 0, 0, 0).finished());
+  m.add_load("tip_a", std::nullopt, stiffmsa::testing::wrench(10, -40, -120, 2, 0, 1));
+  m.add_load("tip_b", std::nullopt, stiffmsa::testing::wrench(-5, 20, -60, 0, 3, 0));
+  m.add_load("stub", std::nullopt, stiffmsa::testing::wrench(0, 0, -30, 0, 0, 0));
   m.add_end_effector("a", "tip_a");
   m.add_end_effector("b", "tip_b");
   return m;
@@ -142,7 +143,7 @@ Model propped_beam(int supports) {
     if (i > 0) m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), point, kSteel, Section::tube(0.06, 0.004));
     if (i % 2 == 0) m.add_support("S" + std::to_string(i / 2), point, {}, Connection::rigid());
   }
-  m.add_load("P1", "L1", (Vec6() << 0, 30, -400, 5, 0, 0).finished());
+  m.add_load("P1", "L1", stiffmsa::testing::wrench(0, 30, -400, 5, 0, 0));
   m.add_end_effector("mid", "P1", "L1");
   return m;
 }
@@ -269,16 +270,9 @@ TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
 // Running sums are carried in two parts on trees at least kCompensatedFromDepth links deep, in
 // one part on shallower ones (a robot's few links), and both agree where both are exact enough.
 TEST(TreeSolve, RunningSumsInTwoPartsOnlyOnDeepTrees) {
-  Model chain;
-  chain.add_point("P0", Vec3::Zero());
-  for (int i = 1; i <= 40; ++i) {
-    chain.add_point("P" + std::to_string(i), Vec3(0.05 * i, 0.01 * (i % 2), 0));
-    chain.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel,
-                   Section::tube(0.06, 0.004));
-  }
-  chain.add_support("ground", "P0", {}, Connection::rigid());
-  chain.add_load("P40", std::nullopt, (Vec6() << 10, -200, 50, 3, 0, -1).finished());
-  chain.add_end_effector("tip", "P40");
+  Model chain = stiffmsa::testing::beam_chain(40, [](int i) { return Vec3(0.05 * i, 0.01 * (i % 2), 0); }, kSteel,
+                                    Section::tube(0.06, 0.004));
+  chain.add_load("P40", std::nullopt, stiffmsa::testing::wrench(10, -200, 50, 3, 0, -1));
   const Model robot = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
   struct Case {
     const Model& model;

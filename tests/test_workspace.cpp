@@ -2,6 +2,7 @@
 // factorisation redone, with the same results as a fresh solve.
 #include <gtest/gtest.h>
 
+#include "builders.hpp"
 #include "closed_forms.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -24,7 +25,7 @@ Model arm(double elbow_x, double joint_stiffness) {
               Connection::elastic(Kinematics::revolute(Vec3::UnitY()), joint_stiffness));
   m.add_joint("elbow", "B", {"upper", "fore"},
               Connection::elastic(Kinematics::revolute(Vec3::UnitY()), 0.5 * joint_stiffness));
-  m.add_load("E", std::nullopt, (Vec6() << 0, 0, -200, 0, 0, 0).finished());
+  m.add_load("E", std::nullopt, stiffmsa::testing::wrench(0, 0, -200, 0, 0, 0));
   m.add_end_effector("tool", "E");
   return m;
 }

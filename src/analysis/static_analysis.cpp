@@ -293,7 +293,7 @@ void check_accuracy(const SolveOptions& options, Result& result) {
     result.report.failed_checks.push_back(message("the relative residual ", result.report.relative_residual,
                                                   " exceeds ", options.max_relative_residual,
                                                   "; results may be inaccurate"));
-  if (result.report.equilibrium_error > 1e-8)
+  if (result.report.equilibrium_error > detail::kEquilibriumTolerance)
     result.report.failed_checks.push_back(message("loads and support reactions balance only to ",
                                                   result.report.equilibrium_error,
                                                   " relative; results may be inaccurate"));
@@ -408,9 +408,9 @@ detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns
   for (Index c = 0; c < k; ++c) {
     const double column_scale = columns.col(c).cwiseAbs().maxCoeff(), row_scale = rows.col(c).cwiseAbs().maxCoeff();
     for (Index i = 0; i < n; ++i) {
-      if (std::abs(columns(i, c)) > 1e-14 * column_scale)
+      if (std::abs(columns(i, c)) > detail::kBorderDrop * column_scale)
         entries.emplace_back(static_cast<int>(i), static_cast<int>(n + c), columns(i, c));
-      if (std::abs(rows(i, c)) > 1e-14 * row_scale)
+      if (std::abs(rows(i, c)) > detail::kBorderDrop * row_scale)
         entries.emplace_back(static_cast<int>(n + c), static_cast<int>(i), rows(i, c));
     }
   }
@@ -434,7 +434,7 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
   for (int end = 0; end < problem.ws.topology.end_count(); ++end)
     largest = std::max(largest, largest_six(motions.middleRows<6>(deflection_column(end)), length, true));
   for (int end : problem.ws.topology.effector_ends)
-    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) > 1e-8 * largest) return true;
+    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) > detail::kNegligibleShare * largest) return true;
   return false;
 }
 
@@ -445,9 +445,6 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
 void note_determined_components(const std::string& whose, const Vec6& wrench, const MatX& variation, double length,
                                 double negligible, std::vector<std::string>& notes) {
   static constexpr std::array<const char*, 6> components = {"Fx", "Fy", "Fz", "Mx", "My", "Mz"};
-  // A determined component below this fraction of the determined ones (moments divided by the
-  // length) is rounding, and shown as 0.
-  constexpr double kRoundOff = 1e-12;
   std::array<bool, 6> fixed{};
   double scale = 0;
   for (int c = 0; c < 6; ++c) {
@@ -459,7 +456,7 @@ void note_determined_components(const std::string& whose, const Vec6& wrench, co
   int count = 0;
   for (int c = 0; c < 6; ++c) {
     if (!fixed[static_cast<std::size_t>(c)]) continue;
-    const double value = std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < kRoundOff * scale ? 0.0 : wrench(c);
+    const double value = std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < detail::kRoundOff * scale ? 0.0 : wrench(c);
     determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ", value, c < 3 ? " N" : " N·m");
   }
   if (count > 0)
@@ -494,7 +491,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     const MatX solution = x.topRows(n);
     fill_loads_and_compliance(problem, solution, detail::relative_residual(problem.ws.matrix, solution, rhs), result);
   }
-  if (result.report.relative_residual > 1e-8)
+  if (result.report.relative_residual > detail::kLoadAlongFreeMotion)
     throw SingularModelError(SingularModelError::Cause::free_motion, "the structure cannot hold its loads or preloads: they act along a free motion",
                              structure.descriptions);
 
@@ -505,7 +502,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     double largest = 0;
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
       largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
-    auto undetermined = [&](const MatX& rows6) { return size(rows6) > 1e-8 * largest; };
+    auto undetermined = [&](const MatX& rows6) { return size(rows6) > detail::kNegligibleShare * largest; };
     for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
       const int from = 2 * static_cast<int>(l);
       if (undetermined(redundancies.middleRows<6>(wrench_column(from)))) result.links[l].from.wrench.reset();
@@ -518,7 +515,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         if (joint.wrench)
           note_determined_components("the wrench of joint '" + joint.name + "'", *joint.wrench,
                                      redundancies.middleRows<6>(wrench_column(group.ends.front())), length,
-                                     1e-8 * largest, result.report.notes);
+                                     detail::kNegligibleShare * largest, result.report.notes);
         joint.wrench.reset();
         joint.effort.reset();
       } else if (group.kind == detail::ConnectionGroup::Kind::support) {
@@ -528,7 +525,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         if (!undetermined(sum)) continue;
         if (support.reaction)
           note_determined_components("the reaction of support '" + support.name + "'", *support.reaction, sum, length,
-                                     1e-8 * largest, result.report.notes);
+                                     detail::kNegligibleShare * largest, result.report.notes);
         support.reaction.reset();
       }
     }
@@ -540,7 +537,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     std::vector<bool> moving(static_cast<std::size_t>(problem.ws.topology.end_count()));
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
       moving[static_cast<std::size_t>(end)] =
-          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) > 1e-8 * largest_motion;
+          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) > detail::kNegligibleShare * largest_motion;
     for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
       if (moving[2 * l]) result.links[l].from.deflection.reset();
       if (moving[2 * l + 1]) result.links[l].to.deflection.reset();

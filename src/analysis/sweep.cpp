@@ -18,25 +18,9 @@
 
 #include "model/suggest.hpp"
 #include "stiffmsa/validate.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
-
-namespace {
-
-// The shortest decimal within the round-off of `value`, where one is (0.11 for
-// 0.11000000000000001): the value the user meant by a decimal grid, written as the user would.
-double shortest_decimal_near(double value, double round_off) {
-  char buffer[32];
-  for (int digits = 1; digits < std::numeric_limits<double>::max_digits10; ++digits) {
-    const auto [end, error] =
-        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, digits);
-    double decimal = value;
-    if (error != std::errc() || std::from_chars(buffer, end, decimal).ec != std::errc()) break;
-    if (std::abs(decimal - value) <= round_off) return decimal;
-  }
-  return value;
-}
-}  // namespace
 
 double GridAxis::value(std::size_t i) const {
   if (count <= 1) return start;
