@@ -26,8 +26,10 @@ Model named_arm() {
   m.add_beam("upper_arm", "shoulder", "elbow", "aluminium", "upper_box");
   m.add_beam("forearm", "elbow", "tip", "aluminium", "fore_box");
   const Kinematics turning = Kinematics::revolute({0, 0, 1});
-  m.add_joint("shoulder_joint", "shoulder", {"pedestal", "upper_arm"}, Connection::elastic(turning, 2.0e5));
-  m.add_joint("elbow_joint", "elbow", {"upper_arm", "forearm"}, Connection::elastic(turning, 1.0e5));
+  m.add_joint("shoulder_joint", "shoulder", {"pedestal", "upper_arm"},
+              Connection::elastic(turning, 2.0e5));
+  m.add_joint("elbow_joint", "elbow", {"upper_arm", "forearm"},
+              Connection::elastic(turning, 1.0e5));
   m.add_support("base", "floor", {}, Connection::rigid());
   m.add_load("tip", std::nullopt, stiffmsa::testing::wrench(50, -200, 0));
   m.add_end_effector("tool", "tip");
@@ -43,7 +45,8 @@ TEST(ModelVerbs, IndicesStayValidAfterLaterVerbs) {
   EXPECT_EQ(first.value, 0u);
   EXPECT_EQ(m.point(first).name, "P0");
   const LinkIndex rod = m.add_rigid_link("rod", "P0", "P1");
-  for (int i = 2; i <= 100; ++i) m.add_rigid_link("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i));
+  for (int i = 2; i <= 100; ++i)
+    m.add_rigid_link("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i));
   m.link(rod).origin.location.line = 7;
   EXPECT_EQ(m.links[0].origin.location.line, 7);
   EXPECT_EQ(m.support(m.add_support("S", "P0", {}, Connection::rigid())).name, "S");
@@ -59,8 +62,10 @@ TEST(ModelVerbs, NamedMaterialsAndSectionsGiveTheBeamsTheirValues) {
   Model direct = named;
   direct.materials.clear();
   direct.sections.clear();
-  direct.links[1].kind = BeamLink{kAluminium, Section::rect_tube(0.06, 0.08, 0.004), false, std::nullopt};
-  EXPECT_EQ(*solve(named).end_effector("tool").compliance, *solve(direct).end_effector("tool").compliance);
+  direct.links[1].kind =
+      BeamLink{kAluminium, Section::rect_tube(0.06, 0.08, 0.004), false, std::nullopt};
+  EXPECT_EQ(*solve(named).end_effector("tool").compliance,
+            *solve(direct).end_effector("tool").compliance);
 }
 
 TEST(ModelVerbs, AnUnknownMaterialOrSectionNamesTheNearest) {
@@ -94,7 +99,8 @@ TEST(Connections, FactoriesSayWhatTheConnectionIs) {
   EXPECT_TRUE(drive.is_actuated);
   EXPECT_EQ(*drive.stiffness, MatX::Constant(1, 1, 3e4));
   EXPECT_EQ(*drive.preload, VecX::Constant(1, 2.5));
-  const Connection ball = Connection::elastic(Kinematics::spherical(), MatX(2e3 * Mat3::Identity()));
+  const Connection ball =
+      Connection::elastic(Kinematics::spherical(), MatX(2e3 * Mat3::Identity()));
   EXPECT_EQ(ball.stiffness->rows(), 3);
 }
 
@@ -103,11 +109,14 @@ TEST(Connections, AScalarIsForOneFreeDirection) {
     Connection::elastic(Kinematics::spherical(), 1e4);
     FAIL() << "no error";
   } catch (const UsageError& e) {
-    EXPECT_STREQ(e.what(),
-                 "a scalar stiffness is for a connection with one free direction; a spherical one has 3: "
-                 "give a p×p matrix");
+    EXPECT_STREQ(
+        e.what(),
+        "a scalar stiffness is for a connection with one free direction; a spherical one has 3: "
+        "give a p×p matrix");
   }
-  EXPECT_THROW(Connection::passive(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())).preloaded(1.0), UsageError);
+  EXPECT_THROW(
+      Connection::passive(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())).preloaded(1.0),
+      UsageError);
 }
 
 TEST(Results, LookedUpByNameAsInModelOrder) {

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cctype>
 #include <cstdio>
 #include <chrono>
@@ -591,7 +592,9 @@ TEST(ModelOptions, OptionsMustBeAMapping) {
   } catch (const InputError& e) {
     ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
     EXPECT_EQ(e.diagnostics()[0].key_path, "options");
-    EXPECT_EQ(e.diagnostics()[0].location.line, 14);
+    // The line after the rod's, where `options:` was appended.
+    const auto rod_lines = std::count(cantilever_model, cantilever_model + std::strlen(cantilever_model), '\n');
+    EXPECT_EQ(e.diagnostics()[0].location.line, rod_lines + 1);
     EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected a mapping")) << e.what();
   }
 }

@@ -150,5 +150,5 @@ def test_results_by_name():
     assert np.array_equal(result.end_effector("tool").compliance, result.end_effectors["tool"].compliance)
     assert result.joint("elbow_joint").actuated is False
     assert result.report.usable and result.report.solver == "tree"
-    with pytest.raises(stiffmsa.UsageError, match="there is no joint 'elbow'; did you mean 'elbow_joint'"):
-        result.joint("elbow")
+    with pytest.raises(stiffmsa.UsageError, match="there is no joint 'elbow_jiont'; did you mean 'elbow_joint'"):
+        result.joint("elbow_jiont")
