@@ -120,8 +120,9 @@ int free_direction_count(const Kinematics& k);
 
 // What a joint or support does along its free directions. Built by its factories, which say
 // what it is: Connection::rigid(), passive(k), elastic(k, K), actuated(k), actuated(k, K), and
-// .preloaded(f) on any of them (model-format.md, "Connections"). A spring along a single free
-// direction is a scalar: elastic(Kinematics::revolute(z), 1e4).
+// .preloaded(f) on any of them (model-format.md, "Passive, elastic, preloaded and actuated
+// joints"). A spring along a single free direction is a scalar:
+// elastic(Kinematics::revolute(z), 1e4).
 struct Connection {
   Kinematics kinematics;
   std::optional<MatX> stiffness;  // p×p, symmetric positive definite: elastic
