@@ -272,20 +272,21 @@ void print_largest(std::ostream& out, const std::string& title, const Largest& l
 }
 
 void print_report(std::ostream& out, const SolveReport& report) {
-  out << "\nSolve report" << (report.solver.empty() ? "" : " (solver " + report.solver + ")")
+  const std::string solver = to_string(report.solver);
+  out << "\nSolve report" << (solver.empty() ? "" : " (solver " + solver + ")")
       << '\n'
       << "  relative residual:    " << scientific(report.relative_residual, 0, 2) << '\n'
       << "  equilibrium error:    " << scientific(report.equilibrium_error, 0, 2) << '\n'
       << "  reciprocal condition: ";
-  if (report.solver == "tree")
+  if (report.solver == SolverUsed::tree)
     out << "not estimated (the tree solve factorises nothing)";
-  else if (report.solver == "tree_with_cuts")
+  else if (report.solver == SolverUsed::tree_with_cuts)
     out << "not estimated (the tree solve with cuts factorises no sparse system)";
   else if (report.reciprocal_condition == 0)
     out << "0 (the system is singular: it was solved with its free motions or redundant constraints removed)";
   else
     out << scientific(report.reciprocal_condition, 0, 2);
-  if (report.solver == "frame") out << " of the condensed stiffness";
+  if (report.solver == SolverUsed::frame) out << " of the condensed stiffness";
   if (report.reciprocal_condition > 0) {
     out << "  (condition number about " << scientific(1.0 / report.reciprocal_condition, 0, 1)
         << ')';
@@ -320,7 +321,7 @@ const char* link_kind_name(const LinkKind& kind) {
 std::string connection_text(const Connection& c) {
   const Kinematics& k = c.kinematics;
   std::string text = to_string(k.type);
-  text += c.actuated ? ", actuated" : c.stiffness ? ", elastic" : k.type == JointType::rigid ? "" : ", passive";
+  text += c.is_actuated ? ", actuated" : c.stiffness ? ", elastic" : k.type == JointType::rigid ? "" : ", passive";
   switch (k.type) {
     case JointType::revolute:
     case JointType::prismatic:

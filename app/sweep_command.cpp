@@ -17,6 +17,7 @@
 #include <optional>
 
 #include "stiffmsa/config.hpp"
+#include "stiffmsa/number_text.hpp"
 #include "summary.hpp"
 #include "sweep_output.hpp"
 #if STIFFMSA_CLI_MPI
@@ -122,12 +123,6 @@ std::string file_fingerprint(const std::string& path, const std::string& what) {
   return fingerprint(text.str());
 }
 
-std::string plain_text(double value) {
-  std::array<char, 32> buffer;
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return std::string(buffer.data(), error == std::errc() ? end : buffer.data());
-}
-
 // What must be the same for parts to make one sweep: this program, the model file, the values
 // set, the poses, the columns and the solver (docs/cluster.md, "Shards").
 nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<GridAxis>& axes, std::size_t poses) {
@@ -135,12 +130,12 @@ nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<Gri
   identity["stiffmsa"] = STIFFMSA_VERSION;
   identity["model_file"] = file_fingerprint(command.model_file, "the model file");
   nlohmann::json settings = nlohmann::json::object();
-  for (const auto& [name, value] : parse_settings(command.settings)) settings[name] = plain_text(value);
+  for (const auto& [name, value] : parse_settings(command.settings)) settings[name] = shortest_text(value);
   identity["set"] = std::move(settings);
   if (command.poses_file.empty()) {
     nlohmann::json grid = nlohmann::json::array();
     for (const auto& axis : axes)
-      grid.push_back(axis.parameter + "=" + plain_text(axis.start) + ":" + plain_text(axis.stop) + ":" +
+      grid.push_back(axis.parameter + "=" + shortest_text(axis.start) + ":" + shortest_text(axis.stop) + ":" +
                      std::to_string(axis.count));
     identity["grid"] = std::move(grid);
   } else {

@@ -18,12 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string comma_separated(const std::vector<std::string>& names) {
-  std::string text;
-  for (std::size_t i = 0; i < names.size(); ++i) text += (i > 0 ? ", " : "") + names[i];
-  return text;
-}
-
 std::string with_unit(double value, const std::string& unit) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.4g", value);
@@ -285,7 +279,7 @@ void print_sweep_summary(std::ostream& out, const SweepDescription& description,
                          std::size_t threads, double seconds, const std::vector<fs::path>& files, std::size_t ranks) {
   const std::size_t poses = summary.poses();
   out << "sweep of " << description.run.model << ": " << poses << " poses over "
-      << comma_separated(description.run.poses.parameters);
+      << name_list(description.run.poses.parameters);
   const std::string workers =
       ranks > 1 ? counted(ranks, "rank") + " of " + counted(threads, "thread") : counted(threads, "thread");
   char rate[160];
@@ -296,7 +290,7 @@ void print_sweep_summary(std::ostream& out, const SweepDescription& description,
   if (!fixed.empty()) out << "  at " << parameters_text(fixed) << '\n';
   for (const auto& warning : description.run.warnings) out << "  warning: " << warning << '\n';
   out << "  status:";
-  for (auto status : {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid}) {
+  for (auto status : kPoseStatuses) {
     if (summary.count(status) > 0) out << ' ' << to_string(status) << ' ' << summary.count(status);
     if (status == PoseStatus::ok && summary.large_deflections() > 0)
       out << " (" << summary.large_deflections() << " with large deflections)";
@@ -349,7 +343,7 @@ std::vector<SweepColumn> plotted_columns(const SweepResult& description, const s
     if (!column) {
       std::vector<std::string> known;
       for (const auto& c : sweep_columns(description, false)) known.push_back(c.name);
-      throw UsageError("--plot-column '" + name + "': no such column; columns are " + comma_separated(known) +
+      throw UsageError("--plot-column '" + name + "': no such column; columns are " + name_list(known) +
                        " and the compliance and stiffness entries E.C11 … E.K66");
     }
     columns.push_back(*column);

@@ -184,7 +184,7 @@ Model cantilever_chain(int links, const ChainSpec& spec) {
     m.add_point(numbered("P", i), Vec3(spec.length * i / links, 0, 0));
     m.add_beam(numbered("L", i), numbered("P", i - 1), numbered("P", i), steel, tube);
   }
-  m.add_support("clamp", "P0", {}, Connection{});
+  m.add_support("clamp", "P0", {}, Connection::rigid());
   const std::string tip = numbered("P", links);
   m.add_load(tip, std::nullopt, (Vec6() << 0, -100, 0, 0, 0, 0).finished());
   m.add_end_effector("tip", tip);
@@ -240,7 +240,7 @@ Model space_frame(int nx, int ny, int storeys) {
       for (int i = 0; i <= nx; ++i) m.add_beam(name("yn", i, j, k), node(i, j, k), node(i, j + 1, k), steel, girder);
   }
   for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) m.add_support(name("gn", i, j, 0), node(i, j, 0), {}, Connection{});
+    for (int i = 0; i <= nx; ++i) m.add_support(name("gn", i, j, 0), node(i, j, 0), {}, Connection::rigid());
   const std::string corner = node(nx, ny, storeys), top_column = name("cn", nx, ny, storeys);
   m.add_load(corner, top_column, (Vec6() << 20e3, 10e3, 0, 0, 0, 0).finished());
   m.add_end_effector("roof_corner", corner, top_column);

@@ -11,15 +11,6 @@
 
 namespace {
 
-// A gearbox seen from the arm: free to turn about `axis` against a torsional spring
-// (N·m/rad), rigid in the other five directions.
-stiffmsa::Connection elastic_revolute(const stiffmsa::Vec3& axis, double stiffness) {
-  stiffmsa::Connection gearbox;
-  gearbox.kinematics = stiffmsa::Kinematics::revolute(axis);
-  gearbox.stiffness = stiffmsa::MatX::Constant(1, 1, stiffness);
-  return gearbox;
-}
-
 stiffmsa::Model planar_2r_arm() {
   stiffmsa::Material aluminium;
   aluminium.E = 7.0e10;  // Pa
@@ -27,6 +18,11 @@ stiffmsa::Model planar_2r_arm() {
 
   stiffmsa::Model model;
   model.name = "planar-2r";
+  // Named as a model file names them under `materials:` and `sections:`. Box sections: width b
+  // along the beam's local y (horizontal here), height h along local z.
+  model.add_material("aluminium", aluminium);
+  model.add_section("upper_box", stiffmsa::Section::rect_tube(0.06, 0.08, 0.004));
+  model.add_section("fore_box", stiffmsa::Section::rect_tube(0.05, 0.06, 0.003));
 
   // Shoulder angle 36.87 deg, elbow +90 deg: a pose far from the stretched-out singularity.
   model.add_point("floor", {0, 0, -0.25});
@@ -34,22 +30,21 @@ stiffmsa::Model planar_2r_arm() {
   model.add_point("elbow", {0.48, 0.36, 0});
   model.add_point("tip", {0.21, 0.72, 0});
 
-  // Box sections: width b along the beam's local y (horizontal here), height h along local z.
   model.add_rigid_link("pedestal", "floor", "shoulder");
-  model.add_beam("upper_arm", "shoulder", "elbow", aluminium,
-                 stiffmsa::Section::rect_tube(0.06, 0.08, 0.004));
-  model.add_beam("forearm", "elbow", "tip", aluminium,
-                 stiffmsa::Section::rect_tube(0.05, 0.06, 0.003));
+  model.add_beam("upper_arm", "shoulder", "elbow", "aluminium", "upper_box");
+  model.add_beam("forearm", "elbow", "tip", "aluminium", "fore_box");
 
-  const stiffmsa::Vec3 vertical(0, 0, 1);
+  // Gearboxes seen from the arm: free to turn about the vertical against a torsional spring
+  // (N·m/rad, a scalar for the one free direction), rigid in the other five directions.
+  const auto turning = stiffmsa::Kinematics::revolute({0, 0, 1});
   model.add_joint("shoulder_joint", "shoulder", {"pedestal", "upper_arm"},
-                  elastic_revolute(vertical, 2.0e5));
+                  stiffmsa::Connection::elastic(turning, 2.0e5));
   model.add_joint("elbow_joint", "elbow", {"upper_arm", "forearm"},
-                  elastic_revolute(vertical, 1.0e5));
+                  stiffmsa::Connection::elastic(turning, 1.0e5));
 
-  // A default Connection is rigid: the pedestal is bolted to the floor. An empty list of links
-  // means every link end at the point.
-  model.add_support("base", "floor", {}, stiffmsa::Connection{});
+  // The pedestal is bolted to the floor. An empty list of links means every link end at the
+  // point.
+  model.add_support("base", "floor", {}, stiffmsa::Connection::rigid());
 
   // [Fx, Fy, Fz, Mx, My, Mz] in N and N·m, global axes, moments about the tip. Only one link
   // end is at the tip, so the link need not be named.
@@ -90,7 +85,9 @@ void print_end_effector(const stiffmsa::EndEffectorResult& ee) {
 int main() {
   try {
     const stiffmsa::Result result = stiffmsa::solve(planar_2r_arm());
-    for (const auto& ee : result.end_effectors) print_end_effector(ee);
+    // By name, as the model names it (result.end_effectors lists them all in model order).
+    print_end_effector(result.end_effector("tool"));
+    if (!result.report.usable()) std::cerr << "api_example: an accuracy check failed\n";
     for (const auto& note : result.report.notes) std::cout << "note: " << note << '\n';
     return 0;
   } catch (const stiffmsa::InputError& error) {

@@ -99,7 +99,7 @@ inline Model building(int nx, int ny, int storeys) {
         if (j < ny) m.add_beam("y" + node(i, j, k), node(i, j, k), node(i, j + 1, k), kFrameSteel, Section::rect_tube(0.2, 0.35, 0.01));
       }
   for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) m.add_support("g" + node(i, j, 0), node(i, j, 0), {}, Connection{});
+    for (int i = 0; i <= nx; ++i) m.add_support("g" + node(i, j, 0), node(i, j, 0), {}, Connection::rigid());
   m.add_end_effector("roof", node(nx, ny, storeys), "c" + node(nx, ny, storeys));
   return m;
 }

@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include "builders.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,25 +29,7 @@ constexpr const char* error_prefix = "stiffmsa: error: ";
 constexpr double length = 1.0;
 constexpr double youngs_modulus = 2.1e11;
 constexpr double diameter = 0.05;
-constexpr const char* cantilever_model = R"(format: stiffmsa/1
-name: cantilever
-points:
-  O: [0, 0, 0]
-  E: [1, 0, 0]
-links:
-  L1:
-    type: beam
-    from: O
-    to: E
-    material: {E: 2.1e11, nu: 0.3}
-    section: {shape: circle, D: 0.05}
-supports:
-  S1: {type: rigid, at: O, link: L1}
-loads:
-  - {at: E, link: L1, wrench: [0, -100, 0, 0, 0, 0]}
-end_effectors:
-  EE: {at: E, link: L1}
-)";
+constexpr const char* cantilever_model = stiffmsa::testing::kCantileverYaml;
 
 // The same rod with its support naming a point that does not exist.
 constexpr const char* invalid_model = R"(format: stiffmsa/1

@@ -15,6 +15,7 @@
 #include <variant>
 #include <vector>
 
+#include "builders.hpp"
 #include "closed_forms.hpp"
 #include "solve_comparison.hpp"
 #include "stiffmsa/stiffmsa.hpp"
@@ -294,9 +295,7 @@ Vec6 total_load(const Model& model) {
   return sum;
 }
 
-Vec6 wrench(double fx, double fy, double fz, double mx, double my, double mz) {
-  return (Vec6() << fx, fy, fz, mx, my, mz).finished();
-}
+using stiffmsa::testing::wrench;
 
 // ---- every example ------------------------------------------------------------------------
 

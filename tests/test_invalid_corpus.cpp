@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cctype>
 #include <cstdio>
 #include <chrono>
@@ -23,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "builders.hpp"
 #include "stiffmsa/io/model_file.hpp"
 
 namespace stiffmsa {
@@ -37,20 +39,7 @@ constexpr const char* error_prefix = "stiffmsa: error: ";
 const fs::path corpus_folder = fs::path(STIFFMSA_SOURCE_DIR) / "tests" / "invalid";
 
 // A valid model: a steel rod clamped at O and loaded at E.
-constexpr const char* cantilever_model = R"(format: stiffmsa/1
-name: cantilever
-points:
-  O: [0, 0, 0]
-  E: [1, 0, 0]
-links:
-  L1: {type: beam, from: O, to: E, material: {E: 2.1e11, nu: 0.3}, section: {shape: circle, D: 0.05}}
-supports:
-  S1: {type: rigid, at: O, link: L1}
-loads:
-  - {at: E, link: L1, wrench: [0, -100, 0, 0, 0, 0]}
-end_effectors:
-  EE: {at: E, link: L1}
-)";
+constexpr const char* cantilever_model = stiffmsa::testing::kCantileverYaml;
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -603,7 +592,9 @@ TEST(ModelOptions, OptionsMustBeAMapping) {
   } catch (const InputError& e) {
     ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
     EXPECT_EQ(e.diagnostics()[0].key_path, "options");
-    EXPECT_EQ(e.diagnostics()[0].location.line, 14);
+    // The line after the rod's, where `options:` was appended.
+    const auto rod_lines = std::count(cantilever_model, cantilever_model + std::strlen(cantilever_model), '\n');
+    EXPECT_EQ(e.diagnostics()[0].location.line, rod_lines + 1);
     EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected a mapping")) << e.what();
   }
 }

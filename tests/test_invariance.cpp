@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "builders.hpp"
 #include "closed_forms.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -23,22 +24,23 @@ Model spatial_arm() {
   m.add_point("B", Vec3(0.6, 0.2, 0.6));
   m.add_point("C", Vec3(0.9, 0.1, 0.4));
   m.add_point("E", Vec3(1.0, 0.15, 0.3));
-  Link& column = m.add_beam("column", "O", "A", kAluminium, Section::rect(0.08, 0.12));
+  Link& column = m.link(m.add_beam("column", "O", "A", kAluminium, Section::rect(0.08, 0.12)));
   std::get<BeamLink>(column.kind).zref = Vec3(1, 0.2, 0);
-  Link& upper = m.add_beam("upper", "A", "B", kAluminium, Section::rect_tube(0.06, 0.1, 0.005));
+  Link& upper = m.link(m.add_beam("upper", "A", "B", kAluminium, Section::rect_tube(0.06, 0.1, 0.005)));
   std::get<BeamLink>(upper.kind).zref = Vec3(0, 0.3, 1);
   std::get<BeamLink>(upper.kind).shear = true;
-  Link& fore = m.add_beam("fore", "B", "C", kAluminium, Section::tube(0.05, 0.004));
+  Link& fore = m.link(m.add_beam("fore", "B", "C", kAluminium, Section::tube(0.05, 0.004)));
   std::get<BeamLink>(fore.kind).zref = Vec3(0, 0, 1);
   m.add_rigid_link("wrist", "C", "E");
-  Connection base{Kinematics::revolute(Vec3(0, 0, 1)), MatX::Constant(1, 1, 4e5), std::nullopt, false};
+  const Connection base = Connection::elastic(Kinematics::revolute(Vec3(0, 0, 1)), 4e5);
   m.add_support("base", "O", {}, base);
   m.add_joint("shoulder", "A", {"column", "upper"},
-              Connection{Kinematics::universal(Vec3(0, 1, 0), Vec3(1, 0, 0.2)), MatX(Eigen::Vector2d(3e5, 2e5).asDiagonal()),
-                         VecX::Constant(2, 4.0), false});
+              Connection::elastic(Kinematics::universal(Vec3(0, 1, 0), Vec3(1, 0, 0.2)),
+                                  MatX(Eigen::Vector2d(3e5, 2e5).asDiagonal()))
+                  .preloaded(VecX::Constant(2, 4.0)));
   m.add_joint("elbow", "B", {"upper", "fore"},
-              Connection{Kinematics::revolute(Vec3(0.1, 1, 0)), MatX::Constant(1, 1, 1.5e5), std::nullopt, true});
-  m.add_load("E", std::nullopt, (Vec6() << 15, -20, -60, 1, 2, -3).finished());
+              Connection::actuated(Kinematics::revolute(Vec3(0.1, 1, 0)), 1.5e5));
+  m.add_load("E", std::nullopt, stiffmsa::testing::wrench(15, -20, -60, 1, 2, -3));
   m.add_end_effector("tool", "E");
   m.add_end_effector("elbow", "B", "fore");
   return m;
@@ -105,19 +107,19 @@ TEST(Invariance, BeamMatrixAndComplianceLinksAgree) {
     m.add_point("Q", to);
     m.add_point("T", to + Vec3(0.1, -0.2, 0.05));
     if (kind == 0) {
-      Link& l = m.add_beam("link", "P", "Q", kAluminium, section);
+      Link& l = m.link(m.add_beam("link", "P", "Q", kAluminium, section));
       std::get<BeamLink>(l.kind).zref = zref;
     } else if (kind == 1) {
-      Link& l = m.add_matrix_link("link", "P", "Q", local_stiffness, LinkFrame::local);
+      Link& l = m.link(m.add_matrix_link("link", "P", "Q", local_stiffness, LinkFrame::local));
       std::get<MatrixLink>(l.kind).zref = zref;
     } else {
-      Link& l = m.add_compliance_link("link", "P", "Q", local_compliance, LinkFrame::local);
+      Link& l = m.link(m.add_compliance_link("link", "P", "Q", local_compliance, LinkFrame::local));
       std::get<ComplianceLink>(l.kind).zref = zref;
     }
     m.add_rigid_link("tool", "Q", "T");
-    m.add_support("clamp", "P", {}, Connection{});
+    m.add_support("clamp", "P", {}, Connection::rigid());
     m.add_end_effector("T", "T");
-    m.add_load("T", std::nullopt, (Vec6() << 5, 10, -30, 0, 1, 0).finished());
+    m.add_load("T", std::nullopt, stiffmsa::testing::wrench(5, 10, -30, 0, 1, 0));
     return m;
   };
   const Result beam = solve(build(0)), matrix = solve(build(1)), compliance = solve(build(2));

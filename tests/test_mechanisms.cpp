@@ -173,7 +173,7 @@ TEST(MechanismCulprits, MotionsOfOneJointShareOneLine) {
   Model model = stiffmsa::parse_model(ur5_like(kElastic, kElastic), "ur5.yaml");
   auto& wrist = model.joints.back().connection;
   wrist.kinematics = stiffmsa::Kinematics::spherical();
-  wrist.actuated = false;
+  wrist.is_actuated = false;
   wrist.stiffness.reset();
   const SingularModelError error = refusal(model);
   ASSERT_EQ(error.details().size(), 2u) << error.what();

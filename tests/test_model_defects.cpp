@@ -445,9 +445,9 @@ TEST(ModelDefects, CustomJointRowsAreCountedFromOneToSix) {
   m.add_point("B", Vec3(2, 0, 0));
   m.add_rigid_link("L1", "O", "A");
   m.add_rigid_link("L2", "A", "B");
-  m.add_joint("none", "A", {"L1", "L2"}, Connection{Kinematics::custom({}), {}, {}, false});
+  m.add_joint("none", "A", {"L1", "L2"}, Connection::passive(Kinematics::custom({})));
   std::vector<Vec6> seven(7, Vec6::Unit(0));
-  m.add_support("seven", "O", {}, Connection{Kinematics::custom(seven), {}, {}, false});
+  m.add_support("seven", "O", {}, Connection::passive(Kinematics::custom(seven)));
   const auto defects = find_defects(m);
   EXPECT_TRUE(has_defect(defects, "joints.none.free", {"at least one free direction"}));
   EXPECT_TRUE(has_defect(defects, "supports.seven.free", {"at most 6 free directions", "got 7"}));
@@ -502,9 +502,10 @@ TEST(ModelDefects, ApiSpringsMustMatchTheFreeDirections) {
   m.add_point("B", Vec3(2, 0, 0));
   m.add_rigid_link("L1", "O", "A");
   m.add_rigid_link("L2", "A", "B");
-  Connection sized{Kinematics::spherical(), MatX::Identity(2, 2), VecX::Ones(4), false};
+  const Connection sized = Connection::elastic(Kinematics::spherical(), MatX::Identity(2, 2)).preloaded(VecX::Ones(4));
   m.add_joint("J", "A", {"L1", "L2"}, sized);
-  Connection rigid{Kinematics::rigid(), MatX::Identity(1, 1), std::nullopt, false};
+  // Past the factories, which take a stiffness for a rigid connection as they are told.
+  const Connection rigid = Connection::elastic(Kinematics::rigid(), MatX::Identity(1, 1));
   m.add_support("S", "O", {"L1"}, rigid);
   const auto defects = find_defects(m);
   EXPECT_TRUE(has_defect(defects, "joints.J.stiffness",
@@ -664,7 +665,7 @@ TEST(ModelDefects, RepeatsAreFoundInLongListsToo) {
     links.push_back(name);
   }
   links.push_back("L7");
-  m.add_support("base", "O", links, Connection{Kinematics::rigid()});
+  m.add_support("base", "O", links, Connection::rigid());
   for (int i = 0; i < 20; ++i)
     m.add_end_effector(i == 17 ? "E3" : "E" + std::to_string(i), "P" + std::to_string(i));
   const auto defects = find_defects(m);
@@ -800,9 +801,8 @@ TEST(ModelDefects, ValidModelsHaveNoDefects) {
   m.add_beam("L1", "O", "A", Material{2.1e11, 0.3, std::nullopt}, Section::tube(0.08, 0.005));
   m.add_rigid_link("L2", "A", "E");
   m.add_joint("J1", "A", {"L1", "L2"},
-              Connection{Kinematics::revolute(Vec3(0, 0, 1)), MatX::Constant(1, 1, 1e4),
-                         VecX::Constant(1, 2.0), true});
-  m.add_support("S1", "O", {}, Connection{});
+              Connection::actuated(Kinematics::revolute(Vec3(0, 0, 1)), 1e4).preloaded(2.0));
+  m.add_support("S1", "O", {}, Connection::rigid());
   m.add_load("E", std::nullopt, Vec6::Unit(1));
   m.add_end_effector("EE", "E");
   EXPECT_TRUE(find_defects(m).empty()) << listing(find_defects(m));

@@ -101,7 +101,7 @@ TEST(ModelFile, ReadsTheSpecificationExample) {
   EXPECT_EQ(j1.connection.kinematics.axis, Vec3(0, 0, 1));
   EXPECT_FALSE(j1.connection.stiffness.has_value());
   EXPECT_FALSE(j1.connection.preload.has_value());
-  EXPECT_FALSE(j1.connection.actuated);
+  EXPECT_FALSE(j1.connection.is_actuated);
 
   ASSERT_EQ(m.supports.size(), 1u);
   EXPECT_EQ(m.supports[0].name, "S1");
@@ -364,7 +364,7 @@ TEST(ModelFile, NormalisesStiffnessAndPreload) {
   const Connection& one = joint_named(m, "one").connection;
   EXPECT_EQ(*one.stiffness, MatX::Constant(1, 1, 7));
   EXPECT_EQ(*one.preload, VecX::Constant(1, 2.5));
-  EXPECT_TRUE(one.actuated);
+  EXPECT_TRUE(one.is_actuated);
 
   EXPECT_EQ(*joint_named(m, "one_list").connection.stiffness, MatX::Constant(1, 1, 8));
   EXPECT_EQ(*joint_named(m, "one_list").connection.preload, VecX::Constant(1, -1));
@@ -372,10 +372,10 @@ TEST(ModelFile, NormalisesStiffnessAndPreload) {
   const Connection& passive = joint_named(m, "passive").connection;
   EXPECT_FALSE(passive.stiffness.has_value());
   EXPECT_EQ(*passive.preload, VecX::Constant(1, 4));
-  EXPECT_FALSE(passive.actuated);
+  EXPECT_FALSE(passive.is_actuated);
 
   const Connection& locked = joint_named(m, "locked").connection;
-  EXPECT_TRUE(locked.actuated);
+  EXPECT_TRUE(locked.is_actuated);
   EXPECT_FALSE(locked.stiffness.has_value());
 
   EXPECT_EQ(*joint_named(m, "custom").connection.stiffness, MatX::Constant(1, 1, 9));
@@ -402,7 +402,7 @@ supports:
   EXPECT_EQ(*m.supports[0].connection.stiffness, MatX::Constant(1, 1, 1.0e4));
   EXPECT_EQ(m.supports[1].links, (std::vector<std::string>{"L2", "L3"}));
   EXPECT_EQ(*m.supports[1].connection.stiffness, MatX(2.0e3 * MatX::Identity(3, 3)));
-  EXPECT_TRUE(m.supports[1].connection.actuated);
+  EXPECT_TRUE(m.supports[1].connection.is_actuated);
   EXPECT_TRUE(m.supports[2].links.empty());
   EXPECT_EQ(m.supports[2].connection.kinematics.normal, Vec3(0, 0, 1));
   EXPECT_EQ(*m.supports[2].connection.preload, Eigen::Vector3d(0, 0, 1.5));

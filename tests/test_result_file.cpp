@@ -115,7 +115,7 @@ Result sample_result() {
   r.report.relative_residual = 1.5e-16;
   r.report.equilibrium_error = 2.5e-15;
   r.report.reciprocal_condition = 3.25e-9;
-  r.report.solver = "sparse_lu";
+  r.report.solver = stiffmsa::SolverUsed::sparse_lu;
   r.report.notes = {"wrenches in the loop at A are undetermined"};
   return r;
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/QR>
 
+#include "builders.hpp"
 #include "analysis/cartesian.hpp"
 #include "solve_comparison.hpp"
 #include "solver/sparse_solver.hpp"
@@ -21,15 +22,7 @@ namespace {
 const Material kSteel{2.1e11, 0.3, std::nullopt};
 
 Model chain(int segments) {
-  Model m;
-  m.add_point("P0", Vec3::Zero());
-  for (int i = 1; i <= segments; ++i) {
-    m.add_point("P" + std::to_string(i), Vec3(0.01 * i, 0, 0));
-    m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel, Section::circle(0.05));
-  }
-  m.add_support("ground", "P0", {}, Connection{});
-  m.add_end_effector("tip", "P" + std::to_string(segments));
-  return m;
+  return stiffmsa::testing::beam_chain(segments, [](int i) { return Vec3(0.01 * i, 0, 0); }, kSteel, Section::circle(0.05));
 }
 
 bool is_power_of_two(double f) {
@@ -73,20 +66,20 @@ TEST(Equilibration, PowersOfTwoBringEveryRowAndColumnToAMaximumNearOne) {
 }
 
 TEST(AutomaticSolver, TakesTheTreeSolveForAChainOrAParallelRobotAndTheFrameSolveForABuildingFrame) {
-  EXPECT_EQ(solve(chain(50)).report.solver, "tree");
+  EXPECT_EQ(solve(chain(50)).report.solver, stiffmsa::SolverUsed::tree);
   // Its legs meet at the platform: a tree cut at the reactions of supports screw_y and screw_z
   // and at its nine passive hinges.
   EXPECT_EQ(solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")).report.solver,
-            "tree_with_cuts");
+            stiffmsa::SolverUsed::tree_with_cuts);
   // Loops through its girders, every link a beam, every connection a weld (test_frame_solve.cpp).
-  EXPECT_EQ(solve(building(3, 3, 4)).report.solver, "frame");
+  EXPECT_EQ(solve(building(3, 3, 4)).report.solver, stiffmsa::SolverUsed::frame);
   // Where the frame solve is not taken (a rigid link in it), KLU's predicted fill of the mixed
   // system is far above 10 × nnz(A): SparseLU.
   if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "built without SuiteSparse";
   Model stiffened = building(3, 3, 4);
   stiffened.links.front().kind = RigidLink{};
   const Result frame = solve(stiffened);
-  EXPECT_EQ(frame.report.solver, "sparse_lu");
+  EXPECT_EQ(frame.report.solver, stiffmsa::SolverUsed::sparse_lu);
   SolveOptions options;
   options.solver = SolverKind::klu;
   const Result by_klu = solve(stiffened, options);

@@ -20,11 +20,11 @@ Model arm(double elbow_x, double joint_stiffness) {
   m.add_beam("column", "O", "A", steel, Section::tube(0.1, 0.006));
   m.add_beam("upper", "A", "B", steel, Section::tube(0.08, 0.005));
   m.add_rigid_link("fore", "B", "E");
-  m.add_support("base", "O", {}, Connection{});
+  m.add_support("base", "O", {}, Connection::rigid());
   m.add_joint("shoulder", "A", {"column", "upper"},
-              Connection{Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, joint_stiffness), std::nullopt, false});
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, joint_stiffness)));
   m.add_joint("elbow", "B", {"upper", "fore"},
-              Connection{Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, 0.5 * joint_stiffness), std::nullopt, false});
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, 0.5 * joint_stiffness)));
   m.add_load("E", std::nullopt, (Vec6() << 0, 0, -200, 0, 0, 0).finished());
   m.add_end_effector("tool", "E");
   return m;

@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "builders.hpp"
 #include "assembly/topology.hpp"
 #include "solve_comparison.hpp"
 #include "solver/tree_solver.hpp"
@@ -37,10 +38,7 @@ Model branched_arm() {
   m.add_point("stub", Vec3(0.1, -0.3, 0.65));
   m.add_beam("column", "base", "hub", kSteel, Section::tube(0.12, 0.008));
   m.add_beam("upper_a", "hub", "elbow_a", kSteel, Section::rect_tube(0.08, 0.1, 0.005));
-  m.add_beam("fore_a", "elbow_a", "tip_a", kSteel, Section::circle(0.04)).kind = [] {
-    BeamLink beam{kSteel, Section::circle(0.04), true, std::nullopt};
-    return LinkKind(beam);
-  }();
+  std::get<BeamLink>(m.link(m.add_beam("fore_a", "elbow_a", "tip_a", kSteel, Section::circle(0.04))).kind).shear = true;
   m.add_rigid_link("upper_b", "hub", "elbow_b");
   Mat6 c = Mat6::Identity() * 2e-7;
   c(0, 4) = c(4, 0) = 3e-8;
@@ -49,18 +47,18 @@ Model branched_arm() {
 
   MatX hip_k(3, 3);
   hip_k << 8e6, 2e5, 0, 2e5, 6e6, 1e5, 0, 1e5, 9e6;
-  Connection hip{Kinematics::spherical(), hip_k, VecX::Constant(3, 15.0), false};
+  const Connection hip = Connection::elastic(Kinematics::spherical(), hip_k).preloaded(VecX::Constant(3, 15.0));
   m.add_support("ground", "base", {}, hip);
-  m.add_joint("hub", "hub", {"column", "upper_a", "upper_b", "bracket"}, Connection{});
-  Connection elbow_a{Kinematics::revolute(Vec3(0, 1, 0.2)), MatX::Constant(1, 1, 4e4), VecX::Constant(1, -3.0), false};
+  m.add_joint("hub", "hub", {"column", "upper_a", "upper_b", "bracket"}, Connection::rigid());
+  const Connection elbow_a = Connection::elastic(Kinematics::revolute(Vec3(0, 1, 0.2)), 4e4).preloaded(-3.0);
   m.add_joint("elbow_a", "elbow_a", {"upper_a", "fore_a"}, elbow_a);
   MatX wrist_k(2, 2);
   wrist_k << 2e4, 5e2, 5e2, 3e4;
-  Connection elbow_b{Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 0.6, 0.8)), wrist_k, std::nullopt, false};
+  const Connection elbow_b = Connection::elastic(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 0.6, 0.8)), wrist_k);
   m.add_joint("elbow_b", "elbow_b", {"fore_b", "upper_b"}, elbow_b);  // end 1 is the outer link
-  m.add_load("tip_a", std::nullopt, (Vec6() << 10, -40, -120, 2, 0, 1).finished());
-  m.add_load("tip_b", std::nullopt, (Vec6() << -5, 20, -60, 0, 3, 0).finished());
-  m.add_load("stub", std::nullopt, (Vec6() << 0, 0, -30, 0, 0, 0).finished());
+  m.add_load("tip_a", std::nullopt, stiffmsa::testing::wrench(10, -40, -120, 2, 0, 1));
+  m.add_load("tip_b", std::nullopt, stiffmsa::testing::wrench(-5, 20, -60, 0, 3, 0));
+  m.add_load("stub", std::nullopt, stiffmsa::testing::wrench(0, 0, -30, 0, 0, 0));
   m.add_end_effector("a", "tip_a");
   m.add_end_effector("b", "tip_b");
   return m;
@@ -74,8 +72,8 @@ TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
                            "gough-stewart-6ups.yaml", "tripteron.yaml"}) {
     const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
     const Result automatic = solve(m);
-    if (automatic.report.solver == "tree") solved_on_tree.insert(file);
-    if (automatic.report.solver == "tree_with_cuts") cut.insert(file);
+    if (automatic.report.solver == stiffmsa::SolverUsed::tree) solved_on_tree.insert(file);
+    if (automatic.report.solver == stiffmsa::SolverUsed::tree_with_cuts) cut.insert(file);
     SolveOptions factorising;
     factorising.solver = factorising_solver();
     SCOPED_TRACE(file);
@@ -123,7 +121,7 @@ TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
 TEST(TreeSolve, BranchedArmWithEveryKindOfTreeElementMatchesTheFactorisedSolve) {
   const Model m = branched_arm();
   const Result automatic = solve(m);
-  ASSERT_EQ(automatic.report.solver, "tree");
+  ASSERT_EQ(automatic.report.solver, stiffmsa::SolverUsed::tree);
   SolveOptions factorising;
   factorising.solver = factorising_solver();
   expect_same_results(automatic, solve(m, factorising), 1e-13);
@@ -132,7 +130,7 @@ TEST(TreeSolve, BranchedArmWithEveryKindOfTreeElementMatchesTheFactorisedSolve) 
   Model moved = m;
   moved.points[3].position += Vec3(0.02, -0.01, 0.03);
   const Result pose = solve(workspace, moved);
-  EXPECT_EQ(pose.report.solver, "tree");
+  EXPECT_EQ(pose.report.solver, stiffmsa::SolverUsed::tree);
   expect_same_results(pose, solve(moved, factorising), 1e-13);
 }
 
@@ -143,9 +141,9 @@ Model propped_beam(int supports) {
     const std::string point = "P" + std::to_string(i);
     m.add_point(point, Vec3(0.25 * i, 0.05 * (i % 3), 0));
     if (i > 0) m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), point, kSteel, Section::tube(0.06, 0.004));
-    if (i % 2 == 0) m.add_support("S" + std::to_string(i / 2), point, {}, Connection{});
+    if (i % 2 == 0) m.add_support("S" + std::to_string(i / 2), point, {}, Connection::rigid());
   }
-  m.add_load("P1", "L1", (Vec6() << 0, 30, -400, 5, 0, 0).finished());
+  m.add_load("P1", "L1", stiffmsa::testing::wrench(0, 30, -400, 5, 0, 0));
   m.add_end_effector("mid", "P1", "L1");
   return m;
 }
@@ -206,31 +204,31 @@ TEST(TreeSolve, CutsLoopsThroughTheGroundAndFreeMotionsThere) {
   // A prop under the stub closes a loop through the ground; a preloaded passive hinge in the
   // bracket, on that loop, is held by it.
   Model propped = branched_arm();
-  propped.add_support("prop", "stub", {}, Connection{});
+  propped.add_support("prop", "stub", {}, Connection::rigid());
   propped.add_point("mid_bracket", Vec3(0.075, -0.14, 0.625));
   propped.links[5].to = "mid_bracket";  // the bracket, now hub - mid_bracket
   propped.add_beam("bracket_outer", "mid_bracket", "stub", kSteel, Section::rect(0.03, 0.05));
   propped.loads[2].link = "bracket_outer";
   propped.add_joint("hinge", "mid_bracket", {"bracket", "bracket_outer"},
-                    Connection{Kinematics::revolute(Vec3(0, 0, 1)), std::nullopt, VecX::Constant(1, 20.0), false});
+                    Connection::passive(Kinematics::revolute(Vec3(0, 0, 1))).preloaded(20.0));
   ASSERT_TRUE(detail::tree_order(detail::build_topology(propped)));
   const Result cut = solve(propped);
-  EXPECT_EQ(cut.report.solver, "tree_with_cuts");
+  EXPECT_EQ(cut.report.solver, stiffmsa::SolverUsed::tree_with_cuts);
   expect_same_results(cut, solve(propped, factorising), 1e-13);
 
   // A beam on several supports: 6 cut unknowns each beyond the first.
   const Model beam = propped_beam(5);
   const Result on_beam = solve(beam);
-  EXPECT_EQ(on_beam.report.solver, "tree_with_cuts");
+  EXPECT_EQ(on_beam.report.solver, stiffmsa::SolverUsed::tree_with_cuts);
   expect_same_results(on_beam, solve(beam, factorising), 1e-13);
   // As many as are cut: the cut system's condition grows with the span count (the redundant
   // reactions of a long cantilever), the check still passes.
   const Model most = propped_beam(1 + detail::kMostCutUnknowns / 6);
   const Result on_most = solve(most);
-  EXPECT_EQ(on_most.report.solver, "tree_with_cuts");
+  EXPECT_EQ(on_most.report.solver, stiffmsa::SolverUsed::tree_with_cuts);
   expect_same_results(on_most, solve(most, factorising), 1e-13);
   // Beyond kMostCutUnknowns, the sparse factorisation is the cheaper.
-  EXPECT_NE(solve(propped_beam(2 + detail::kMostCutUnknowns / 6)).report.solver, "tree_with_cuts");
+  EXPECT_NE(solve(propped_beam(2 + detail::kMostCutUnknowns / 6)).report.solver, stiffmsa::SolverUsed::tree_with_cuts);
 }
 
 TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
@@ -241,19 +239,19 @@ TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
   loop.loads[2].link = "bracket";
   loop.end_effectors[0].link = "fore_a";
   EXPECT_FALSE(detail::tree_order(detail::build_topology(loop)));
-  EXPECT_NE(solve(loop).report.solver, "tree");
-  EXPECT_NE(solve(loop).report.solver, "tree_with_cuts");
+  EXPECT_NE(solve(loop).report.solver, stiffmsa::SolverUsed::tree);
+  EXPECT_NE(solve(loop).report.solver, stiffmsa::SolverUsed::tree_with_cuts);
 
   // A passive joint on one support is a free motion: its cut system is singular, and the
   // factorising solve finds and names it.
   Model passive = branched_arm();
-  passive.joints[1].connection = Connection{Kinematics::revolute(Vec3(0, 1, 0.2)), std::nullopt, std::nullopt, false};
+  passive.joints[1].connection = Connection::passive(Kinematics::revolute(Vec3(0, 1, 0.2)));
   passive.loads.clear();
   passive.supports[0].connection.preload.reset();
   ASSERT_TRUE(detail::tree_order(detail::build_topology(passive)));
   const Result mechanism = solve(passive);
-  EXPECT_NE(mechanism.report.solver, "tree");
-  EXPECT_NE(mechanism.report.solver, "tree_with_cuts");
+  EXPECT_NE(mechanism.report.solver, stiffmsa::SolverUsed::tree);
+  EXPECT_NE(mechanism.report.solver, stiffmsa::SolverUsed::tree_with_cuts);
   EXPECT_FALSE(mechanism.end_effectors[0].compliance);
   EXPECT_FALSE(mechanism.report.notes.empty());
 
@@ -262,7 +260,7 @@ TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
   Model rigid_legs = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml");
   for (Link& link : rigid_legs.links) link.kind = LinkKind(RigidLink{});
   const Result overconstrained = solve(rigid_legs);
-  EXPECT_NE(overconstrained.report.solver, "tree_with_cuts");
+  EXPECT_NE(overconstrained.report.solver, stiffmsa::SolverUsed::tree_with_cuts);
   SolveOptions factorising;
   factorising.solver = factorising_solver();
   const Result factorised = solve(rigid_legs, factorising);
@@ -272,16 +270,9 @@ TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
 // Running sums are carried in two parts on trees at least kCompensatedFromDepth links deep, in
 // one part on shallower ones (a robot's few links), and both agree where both are exact enough.
 TEST(TreeSolve, RunningSumsInTwoPartsOnlyOnDeepTrees) {
-  Model chain;
-  chain.add_point("P0", Vec3::Zero());
-  for (int i = 1; i <= 40; ++i) {
-    chain.add_point("P" + std::to_string(i), Vec3(0.05 * i, 0.01 * (i % 2), 0));
-    chain.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel,
-                   Section::tube(0.06, 0.004));
-  }
-  chain.add_support("ground", "P0", {}, Connection{});
-  chain.add_load("P40", std::nullopt, (Vec6() << 10, -200, 50, 3, 0, -1).finished());
-  chain.add_end_effector("tip", "P40");
+  Model chain = stiffmsa::testing::beam_chain(40, [](int i) { return Vec3(0.05 * i, 0.01 * (i % 2), 0); }, kSteel,
+                                    Section::tube(0.06, 0.004));
+  chain.add_load("P40", std::nullopt, stiffmsa::testing::wrench(10, -200, 50, 3, 0, -1));
   const Model robot = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
   struct Case {
     const Model& model;
@@ -342,7 +333,7 @@ TEST(TreeSolve, AResidualThatFailsTheCheckIsRedoneByFactorising) {
   SolveOptions strict;
   strict.max_relative_residual = 1e-300;  // no floating-point solve meets this
   const Result failed = solve(m, strict);
-  EXPECT_NE(failed.report.solver, "tree");
+  EXPECT_NE(failed.report.solver, stiffmsa::SolverUsed::tree);
   ASSERT_EQ(failed.report.failed_checks.size(), 1u);
   EXPECT_NE(failed.report.failed_checks[0].find("the relative residual"), std::string::npos);
 }
@@ -351,7 +342,7 @@ TEST(TreeSolve, ChoosingAFactorisingSolverSkipsTheTree) {
   const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
   SolveOptions options;
   options.solver = SolverKind::sparse_lu;
-  EXPECT_EQ(solve(m, options).report.solver, "sparse_lu");
+  EXPECT_EQ(solve(m, options).report.solver, stiffmsa::SolverUsed::sparse_lu);
 }
 
 // The check is compiled for 7 load cases (one end effector) and for any count: both are
@@ -414,7 +405,7 @@ TEST_P(BlockCheck, SeesAWrongOrNonFiniteSolution) {
   moved.points[2].position.x() += 0.1;
   EXPECT_EQ(detail::pattern_fingerprint(detail::make_blocks(moved, topology)), right.pattern);
   Model rigid_elbow = m;
-  rigid_elbow.joints[1].connection = Connection{};
+  rigid_elbow.joints[1].connection = Connection::rigid();
   EXPECT_NE(detail::pattern_fingerprint(detail::make_blocks(rigid_elbow, topology)), right.pattern);
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "builders.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/config.hpp"
 #include "stiffmsa/io/model_file.hpp"
@@ -306,7 +307,7 @@ TEST_F(UrdfRobot, SelfWeightDeflectsTheToolByTheJointTorquesOfTheLinkMasses) {
   std::vector<double> q;
   for (std::size_t i = 0; i < table.size(); ++i) q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
   const Vec3 g(0.3, -0.2, -9.81);
-  const Vec6 tool_load = (Vec6() << 100, -50, 200, 5, 0, -8).finished();
+  const Vec6 tool_load = stiffmsa::testing::wrench(100, -50, 200, 5, 0, -8);
   std::ostringstream yaml;
   yaml.precision(17);
   yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << joints_block(table)
@@ -378,8 +379,8 @@ TEST_F(UrdfRobot, TheSameRobotWrittenByHandGivesTheSameNumbers) {
     }
     hand.add_joint("j" + std::to_string(i), "p" + std::to_string(i + 1), {"l" + std::to_string(i), "l" + std::to_string(i + 1)}, c);
   }
-  hand.add_support("ground", "p0", {}, Connection{});
-  hand.add_load("tip", std::nullopt, (Vec6() << 10, 20, -300, 4, 5, 6).finished());
+  hand.add_support("ground", "p0", {}, Connection::rigid());
+  hand.add_load("tip", std::nullopt, stiffmsa::testing::wrench(10, 20, -300, 4, 5, 6));
   hand.add_end_effector("tool", "tip");
   const Result by_hand = solve(hand);
   ASSERT_TRUE(from_urdf.end_effectors[0].compliance && by_hand.end_effectors[0].compliance);
@@ -638,7 +639,7 @@ TEST_F(UrdfRobot, TheSevenAxisArmsPayloadAddsItsComplianceTimesTheLoadToTheSag) 
   const Result result = solve_robot_example("seven-axis.yaml");
   const auto& tcp = result.end_effectors.at(0);
   ASSERT_TRUE(tcp.deflection && tcp.deflection_gravity && tcp.compliance);
-  const Vec6 payload = (Vec6() << 0, 0, -49.05, 0, 0, 0).finished();
+  const Vec6 payload = stiffmsa::testing::wrench(0, 0, -49.05, 0, 0, 0);
   const Vec6 expected = *tcp.deflection_gravity + *tcp.compliance * payload;
   EXPECT_LT((*tcp.deflection - expected).norm(), 1e-10 * tcp.deflection->norm());
   EXPECT_GT(tcp.deflection_gravity->head<3>().norm(), 1e-5);  // the sag is the larger part here

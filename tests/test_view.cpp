@@ -35,7 +35,7 @@ struct Cantilever {
     model.add_point("O", Vec3::Zero());
     model.add_point("E", kLength * e);
     model.add_beam("rod", "O", "E", Material{kYoungs, kPoisson, std::nullopt}, Section::circle(kDiameter));
-    model.add_support("clamp", "O", {}, Connection{Kinematics::rigid(), std::nullopt, std::nullopt, false});
+    model.add_support("clamp", "O", {}, Connection::rigid());
     Vec6 wrench;
     wrench << kTransverseForce * n + kAxialForce * e, kTorque * e;
     model.add_load("E", std::nullopt, wrench);

@@ -2,6 +2,7 @@
 // factorisation redone, with the same results as a fresh solve.
 #include <gtest/gtest.h>
 
+#include "builders.hpp"
 #include "closed_forms.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
@@ -19,12 +20,12 @@ Model arm(double elbow_x, double joint_stiffness) {
   m.add_beam("column", "O", "A", steel, Section::tube(0.1, 0.006));
   m.add_beam("upper", "A", "B", steel, Section::tube(0.08, 0.005));
   m.add_rigid_link("fore", "B", "E");
-  m.add_support("base", "O", {}, Connection{});
+  m.add_support("base", "O", {}, Connection::rigid());
   m.add_joint("shoulder", "A", {"column", "upper"},
-              Connection{Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, joint_stiffness), std::nullopt, false});
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), joint_stiffness));
   m.add_joint("elbow", "B", {"upper", "fore"},
-              Connection{Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, 0.5 * joint_stiffness), std::nullopt, false});
-  m.add_load("E", std::nullopt, (Vec6() << 0, 0, -200, 0, 0, 0).finished());
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), 0.5 * joint_stiffness));
+  m.add_load("E", std::nullopt, stiffmsa::testing::wrench(0, 0, -200, 0, 0, 0));
   m.add_end_effector("tool", "E");
   return m;
 }
@@ -44,7 +45,7 @@ TEST_P(WorkspaceWithEverySolve, RefilledPosesMatchFreshSolves) {
       const Model pose = arm(x, k);
       const Result reused = solve(workspace, pose, options);
       const Result fresh = solve(pose, options);
-      EXPECT_EQ(reused.report.solver, GetParam() == SolverKind::automatic ? "tree" : "sparse_lu");
+      EXPECT_EQ(reused.report.solver, GetParam() == SolverKind::automatic ? stiffmsa::SolverUsed::tree : stiffmsa::SolverUsed::sparse_lu);
       EXPECT_LT(reference::relative_difference_scaled(*reused.end_effectors[0].compliance, *fresh.end_effectors[0].compliance), 1e-13);
       EXPECT_LT(reference::relative_difference(*reused.end_effectors[0].deflection, *fresh.end_effectors[0].deflection), 1e-13);
     }
@@ -61,7 +62,7 @@ TEST_P(WorkspaceWithEverySolve, ABlockThatWritesOtherPositionsIsRejected) {
   options.solver = GetParam();
   Workspace workspace(arm(0.5, 2e5));
   Model other = arm(0.5, 2e5);
-  other.joints.back().connection = Connection{};
+  other.joints.back().connection = Connection::rigid();
   EXPECT_THROW(solve(workspace, other, options), InputError);
   const Result again = solve(workspace, arm(0.62, 2e5), options);  // the workspace still serves its topology
   EXPECT_LT(reference::relative_difference_scaled(*again.end_effectors[0].compliance,
@@ -82,7 +83,7 @@ TEST(Workspace, ThePatternIsTheReferencesWhateverIsFactorisedFirst) {
   SolveOptions klu;
   klu.solver = SolverKind::sparse_lu;
   const Result again = solve(workspace, arm(0.62, 2e5), klu);
-  EXPECT_EQ(again.report.solver, "sparse_lu");
+  EXPECT_EQ(again.report.solver, stiffmsa::SolverUsed::sparse_lu);
   EXPECT_LT(reference::relative_difference_scaled(*again.end_effectors[0].compliance,
                                                   *solve(arm(0.62, 2e5)).end_effectors[0].compliance), 1e-13);
   EXPECT_EQ(workspace.size().unknowns, 3 * 24);

@@ -12,6 +12,10 @@
 
 namespace stiffmsa {
 
+namespace detail {
+struct WorkspaceAccess;  // src/analysis/workspace_access.hpp
+}  // namespace detail
+
 // `automatic` solves a model whose links and connections form a tree on its one support (serial
 // robots, chains) without factorising (docs/theory.md §7.1), and one that is a tree with several
 // supports or passive joints (parallel robots whose legs meet at the platform) through a small
@@ -73,10 +77,10 @@ class Workspace {
 
   SystemSize size() const;
 
-  struct Impl;
-  Impl& impl() { return *impl_; }
+  struct Impl;  // the analysis's own (src/analysis), opaque to callers
 
  private:
+  friend struct detail::WorkspaceAccess;
   std::unique_ptr<Impl> impl_;
 };
 

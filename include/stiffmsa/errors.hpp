@@ -1,6 +1,7 @@
 #pragma once
 // Typed errors. The library never prints or exits: every failure is one of these, carrying the
 // user's names and, for model files, the place in the file.
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -72,6 +73,24 @@ class IoError : public Error {
 class UsageError : public Error {
  public:
   using Error::Error;
+};
+
+// A name looked up through the API (a result's end effector, a model's material) that is not
+// there: what() names it, what kind of thing it was to be, and the nearest name there is
+// when one is near enough to be a typo.
+class NameError : public UsageError {
+ public:
+  // `kind` as a message names it ("end effector", "material"); `candidates`: the names there
+  // are, for the suggestion or, where none is near, the list.
+  NameError(std::string kind, std::string name, const std::vector<std::string>& candidates);
+  const std::string& kind() const { return kind_; }
+  const std::string& name() const { return name_; }
+  const std::optional<std::string>& suggestion() const { return suggestion_; }
+
+ private:
+  std::string kind_;
+  std::string name_;
+  std::optional<std::string> suggestion_;
 };
 
 }  // namespace stiffmsa

@@ -2,9 +2,12 @@
 // The model: plain data describing a manipulator exactly as the user named it. It holds no
 // index maps, matrices or results; those live in a Workspace (analysis.hpp). A model is
 // checked with validate() (validate.hpp) before it is solved.
+#include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -115,12 +118,34 @@ struct Kinematics {
 // Number of free directions p of a joint type (custom: its row count).
 int free_direction_count(const Kinematics& k);
 
-// What a joint or support does along its free directions.
+// What a joint or support does along its free directions. Built by its factories, which say
+// what it is: Connection::rigid(), passive(k), elastic(k, K), actuated(k), actuated(k, K), and
+// .preloaded(f) on any of them (model-format.md, "Passive, elastic, preloaded and actuated
+// joints"). A spring along a single free direction is a scalar:
+// elastic(Kinematics::revolute(z), 1e4).
 struct Connection {
   Kinematics kinematics;
   std::optional<MatX> stiffness;  // p×p, symmetric positive definite: elastic
   std::optional<VecX> preload;    // p: generalised force at zero relative deflection
-  bool actuated = false;          // without stiffness: locked (rigid), effort reported
+  bool is_actuated = false;       // without stiffness: locked (rigid), effort reported
+
+  Connection() = default;  // rigid; not an aggregate, so that no positional list builds one
+
+  // A weld: no free direction.
+  static Connection rigid();
+  // Free along the kinematics' directions, neither resisted nor driven.
+  static Connection passive(Kinematics kinematics);
+  // A spring on the free directions: p×p stiffness, or a scalar where p = 1 (UsageError else).
+  static Connection elastic(Kinematics kinematics, MatX stiffness);
+  static Connection elastic(Kinematics kinematics, double stiffness);
+  // A drive: locked along the free directions, its effort reported; with a stiffness (p×p, or
+  // a scalar where p = 1), a drive that yields as a spring.
+  static Connection actuated(Kinematics kinematics);
+  static Connection actuated(Kinematics kinematics, MatX stiffness);
+  static Connection actuated(Kinematics kinematics, double stiffness);
+  // The same connection with a preload: p values, or a scalar where p = 1 (UsageError else).
+  Connection preloaded(VecX preload) const;
+  Connection preloaded(double preload) const;
 };
 
 struct Joint {
@@ -179,6 +204,21 @@ struct ParameterValue {
   bool set = false;  // given by the user (`--set`), not the file's default
 };
 
+// Where an add_* verb put its entity: its position in the model's list of that kind (model
+// order, as results list them). Unlike a reference into the list, a later add_* leaves it
+// valid. Read or change the entity through Model's accessors: model.link(beam).origin = ….
+template <class Entity>
+struct EntityIndex {
+  std::size_t value = 0;
+  friend bool operator==(EntityIndex, EntityIndex) = default;
+};
+using PointIndex = EntityIndex<Point>;
+using LinkIndex = EntityIndex<Link>;
+using JointIndex = EntityIndex<Joint>;
+using SupportIndex = EntityIndex<Support>;
+using LoadIndex = EntityIndex<Load>;
+using EndEffectorIndex = EntityIndex<EndEffector>;
+
 struct Model {
   std::string name = "model";
   // A model file's `parameters:` at the values this model was built for (the defaults, or
@@ -187,6 +227,10 @@ struct Model {
   std::vector<ParameterValue> parameters;
   ModelOptions options;
   std::string source_file;  // empty for API models
+  // Named materials and sections, as a model file's `materials:` and `sections:`, for the
+  // add_beam that takes names. A beam holds a copy of the values it was built with.
+  std::map<std::string, Material, std::less<>> materials;
+  std::map<std::string, Section, std::less<>> sections;
   std::vector<Point> points;
   std::vector<Link> links;
   std::vector<Joint> joints;
@@ -197,22 +241,47 @@ struct Model {
   // outside its limits); a solve reports them among its warnings.
   std::vector<Diagnostic> warnings;
 
-  // Verbs for building a model in code; each returns the new entity for further settings.
-  Point& add_point(std::string name, const Vec3& position);
-  Link& add_beam(std::string name, std::string from, std::string to, const Material& material,
-                 const Section& section);
-  Link& add_rigid_link(std::string name, std::string from, std::string to);
-  Link& add_matrix_link(std::string name, std::string from, std::string to, const Mat12& K,
-                        LinkFrame frame = LinkFrame::global);
-  Link& add_compliance_link(std::string name, std::string from, std::string to, const Mat6& C,
+  // Verbs for building a model in code; each returns the new entity's index. Names are checked
+  // by validate() (all defects at once), except the material and section names add_beam
+  // looks up at once (NameError) and a name given twice to add_material or add_section
+  // (UsageError).
+  void add_material(std::string name, const Material& material);
+  void add_section(std::string name, const Section& section);
+  PointIndex add_point(std::string name, const Vec3& position);
+  LinkIndex add_beam(std::string name, std::string from, std::string to, const Material& material,
+                     const Section& section);
+  LinkIndex add_beam(std::string name, std::string from, std::string to,
+                     std::string_view material, std::string_view section);
+  LinkIndex add_rigid_link(std::string name, std::string from, std::string to);
+  LinkIndex add_matrix_link(std::string name, std::string from, std::string to, const Mat12& K,
                             LinkFrame frame = LinkFrame::global);
-  Joint& add_joint(std::string name, std::string at, std::vector<std::string> links,
-                   Connection connection);
-  Support& add_support(std::string name, std::string at, std::vector<std::string> links,
+  LinkIndex add_compliance_link(std::string name, std::string from, std::string to,
+                                const Mat6& C, LinkFrame frame = LinkFrame::global);
+  JointIndex add_joint(std::string name, std::string at, std::vector<std::string> links,
                        Connection connection);
-  Load& add_load(std::string at, std::optional<std::string> link, const Vec6& wrench);
-  EndEffector& add_end_effector(std::string name, std::string at,
-                                std::optional<std::string> link = std::nullopt);
+  SupportIndex add_support(std::string name, std::string at, std::vector<std::string> links,
+                           Connection connection);
+  LoadIndex add_load(std::string at, std::optional<std::string> link, const Vec6& wrench);
+  EndEffectorIndex add_end_effector(std::string name, std::string at,
+                                    std::optional<std::string> link = std::nullopt);
+
+  // The entity an add_* verb returned the index of (std::out_of_range past the end).
+  Point& point(PointIndex i) { return points.at(i.value); }
+  const Point& point(PointIndex i) const { return points.at(i.value); }
+  Link& link(LinkIndex i) { return links.at(i.value); }
+  const Link& link(LinkIndex i) const { return links.at(i.value); }
+  Joint& joint(JointIndex i) { return joints.at(i.value); }
+  const Joint& joint(JointIndex i) const { return joints.at(i.value); }
+  Support& support(SupportIndex i) { return supports.at(i.value); }
+  const Support& support(SupportIndex i) const { return supports.at(i.value); }
+  Load& load(LoadIndex i) { return loads.at(i.value); }
+  const Load& load(LoadIndex i) const { return loads.at(i.value); }
+  EndEffector& end_effector(EndEffectorIndex i) { return end_effectors.at(i.value); }
+  const EndEffector& end_effector(EndEffectorIndex i) const { return end_effectors.at(i.value); }
+
+  // A named material or section; NameError (with the nearest name) when there is none.
+  const Material& material(std::string_view name) const;
+  const Section& section(std::string_view name) const;
 
   // Lookups by name (nullptr when absent).
   const Point* find_point(const std::string& name) const;

@@ -85,6 +85,15 @@ struct EndEffectorResult {
   std::optional<InAxes> in_own_axes;
 };
 
+// The method that solved a system (SolverKind chooses among them; docs/theory.md §7): the tree
+// passes, the tree passes with a dense system for the cuts, the frame's condensed stiffness,
+// or a sparse LU of the whole system. `none` in a report that no solve filled.
+enum class SolverUsed { none, tree, tree_with_cuts, frame, klu, sparse_lu, umfpack };
+// The names results and messages give them: "tree", "tree_with_cuts", "frame", "klu",
+// "sparse_lu", "umfpack" ("" for none).
+const char* to_string(SolverUsed solver);
+std::optional<SolverUsed> solver_used_from_string(std::string_view name);
+
 // How the solve went: accuracy checks and notes for the user.
 struct SolveReport {
   double relative_residual = 0;    // max over all solves of ‖Ax−b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)
@@ -92,8 +101,7 @@ struct SolveReport {
   double reciprocal_condition = 0; // 1-norm estimate for the equilibrated system; 0 where no
                                    // sparse system was factorised (solver "tree", "tree_with_cuts");
                                    // for "frame", that of the condensed stiffness (unit diagonal)
-  std::string solver;              // "tree", "tree_with_cuts", "frame", or the sparse LU: "klu",
-                                   // "sparse_lu", "umfpack"
+  SolverUsed solver = SolverUsed::none;
   std::vector<std::string> notes;  // e.g. free motions accepted, values left null
   std::vector<std::string> warnings;
   // Those warnings that say an accuracy check failed (the residual above
@@ -104,6 +112,10 @@ struct SolveReport {
   // (also in warnings; docs/model-format.md, "Plausibility warnings"); empty where none is.
   // It starts with kLargeDeflectionWarning, by which a sweep's row read back tells it.
   std::string large_deflection;
+
+  // Whether the numbers passed every accuracy check (failed_checks is empty). A result with
+  // large deflections is usable: its numbers are those of the linear method, read with care.
+  bool usable() const { return failed_checks.empty(); }
 };
 inline constexpr std::string_view kLargeDeflectionWarning =
     "the deflections under the loads are too large for the linear method";
@@ -122,6 +134,13 @@ struct Result {
   std::vector<JointResult> joints;
   std::vector<SupportResult> supports;
   SolveReport report;
+
+  // The result of the entity of that name; NameError (with the nearest name) when there is
+  // none. The vectors above give them in model order.
+  const EndEffectorResult& end_effector(std::string_view name) const;
+  const LinkResult& link(std::string_view name) const;
+  const JointResult& joint(std::string_view name) const;
+  const SupportResult& support(std::string_view name) const;
 };
 
 }  // namespace stiffmsa

@@ -3,6 +3,7 @@
 // Every pose is built, solved and measured on its own; a pose that fails gets a status and a
 // message and the sweep goes on. Poses are spread over threads; the result does not depend on
 // how many or in which order they run.
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -49,13 +50,20 @@ PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses = 10'000'
 // `grid`: a block of a sweep too large to hold at once. The axes are not checked here.
 PoseTable grid_pose_block(const std::vector<GridAxis>& axes, std::size_t first, std::size_t count);
 
+// In the order of their codes in a sweep file (docs/sweeps.md): new ones come last.
 enum class PoseStatus {
   ok,           // every end effector's compliance is determined
-  singular,     // the system is singular to working precision, or fails its accuracy checks
+  singular,     // the system is singular to working precision
   free_motion,  // an end effector (or the structure) can move without load at this pose
   invalid,      // the parameter values make an invalid model (message says which key)
+  inaccurate,   // solved, but an accuracy check failed (SolveReport::usable() is false)
+  error,        // the solve failed otherwise: an internal error, not the pose's values
 };
-const char* to_string(PoseStatus status);  // "ok", "singular", "free-motion", "invalid"
+inline constexpr std::array kPoseStatuses{PoseStatus::ok,         PoseStatus::singular,
+                                          PoseStatus::free_motion, PoseStatus::invalid,
+                                          PoseStatus::inaccurate,  PoseStatus::error};
+// "ok", "singular", "free-motion", "invalid", "inaccurate", "error"
+const char* to_string(PoseStatus status);
 
 // What a sweep reports of one end effector at one pose.
 struct EndEffectorMeasures {

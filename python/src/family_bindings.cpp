@@ -77,8 +77,9 @@ std::vector<double> member_values(const ModelFamily& family, const std::map<std:
   for (const auto& [name, value] : values) {
     const auto index = family.find_parameter(name);
     if (!index) {
-      std::string known;
-      for (const auto& p : family.parameters()) known += (known.empty() ? "" : ", ") + p.name;
+      std::vector<std::string> names;
+      for (const auto& p : family.parameters()) names.push_back(p.name);
+      const std::string known = name_list(names);
       throw UsageError("the family '" + family.name() + "' has no parameter '" + name + "'; its parameters are " +
                        (known.empty() ? std::string("none") : known));
     }

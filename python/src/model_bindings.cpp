@@ -102,7 +102,7 @@ py::dict connection_dict(const std::string& at, const std::vector<std::string>& 
   }
   d["stiffness"] = c.stiffness ? py::object(rows_of(*c.stiffness)) : py::none();
   d["preload"] = c.preload ? py::object(list_of(*c.preload)) : py::none();
-  d["actuated"] = c.actuated;
+  d["actuated"] = c.is_actuated;
   return d;
 }
 
@@ -167,7 +167,7 @@ Connection make_connection(const Kinematics& kinematics, const py::object& stiff
   const long p = free_direction_count(kinematics);
   if (!stiffness.is_none()) c.stiffness = to_matrix(stiffness, "Connection stiffness", p, p);
   if (!preload.is_none()) c.preload = to_vector(preload, "Connection preload", p);
-  c.actuated = actuated;
+  c.is_actuated = actuated;
   return c;
 }
 
@@ -274,10 +274,28 @@ void bind_model(py::module_& m) {
       .def_readonly("kinematics", &Connection::kinematics)
       .def_property_readonly("stiffness", [](const Connection& c) { return to_optional_array(c.stiffness); })
       .def_property_readonly("preload", [](const Connection& c) { return to_optional_array(c.preload); })
-      .def_readonly("actuated", &Connection::actuated)
+      .def_static("rigid", &Connection::rigid, "A weld: no free direction (the default).")
+      .def_static("passive", [](const Kinematics& k) { return Connection::passive(k); }, py::arg("kinematics"),
+                  "Free along the kinematics' directions, neither resisted nor driven.")
+      .def_static("elastic", [](const Kinematics& k, py::object stiffness) {
+        return make_connection(k, stiffness, py::none(), false);
+      }, py::arg("kinematics"), py::arg("stiffness"),
+                  "A spring on the free directions: p×p, or one number where p = 1.")
+      // Python keeps `actuated` for the property, so the factory is `actuator`.
+      .def_static("actuator", [](const Kinematics& k, py::object stiffness) {
+        return make_connection(k, stiffness, py::none(), true);
+      }, py::arg("kinematics"), py::arg("stiffness") = py::none(),
+                  "A drive: locked along the free directions (its effort reported), or yielding as a spring "
+                  "with a stiffness (p×p, or one number where p = 1).")
+      .def("preloaded", [](const Connection& c, py::object preload) {
+        Connection loaded = c;
+        loaded.preload = to_vector(preload, "Connection preload", free_direction_count(c.kinematics));
+        return loaded;
+      }, py::arg("preload"), "The same connection with a preload: p numbers (one where p = 1).")
+      .def_readonly("actuated", &Connection::is_actuated)
       .def("__repr__", [](const Connection& c) {
         return "<stiffmsa.Connection " + std::string(to_string(c.kinematics.type)) +
-               (c.stiffness ? ", elastic" : "") + (c.preload ? ", preloaded" : "") + (c.actuated ? ", actuated" : "") + ">";
+               (c.stiffness ? ", elastic" : "") + (c.preload ? ", preloaded" : "") + (c.is_actuated ? ", actuated" : "") + ">";
       });
 
   py::class_<Model>(m, "Model",
@@ -298,9 +316,30 @@ void bind_model(py::module_& m) {
       .def("add_point", [](Model& model, std::string name, py::object position) {
         model.add_point(name, to_vec3(position, "point '" + name + "': position"));
       }, py::arg("name"), py::arg("position"), "A named point at `position` [x, y, z] (m, global axes).")
-      .def("add_beam", [](Model& model, std::string name, std::string from, std::string to, const Material& material,
-                          const Section& section, bool shear, py::object zref) {
-        auto& kind = std::get<BeamLink>(model.add_beam(name, from, to, material, section).kind);
+      .def("add_material", [](Model& model, std::string name, const Material& material) {
+        model.add_material(std::move(name), material);
+      }, py::arg("name"), py::arg("material"), "A named material, for add_beam to refer to by name.")
+      .def("add_section", [](Model& model, std::string name, const Section& section) {
+        model.add_section(std::move(name), section);
+      }, py::arg("name"), py::arg("section"), "A named section, for add_beam to refer to by name.")
+      .def_property_readonly("materials", [](const Model& model) {
+        py::dict named;
+        for (const auto& [name, material] : model.materials) named[py::str(name)] = py::cast(material);
+        return named;
+      }, "The named materials (add_material), by name.")
+      .def_property_readonly("sections", [](const Model& model) {
+        py::dict named;
+        for (const auto& [name, section] : model.sections) named[py::str(name)] = py::cast(section);
+        return named;
+      }, "The named sections (add_section), by name.")
+      .def("add_beam", [](Model& model, std::string name, std::string from, std::string to, py::object material,
+                          py::object section, bool shear, py::object zref) {
+        // By name (add_material, add_section) or by value.
+        const Material m = py::isinstance<py::str>(material) ? model.material(material.cast<std::string>())
+                                                             : material.cast<Material>();
+        const Section s = py::isinstance<py::str>(section) ? model.section(section.cast<std::string>())
+                                                           : section.cast<Section>();
+        auto& kind = std::get<BeamLink>(model.link(model.add_beam(name, from, to, m, s)).kind);
         kind.shear = shear;
         set_zref(kind, zref, name);
       }, py::arg("name"), py::arg("from_"), py::arg("to"), py::arg("material"), py::arg("section"), py::kw_only(),
@@ -313,7 +352,7 @@ void bind_model(py::module_& m) {
       .def("add_matrix_link", [](Model& model, std::string name, std::string from, std::string to, py::object K,
                                  const std::string& frame, py::object zref) {
         const Mat12 stiffness = to_matrix(K, "link '" + name + "': K", 12, 12);
-        auto& kind = std::get<MatrixLink>(model.add_matrix_link(name, from, to, stiffness, link_frame(frame, name)).kind);
+        auto& kind = std::get<MatrixLink>(model.link(model.add_matrix_link(name, from, to, stiffness, link_frame(frame, name))).kind);
         set_zref(kind, zref, name);
       }, py::arg("name"), py::arg("from_"), py::arg("to"), py::arg("K"), py::arg("frame") = "global", py::kw_only(),
          py::arg("zref") = py::none(),
@@ -322,19 +361,19 @@ void bind_model(py::module_& m) {
       .def("add_compliance_link", [](Model& model, std::string name, std::string from, std::string to, py::object C,
                                      const std::string& frame, py::object zref) {
         const Mat6 compliance = to_matrix(C, "link '" + name + "': C", 6, 6);
-        auto& kind = std::get<ComplianceLink>(model.add_compliance_link(name, from, to, compliance, link_frame(frame, name)).kind);
+        auto& kind = std::get<ComplianceLink>(model.link(model.add_compliance_link(name, from, to, compliance, link_frame(frame, name))).kind);
         set_zref(kind, zref, name);
       }, py::arg("name"), py::arg("from_"), py::arg("to"), py::arg("C"), py::arg("frame") = "global", py::kw_only(),
          py::arg("zref") = py::none(),
          "A CAD-based link: the 6×6 compliance of end `to` with end `from` clamped.")
       .def("add_joint", [](Model& model, std::string name, std::string at, py::object links, const Connection& connection) {
         model.add_joint(name, std::move(at), to_names(links, "joint '" + name + "': links"), connection);
-      }, py::arg("name"), py::arg("at"), py::arg("links"), py::arg("connection") = Connection{},
+      }, py::arg("name"), py::arg("at"), py::arg("links"), py::arg("connection") = Connection::rigid(),
          "A joint at point `at` between the listed link ends (the first is the one its wrench is reported "
          "on); rigid unless `connection` says otherwise.")
       .def("add_support", [](Model& model, std::string name, std::string at, py::object links, const Connection& connection) {
         model.add_support(name, std::move(at), to_names(links, "support '" + name + "': links"), connection);
-      }, py::arg("name"), py::arg("at"), py::arg("links") = py::list(), py::arg("connection") = Connection{},
+      }, py::arg("name"), py::arg("at"), py::arg("links") = py::list(), py::arg("connection") = Connection::rigid(),
          "A support connecting link ends at point `at` to the ground (every link end there when `links` is "
          "empty); rigid unless `connection` says otherwise.")
       .def("add_load", [](Model& model, std::string at, py::object link, py::object wrench) {

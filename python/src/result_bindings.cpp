@@ -27,7 +27,7 @@ py::object relative_deflection(const JointResult& joint) {
 }
 
 std::string result_repr(const Result& r) {
-  std::string text = "<stiffmsa.Result of '" + r.model + "' (solver " + r.report.solver + "): end effectors";
+  std::string text = "<stiffmsa.Result of '" + r.model + "' (solver " + std::string(to_string(r.report.solver)) + "): end effectors";
   for (std::size_t i = 0; i < r.end_effectors.size(); ++i) {
     const auto& e = r.end_effectors[i];
     text += (i > 0 ? ", " : " ") + e.name;
@@ -100,14 +100,15 @@ void bind_results(py::module_& m) {
       .def_readonly("relative_residual", &SolveReport::relative_residual)
       .def_readonly("equilibrium_error", &SolveReport::equilibrium_error)
       .def_readonly("reciprocal_condition", &SolveReport::reciprocal_condition)
-      .def_readonly("solver", &SolveReport::solver)
+      .def_property_readonly("solver", [](const SolveReport& r) { return std::string(to_string(r.solver)); })
       .def_readonly("notes", &SolveReport::notes)
       .def_readonly("warnings", &SolveReport::warnings)
       .def_readonly("failed_checks", &SolveReport::failed_checks)
+      .def_property_readonly("usable", &SolveReport::usable)
       .def("__repr__", [](const SolveReport& r) {
         char text[160];
         std::snprintf(text, sizeof text, "<stiffmsa.SolveReport solver %s, relative residual %.3g, equilibrium error %.3g>",
-                      r.solver.c_str(), r.relative_residual, r.equilibrium_error);
+                      to_string(r.solver), r.relative_residual, r.equilibrium_error);
         return std::string(text);
       });
 
@@ -122,6 +123,12 @@ void bind_results(py::module_& m) {
       .def_property_readonly("joints", [](const Result& r) { return by_name(r.joints); })
       .def_property_readonly("supports", [](const Result& r) { return by_name(r.supports); })
       .def_readonly("report", &Result::report)
+      .def("end_effector", &Result::end_effector, py::arg("name"), py::return_value_policy::copy,
+           "The end effector of that name; UsageError naming the nearest name when there is none.")
+      .def("link", &Result::link, py::arg("name"), py::return_value_policy::copy, "The link of that name.")
+      .def("joint", &Result::joint, py::arg("name"), py::return_value_policy::copy, "The joint of that name.")
+      .def("support", &Result::support, py::arg("name"), py::return_value_policy::copy,
+           "The support of that name.")
       .def("to_json", &result_to_json, "The result file's text (format stiffmsa-result/1), as `stiffmsa solve --json` writes it.")
       .def("to_dict", [](const Result& r) { return py::module_::import("json").attr("loads")(result_to_json(r)); },
            "The result file's content as Python data (json.loads of to_json()).")

@@ -188,9 +188,9 @@ def _sweep(self: ModelFamily, grid: Optional[Mapping[str, Tuple[float, float, in
     (columns ``E.C11`` ... ``E.K66``). ``progress(done, total)`` is called now and then, never
     from two threads at once. The solve options are :func:`solve`'s.
 
-    A pose that fails gets a status (``singular``, ``free-motion``, ``invalid``) and a message;
-    the sweep goes on. Raises :class:`InputError` when the defaults give an invalid model and
-    :class:`UsageError` when a swept name is not a parameter.
+    A pose that fails gets a status (``singular``, ``free-motion``, ``invalid``, ``inaccurate``,
+    ``error``) and a message; the sweep goes on. Raises :class:`InputError` when the defaults
+    give an invalid model and :class:`UsageError` when a swept name is not a parameter.
     """
     options = _options(solver, accept_idle_motions, singular_rcond, max_relative_residual, refinement_steps,
                        warn_condition)

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "stiffmsa/analysis.hpp"
+#include "tolerances.hpp"
 
 namespace stiffmsa {
 
@@ -21,12 +22,10 @@ double characteristic_length(const Model& model) {
     low = low.cwiseMin(p.position);
     high = high.cwiseMax(p.position);
   }
-  return std::max((high - low).norm(), 1e-3);
+  return std::max((high - low).norm(), kLeastModelSize);
 }
 
 namespace {
-// Beyond this spread the smallest eigenvalue is at rounding level of the largest.
-constexpr double kRigidSpread = 1e14;
 
 // C⁻¹ by an LU with partial pivoting, solved a column at a time: Eigen's inverse() of a 6×6
 // LU goes through its blocked matrix solve, three times the instructions of six vector solves.
@@ -107,12 +106,9 @@ std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double
 }  // namespace detail
 
 namespace {
-// Below this fraction of the largest compliance of a block, a compliance is rounding: the
-// direction is held rigidly.
-constexpr double kRigidCompliance = 1e-12;
 
 double stiffness_of(double compliance, double largest) {
-  return (compliance > kRigidCompliance * std::max(largest, 0.0) && compliance > 0)
+  return (compliance > detail::kRigidCompliance * std::max(largest, 0.0) && compliance > 0)
              ? 1.0 / compliance
              : std::numeric_limits<double>::infinity();
 }

@@ -13,6 +13,7 @@
 
 #include "analysis/cartesian.hpp"
 #include "elements/free_directions.hpp"
+#include "model/suggest.hpp"
 #include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
@@ -22,20 +23,8 @@ namespace {
 // Above this many unknowns the null spaces are not computed densely.
 constexpr Index kDenseLimit = 2400;
 constexpr double kNegligible = kNegligibleNullEntry;
-// A connection, link or end effector takes part in a free motion where its motion there
-// exceeds this fraction of the largest motion of a link end in it (rotations weighed by the
-// model's size): below it, the null vector's rounding.
-constexpr double kTakesPart = 1e-6;
-// Two points closer than this fraction of the model's size stand at the same place.
-constexpr double kSamePlace = 1e-9;
 
 double weighted_norm(const Vec6& t, double length) { return t.head<3>().norm() + length * t.tail<3>().norm(); }
-
-std::string list(const std::vector<std::string>& names) {
-  std::string text;
-  for (std::size_t i = 0; i < names.size(); ++i) text += (i ? ", " : "") + names[i];
-  return text;
-}
 
 std::string counted(std::size_t count, const char* singular, const char* plural) { return count == 1 ? singular : plural; }
 
@@ -107,7 +96,7 @@ std::vector<std::string> describe_unsupported_parts(const Model& model, const To
       lines.push_back(links.size() == 1 ? "link " + links.front() +
                                               " is held by no support: no joint, support or shared point joins it "
                                               "to a supported part, so it can move as a whole"
-                                        : "links " + list(links) +
+                                        : "links " + name_list(links) +
                                               " are held by no support: no joint, support or shared point joins "
                                               "them to a supported part, so they can move as a whole");
     else
@@ -136,7 +125,7 @@ std::vector<PassiveConnection> passive_connections(const Model& model, const Top
       const std::string& at = support ? model.supports[source].at : model.joints[source].at;
       const Connection& connection = support ? model.supports[source].connection : model.joints[source].connection;
       const auto directions = free_directions(connection.kinematics);
-      if (directions.free().rows() == 0 || connection.stiffness || connection.actuated) continue;
+      if (directions.free().rows() == 0 || connection.stiffness || connection.is_actuated) continue;
       PassiveConnection c;
       c.support = support;
       c.label = "'" + name + "' (" + to_string(connection.kinematics.type) + " at " + at + ")";
@@ -235,21 +224,21 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
   const char* subject = several ? "they" : "it";
   const char* moves = several ? " move" : " moves";
   std::vector<std::string> culprits;
-  if (!supports.empty()) culprits.push_back(counted(supports.size(), "passive support ", "passive supports ") + list(supports));
-  if (!joints.empty()) culprits.push_back(counted(joints.size(), "passive joint ", "passive joints ") + list(joints));
+  if (!supports.empty()) culprits.push_back(counted(supports.size(), "passive support ", "passive supports ") + name_list(supports));
+  if (!joints.empty()) culprits.push_back(counted(joints.size(), "passive joint ", "passive joints ") + name_list(joints));
   names_passive = !culprits.empty();
   std::ostringstream text;
   if (names_passive) {
-    text << culprits.front() << (culprits.size() == 2 ? " and " + culprits.back() : "") << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (several ? "them" : "it") << " happen";
-    if (!links.empty()) text << "; " << subject << moves << " " << counted(links.size(), "link ", "links ") << list(links);
+    text << name_list(culprits, " and ") << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (several ? "them" : "it") << " happen";
+    if (!links.empty()) text << "; " << subject << moves << " " << counted(links.size(), "link ", "links ") << name_list(links);
   } else {
-    text << counted(links.size(), "link ", "links ") << list(links) << " can move without resistance";
+    text << counted(links.size(), "link ", "links ") << name_list(links) << " can move without resistance";
   }
   if (effectors.empty())
     text << "; " << subject << moves << " no end effector " << (several ? kAcceptIdleMotionsHint : kAcceptIdleMotionHint);
   else
     text << (names_passive && !links.empty() ? " and" : "; " + std::string(subject) + moves) << " end effector"
-         << (effectors.size() == 1 ? " " : "s ") << list(effectors);
+         << (effectors.size() == 1 ? " " : "s ") << name_list(effectors);
   return text.str();
 }
 
@@ -264,7 +253,7 @@ std::string describe_redundancy(const Model& model, const MatX& redundancies) {
   text << "the structure is over-constrained (" << redundancies.cols()
        << (redundancies.cols() == 1 ? " redundant constraint" : " redundant constraints")
        << "): a rigid model does not determine the internal wrenches in the loop through "
-       << (links.size() == 1 ? "link " : "links ") << list(links) << "; they are reported as null";
+       << (links.size() == 1 ? "link " : "links ") << name_list(links) << "; they are reported as null";
   return text.str();
 }
 
@@ -312,9 +301,9 @@ void describe_motions(const Model& model, const Topology& topology, const MatX& 
       lines.push_back("free motion " + std::to_string(numbers.front() + 1) + ": " + text);
       continue;
     }
-    std::string label = "free motions ";
-    for (std::size_t i = 0; i < numbers.size(); ++i)
-      label += (i == 0 ? "" : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i] + 1);
+    std::vector<std::string> ordinals;
+    for (const Index n : numbers) ordinals.push_back(std::to_string(n + 1));
+    const std::string label = "free motions " + name_list(ordinals, " and ");
     bool names_passive = false;
     lines.push_back(label + ": " +
                     describe_motion(model, topology, passive, part, separated.col(numbers.front()), length, true, names_passive));
@@ -333,7 +322,7 @@ namespace {
 // likewise from Â = Q·R for the left null space).
 MatX trailing_q_columns(const SparseMatrix& m, Index& rank) {
   Eigen::SPQR<SparseMatrix> qr;
-  qr.setPivotThreshold(1e-10);
+  qr.setPivotThreshold(kRankRevealingPivot);
   qr.compute(m);
   if (qr.info() != Eigen::Success) throw Error("the sparse QR of a singular system failed");
   rank = qr.rank();
@@ -374,7 +363,7 @@ std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix) {
   NullSpaces spaces;
   spaces.column_scale = scaling.column;
   Eigen::FullPivLU<MatX> lu(scaled);
-  lu.setThreshold(1e-10);
+  lu.setThreshold(kRankRevealingPivot);
   if (lu.rank() == matrix.rows()) {
     spaces.right_equilibrated.resize(matrix.rows(), 0);
     spaces.left.resize(matrix.rows(), 0);
@@ -382,7 +371,7 @@ std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix) {
   }
   spaces.right_equilibrated = Eigen::JacobiSVD<MatX>(lu.kernel(), Eigen::ComputeThinU).matrixU();
   Eigen::FullPivLU<MatX> lu_transposed(scaled.transpose());
-  lu_transposed.setThreshold(1e-10);
+  lu_transposed.setThreshold(kRankRevealingPivot);
   spaces.left = scaling.row.asDiagonal() * lu_transposed.kernel();
   return spaces;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "assembly/assembler.hpp"
+#include "tolerances.hpp"
 
 namespace stiffmsa::detail {
 
@@ -41,8 +42,6 @@ inline constexpr std::string_view kAcceptIdleMotionsHint =
 inline constexpr std::string_view kAcceptedIdleMotionTag = "(an idle motion, accepted)";
 inline constexpr std::string_view kAcceptedIdleMotionsTag = "(idle motions, accepted)";
 
-// Entries of a unit equilibrated null vector below this are rounding.
-constexpr double kNegligibleNullEntry = 1e-8;
 
 SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix);
 

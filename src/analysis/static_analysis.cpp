@@ -11,6 +11,7 @@
 #include "analysis/cartesian.hpp"
 #include "analysis/free_motion.hpp"
 #include "analysis/plausibility.hpp"
+#include "analysis/workspace_access.hpp"
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
 #include "model/link_ends.hpp"
@@ -221,7 +222,7 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
       const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
       // The joint's block holds its directions, except a locked actuator's, which it holds rigidly:
       // its effort is still along the joint's own free directions.
-      const bool locked = joint.connection.actuated && !joint.connection.stiffness;
+      const bool locked = joint.connection.is_actuated && !joint.connection.stiffness;
       const detail::FreeDirections* held = problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
       const detail::FreeDirections directions =
           locked || !held ? detail::free_directions(joint.connection.kinematics) : *held;
@@ -232,7 +233,7 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
         q.push_back(directions.free() * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
       r.relative_deflection = std::move(q);
       r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
-      if (joint.connection.actuated)
+      if (joint.connection.is_actuated)
         r.effort = VecX(directions.gram().ldlt().solve(directions.free() * *r.wrench));
     } else if (group.kind == detail::ConnectionGroup::Kind::support) {
       Vec6 reaction = Vec6::Zero();
@@ -276,7 +277,7 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
   for (const auto& j : model.joints) {
     JointResult joint;
     joint.name = j.name;
-    joint.actuated = j.connection.actuated;
+    joint.actuated = j.connection.is_actuated;
     result.joints.push_back(std::move(joint));
   }
   for (const auto& s : model.supports) result.supports.push_back({s.name, std::nullopt});
@@ -312,7 +313,7 @@ void check_accuracy(const SolveOptions& options, Result& result) {
     result.report.failed_checks.push_back(message("the relative residual ", result.report.relative_residual,
                                                   " exceeds ", options.max_relative_residual,
                                                   "; results may be inaccurate"));
-  if (result.report.equilibrium_error > 1e-8)
+  if (result.report.equilibrium_error > detail::kEquilibriumTolerance)
     result.report.failed_checks.push_back(message("loads and support reactions balance only to ",
                                                   result.report.equilibrium_error,
                                                   " relative; results may be inaccurate"));
@@ -410,7 +411,7 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
   result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
-  result.report.solver = solver;
+  result.report.solver = solver_used_from_string(solver).value_or(SolverUsed::none);
   result.report.reciprocal_condition = reciprocal_condition;
   fill_loads_and_compliance(problem, x, check.relative_residual, result);
   check_accuracy(problem.options, result);
@@ -427,9 +428,9 @@ detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns
   for (Index c = 0; c < k; ++c) {
     const double column_scale = columns.col(c).cwiseAbs().maxCoeff(), row_scale = rows.col(c).cwiseAbs().maxCoeff();
     for (Index i = 0; i < n; ++i) {
-      if (std::abs(columns(i, c)) > 1e-14 * column_scale)
+      if (std::abs(columns(i, c)) > detail::kBorderDrop * column_scale)
         entries.emplace_back(static_cast<int>(i), static_cast<int>(n + c), columns(i, c));
-      if (std::abs(rows(i, c)) > 1e-14 * row_scale)
+      if (std::abs(rows(i, c)) > detail::kBorderDrop * row_scale)
         entries.emplace_back(static_cast<int>(n + c), static_cast<int>(i), rows(i, c));
     }
   }
@@ -453,7 +454,7 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
   for (int end = 0; end < problem.ws.topology.end_count(); ++end)
     largest = std::max(largest, largest_six(motions.middleRows<6>(deflection_column(end)), length, true));
   for (int end : problem.ws.topology.effector_ends)
-    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) > 1e-8 * largest) return true;
+    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) > detail::kNegligibleShare * largest) return true;
   return false;
 }
 
@@ -464,9 +465,6 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
 void note_determined_components(const std::string& whose, const Vec6& wrench, const MatX& variation, double length,
                                 double negligible, std::vector<std::string>& notes) {
   static constexpr std::array<const char*, 6> components = {"Fx", "Fy", "Fz", "Mx", "My", "Mz"};
-  // A determined component below this fraction of the determined ones (moments divided by the
-  // length) is rounding, and shown as 0.
-  constexpr double kRoundOff = 1e-12;
   std::array<bool, 6> fixed{};
   double scale = 0;
   for (int c = 0; c < 6; ++c) {
@@ -478,7 +476,7 @@ void note_determined_components(const std::string& whose, const Vec6& wrench, co
   int count = 0;
   for (int c = 0; c < 6; ++c) {
     if (!fixed[static_cast<std::size_t>(c)]) continue;
-    const double value = std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < kRoundOff * scale ? 0.0 : wrench(c);
+    const double value = std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < detail::kRoundOff * scale ? 0.0 : wrench(c);
     determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ", value, c < 3 ? " N" : " N·m");
   }
   if (count > 0)
@@ -513,7 +511,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     const MatX solution = x.topRows(n);
     fill_loads_and_compliance(problem, solution, detail::relative_residual(problem.ws.matrix, solution, rhs), result);
   }
-  if (result.report.relative_residual > 1e-8)
+  if (result.report.relative_residual > detail::kLoadAlongFreeMotion)
     throw SingularModelError(SingularModelError::Cause::free_motion, "the structure cannot hold its loads or preloads: they act along a free motion",
                              structure.descriptions);
 
@@ -524,7 +522,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     double largest = 0;
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
       largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
-    auto undetermined = [&](const MatX& rows6) { return size(rows6) > 1e-8 * largest; };
+    auto undetermined = [&](const MatX& rows6) { return size(rows6) > detail::kNegligibleShare * largest; };
     for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
       const int from = 2 * static_cast<int>(l);
       if (undetermined(redundancies.middleRows<6>(wrench_column(from)))) result.links[l].from.wrench.reset();
@@ -537,7 +535,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         if (joint.wrench)
           note_determined_components("the wrench of joint '" + joint.name + "'", *joint.wrench,
                                      redundancies.middleRows<6>(wrench_column(group.ends.front())), length,
-                                     1e-8 * largest, result.report.notes);
+                                     detail::kNegligibleShare * largest, result.report.notes);
         joint.wrench.reset();
         joint.effort.reset();
       } else if (group.kind == detail::ConnectionGroup::Kind::support) {
@@ -547,7 +545,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         if (!undetermined(sum)) continue;
         if (support.reaction)
           note_determined_components("the reaction of support '" + support.name + "'", *support.reaction, sum, length,
-                                     1e-8 * largest, result.report.notes);
+                                     detail::kNegligibleShare * largest, result.report.notes);
         support.reaction.reset();
       }
     }
@@ -559,7 +557,7 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     std::vector<bool> moving(static_cast<std::size_t>(problem.ws.topology.end_count()));
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
       moving[static_cast<std::size_t>(end)] =
-          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) > 1e-8 * largest_motion;
+          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) > detail::kNegligibleShare * largest_motion;
     for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
       if (moving[2 * l]) result.links[l].from.deflection.reset();
       if (moving[2 * l + 1]) result.links[l].to.deflection.reset();
@@ -659,7 +657,7 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
 
 SystemSize check(const Model& model) {
   Workspace workspace(model);
-  auto& ws = workspace.impl();
+  auto& ws = detail::WorkspaceAccess::impl(workspace);
   detail::Assembler& assembler = ws.pattern(ws.recorded_blocks);
   assembler.fill(ws.recorded_blocks, ws.matrix);
   SystemSize size = assembler.size();
@@ -699,7 +697,7 @@ void report_held_spins(const Model& model, const detail::Topology& topology, con
 Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known);
 
 Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
-  Workspace::Impl& ws = workspace.impl();
+  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   if (accept_idle && options.solver == SolverKind::automatic && ws.spin_locked) {
     Result result = solve_in(*ws.spin_locked, model, options, topology_known);
@@ -733,7 +731,7 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
   result.system = assembler.size();
   result.system.nonzeros = count_nonzero_values(ws.matrix);
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
-  result.report.solver = ws.system->solver_name();  // `auto` has chosen by now
+  result.report.solver = solver_used_from_string(ws.system->solver_name()).value_or(SolverUsed::none);  // `auto` has chosen by now
   result.report.reciprocal_condition = ws.system->reciprocal_condition();
   if (regular) {
     solve_regular(problem, result);
@@ -824,7 +822,7 @@ Result solve(const Model& model, const SolveOptions& options) {
 
 Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {
   options.validate();
-  Workspace::Impl& ws = workspace.impl();
+  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   if (!ws.structure)
     throw UsageError("solving values needs the workspace of their structure: build it as Workspace(structure)");
   const Structure& structure = *ws.structure;
@@ -842,7 +840,7 @@ Result solve(Workspace& workspace, std::span<const double> values, const SolveOp
 
 Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,
              const SolveOptions& options) {
-  if (!workspace.impl().structure || !(*workspace.impl().structure == structure))
+  if (!detail::WorkspaceAccess::impl(workspace).structure || !(*detail::WorkspaceAccess::impl(workspace).structure == structure))
     throw UsageError("the workspace was built for another structure; build it as Workspace(structure)");
   return solve(workspace, values, options);
 }
@@ -851,7 +849,7 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   options.validate();
   const detail::ModelIndex index(model);
   detail::validate(model, index);
-  if (!(detail::build_topology(model, index) == workspace.impl().topology)) detail::throw_topology_changed();
+  if (!(detail::build_topology(model, index) == detail::WorkspaceAccess::impl(workspace).topology)) detail::throw_topology_changed();
   Result result = solve_validated(workspace, model, options, false);
   if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
   add_results_in_own_axes(model, result);

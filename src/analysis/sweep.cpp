@@ -20,25 +20,9 @@
 
 #include "model/suggest.hpp"
 #include "stiffmsa/validate.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
-
-namespace {
-
-// The shortest decimal within the round-off of `value`, where one is (0.11 for
-// 0.11000000000000001): the value the user meant by a decimal grid, written as the user would.
-double shortest_decimal_near(double value, double round_off) {
-  char buffer[32];
-  for (int digits = 1; digits < std::numeric_limits<double>::max_digits10; ++digits) {
-    const auto [end, error] =
-        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, digits);
-    double decimal = value;
-    if (error != std::errc() || std::from_chars(buffer, end, decimal).ec != std::errc()) break;
-    if (std::abs(decimal - value) <= round_off) return decimal;
-  }
-  return value;
-}
-}  // namespace
 
 double GridAxis::value(std::size_t i) const {
   if (count <= 1) return start;
@@ -93,6 +77,8 @@ const char* to_string(PoseStatus status) {
     case PoseStatus::singular: return "singular";
     case PoseStatus::free_motion: return "free-motion";
     case PoseStatus::invalid: return "invalid";
+    case PoseStatus::inaccurate: return "inaccurate";
+    case PoseStatus::error: return "error";
   }
   return "?";
 }
@@ -118,8 +104,8 @@ std::string one_line(const SingularModelError& e) {
 // What the sweep keeps of a solve.
 PoseResult measure(const Result& result, const SweepOptions& options) {
   PoseResult pose;
-  if (!result.report.failed_checks.empty()) {
-    pose.status = PoseStatus::singular;
+  if (!result.report.usable()) {
+    pose.status = PoseStatus::inaccurate;
     pose.message = result.report.failed_checks.front();
     return pose;
   }
@@ -151,7 +137,8 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
 }
 
 // Classifies what a pose threw into its status; rethrows what is not the pose's fault.
-PoseResult failed_pose(std::exception_ptr thrown) {
+// `built`: the pose's values were written, so what failed is the solve, not the member.
+PoseResult failed_pose(std::exception_ptr thrown, bool built) {
   PoseResult pose;
   try {
     std::rethrow_exception(thrown);
@@ -163,15 +150,16 @@ PoseResult failed_pose(std::exception_ptr thrown) {
                                                                         : PoseStatus::singular;
     pose.message = one_line(e);
   } catch (const Error& e) {
-    // A factorisation that failed on this pose's numbers (a QR of a near-mechanism, say).
-    pose.status = PoseStatus::singular;
+    // Not the pose's values (those are InputError, SingularModelError or a failed accuracy
+    // check): a factorisation or a step of the library that failed.
+    pose.status = PoseStatus::error;
     pose.message = e.what();
   } catch (const std::bad_alloc&) {
     throw;  // not the pose's fault: the sweep as a whole cannot go on
   } catch (const std::exception& e) {
     // A caller's family may throw anything; the pose fails, the sweep goes on.
-    pose.status = PoseStatus::invalid;
-    pose.message = std::string("the model could not be built: ") + e.what();
+    pose.status = built ? PoseStatus::error : PoseStatus::invalid;
+    pose.message = std::string(built ? "the solve failed: " : "the model could not be built: ") + e.what();
   }
   return pose;
 }
@@ -188,8 +176,10 @@ struct Worker {
 // Writes, solves and measures one pose; every failure that belongs to the pose becomes its
 // status.
 PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& options) {
+  bool built = false;
   try {
     worker.write(pose, worker.values, worker.warnings);
+    built = true;
     Result result = solve(worker.workspace, worker.values, options.solve);
     if (!worker.warnings.empty()) {
       std::vector<std::string> warnings;
@@ -198,7 +188,7 @@ PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& optio
     }
     return measure(result, options);
   } catch (...) {
-    return failed_pose(std::current_exception());
+    return failed_pose(std::current_exception(), built);
   }
 }
 

@@ -15,7 +15,7 @@ bool is_free_ball(const Model& model, const ConnectionGroup& group) {
     c = &model.joints[static_cast<std::size_t>(group.source)].connection;
   else if (group.kind == ConnectionGroup::Kind::support && group.ends.size() == 1)
     c = &model.supports[static_cast<std::size_t>(group.source)].connection;
-  return c && c->kinematics.type == JointType::spherical && !c->stiffness && !c->actuated && !c->preload;
+  return c && c->kinematics.type == JointType::spherical && !c->stiffness && !c->is_actuated && !c->preload;
 }
 
 }  // namespace

@@ -191,12 +191,12 @@ std::unique_ptr<ElementBlock> make_connection_block(const Model& model, const Co
         return std::make_unique<ElasticJointBlock>(g.ends[0], g.ends[1], free_directions(c.kinematics),
                                                    *c.stiffness, c.preload);
       }
-      if (c.actuated) return std::make_unique<ConstraintJointBlock>(g.ends, locked(), std::nullopt);
+      if (c.is_actuated) return std::make_unique<ConstraintJointBlock>(g.ends, locked(), std::nullopt);
       return std::make_unique<ConstraintJointBlock>(g.ends, free_directions(c.kinematics), c.preload);
     }
     case ConnectionGroup::Kind::support: {
       const Connection& c = model.supports[static_cast<std::size_t>(g.source)].connection;
-      if (c.actuated && !c.stiffness)
+      if (c.is_actuated && !c.stiffness)
         return std::make_unique<SupportBlock>(g.ends, locked(), std::nullopt, std::nullopt);
       return std::make_unique<SupportBlock>(g.ends, free_directions(c.kinematics), c.stiffness, c.preload);
     }

@@ -1,4 +1,5 @@
 #include "elements/beam_element.hpp"
+#include "tolerances.hpp"
 
 #include <cmath>
 
@@ -9,10 +10,10 @@ Mat3 link_axes(const Vec3& from, const Vec3& to, const std::optional<Vec3>& zref
   Vec3 reference = Vec3::UnitZ();
   if (zref)
     reference = *zref;
-  else if (x.cross(Vec3::UnitZ()).norm() < 1e-9)
+  else if (x.cross(Vec3::UnitZ()).norm() < kReferenceParallel)
     reference = Vec3::UnitX();
   const Vec3 y_raw = reference.cross(x);
-  if (!(y_raw.norm() > 1e-9 * reference.norm()))
+  if (!(y_raw.norm() > kParallelTolerance * reference.norm()))
     throw InputError({}, "zref", "zref must not be parallel to the link");
   const Vec3 y = y_raw.normalized();
   Mat3 axes;

@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "elements/beam_element.hpp"
+#include "tolerances.hpp"
 
 namespace stiffmsa::detail {
 
@@ -34,7 +35,7 @@ std::optional<Mat6> clamped_compliance(const Mat12& free_free) {
   const Mat6 K22 = 0.5 * (free_free.bottomRightCorner<6, 6>() + free_free.bottomRightCorner<6, 6>().transpose());
   const Eigen::SelfAdjointEigenSolver<Mat6> eigen(K22, Eigen::EigenvaluesOnly);
   const Vec6& k = eigen.eigenvalues();
-  if (!(k(5) > 0) || !(k(0) > 1e-12 * k(5))) return std::nullopt;
+  if (!(k(5) > 0) || !(k(0) > kClampedSpread * k(5))) return std::nullopt;
   return Mat6(K22.llt().solve(Mat6::Identity()));
 }
 

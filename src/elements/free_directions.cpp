@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 
 #include "elements/element_block.hpp"
+#include "tolerances.hpp"
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
@@ -152,7 +153,7 @@ FreeDirections free_directions(const Kinematics& k) {
     const auto& s = svd.singularValues();
     smallest_over_largest = s(0) > 0 ? s(p - 1) / s(0) : 0.0;
   }
-  if (!(smallest_over_largest > 1e-9))
+  if (!(smallest_over_largest > kRankTolerance))
     throw InputError({}, "free", "the free directions are linearly dependent");
   d.p = p;
   d.rows.topRows(p) = free;

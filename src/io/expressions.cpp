@@ -10,18 +10,11 @@
 #include <set>
 
 #include "model/suggest.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa::detail {
 
 namespace {
-
-// Shortest text that reads back as the same double, for messages that quote a value.
-std::string number_text(double value) {
-  if (std::isnan(value)) return "nan";  // whatever its sign bit
-  std::array<char, 32> buffer;
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return error == std::errc() ? std::string(buffer.data(), end) : std::string("?");
-}
 
 // muparser reads `x = 1` as an assignment to x, which would change a parameter for every
 // expression evaluated after it; a number only computes a value. (`==`, `<=`, `>=` and `!=`
@@ -137,7 +130,7 @@ std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
   for (std::size_t i = 0; i < names_.size(); ++i) {
     if (compiled.parser.GetUsedVar().count(names_[i]) == 0) continue;
     if (!text.empty()) text += ", ";
-    text += names_[i] + " = " + number_text(values_[i]);
+    text += names_[i] + " = " + shortest_text(values_[i]);
   }
   return text;
 }
@@ -172,7 +165,7 @@ ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& te
     uses_failed_value = uses_failed_value || (std::isnan(values_[i]) && compiled.parser.GetUsedVar().count(names_[i]) > 0);
   const std::string inputs = inputs_of(compiled);
   return {0,
-          "the expression '" + text + "' gives " + number_text(value) +
+          "the expression '" + text + "' gives " + shortest_text(value) +
               (inputs.empty() ? std::string() : " for " + inputs) + ", not a finite number",
           uses_failed_value};
 }

@@ -9,15 +9,12 @@
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
 namespace {
 
-std::string number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", x);
-  return buffer;
-}
+std::string number(double x) { return shortest_text(x); }
 
 // Names in double quotes (JSON's escapes), whatever they hold.
 std::string quoted(const std::string& name) {
@@ -116,7 +113,7 @@ std::string connection(const Connection& c) {
   }
   if (c.stiffness) text += ", stiffness: " + matrix(*c.stiffness);
   if (c.preload) text += ", preload: " + list(*c.preload);
-  if (c.actuated) text += ", actuated: true";
+  if (c.is_actuated) text += ", actuated: true";
   return text;
 }
 

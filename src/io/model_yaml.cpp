@@ -970,7 +970,7 @@ Loader::Site Loader::read_site(const Entry& named, bool is_support) {
   if (const Entry* at = required(e, v, "at")) site.at = text(at->value).value_or("");
   site.links = read_site_links(e, v, is_support, site.origin);
   if (const Entry* actuated = find(e, "actuated"))
-    site.connection.actuated = boolean(actuated->value).value_or(false);
+    site.connection.is_actuated = boolean(actuated->value).value_or(false);
   if (!type) return site;
   // Without its free directions, p is unknown and the springs cannot be sized.
   const auto kinematics = read_kinematics(*type, e, v, site.origin);

@@ -277,7 +277,7 @@ void write_result(ResultWriter& out, const Result& result) {
     out.member("report", [&] {
       out.object([&] {
         const SolveReport& report = result.report;
-        out.member("solver", [&] { out.string(report.solver); });
+        out.member("solver", [&] { out.string(to_string(report.solver)); });
         out.member("relative_residual", [&] { out.number(report.relative_residual); });
         out.member("equilibrium_error", [&] { out.number(report.equilibrium_error); });
         out.member("reciprocal_condition", [&] { out.number(report.reciprocal_condition); });

@@ -38,7 +38,7 @@ std::string number_text(double x) {
 }  // namespace
 
 std::size_t RobotLayout::add_point(Model& model, std::string name, int link, const Vec3& local, const SourceLocation& at) {
-  Point& p = model.add_point(std::move(name), Vec3::Zero());
+  Point& p = model.point(model.add_point(std::move(name), Vec3::Zero()));
   p.origin.location = at;
   points_.push_back({model.points.size() - 1, link, local});
   return model.points.size() - 1;
@@ -107,7 +107,7 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
     } else if (children.empty()) {
       leaf_[l] = true;
       add_point(model, link.name + ".end", li, Vec3::Zero(), link.location);
-      model.add_rigid_link(link.name, link.name, link.name + ".end").origin.location = link.location;
+      model.link(model.add_rigid_link(link.name, link.name, link.name + ".end")).origin.location = link.location;
       frame_ends_[l].point = link.name + ".end";
     } else if (children.size() == 1 && flexible) {
       const UrdfJoint& child = tree.joints[static_cast<std::size_t>(children.front())];
@@ -122,7 +122,7 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
         end_point = link.name + ".com";
       }
       const auto add_beam = [&](std::string name, std::string from, std::string to) {
-        Link& beam = model.add_beam(std::move(name), std::move(from), std::move(to), flexible->beam.material, flexible->beam.section);
+        Link& beam = model.link(model.add_beam(std::move(name), std::move(from), std::move(to), flexible->beam.material, flexible->beam.section));
         std::get<BeamLink>(beam.kind) = flexible->beam;
         std::get<BeamLink>(beam.kind).zref = Vec3::Zero();
         beam.origin = flexible->origin;
@@ -135,12 +135,12 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
         segment_into[static_cast<std::size_t>(children.front())] = link.name + ".distal";
         loads_.push_back({model.loads.size(), li, link.centre_of_mass - points_.back().local,
                           (Vec6() << link.mass * *block.gravity, Vec3::Zero()).finished(), false});
-        Load& weight = model.add_load(link.name + ".com", link.name, Vec6::Zero());
+        Load& weight = model.load(model.add_load(link.name + ".com", link.name, Vec6::Zero()));
         weight.self_weight = true;
         weight.origin.location = link.location;
       }
     } else if (children.size() == 1) {
-      model.add_rigid_link(link.name, link.name, child_point(children.front())).origin.location = link.location;
+      model.link(model.add_rigid_link(link.name, link.name, child_point(children.front()))).origin.location = link.location;
       segment_into[static_cast<std::size_t>(children.front())] = link.name;
     } else {
       // Several child joints meet the link's body at a hub, so that its parent joint joins two
@@ -149,11 +149,11 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
       if (li != base_) {
         hub = link.name + ".hub";
         add_point(model, hub, li, Vec3::Zero(), link.location);
-        model.add_rigid_link(link.name, link.name, hub).origin.location = link.location;
+        model.link(model.add_rigid_link(link.name, link.name, hub)).origin.location = link.location;
       }
       for (int j : children) {
         const std::string segment = link.name + "/" + tree.joints[static_cast<std::size_t>(j)].name;
-        model.add_rigid_link(segment, hub, child_point(j)).origin.location = link.location;
+        model.link(model.add_rigid_link(segment, hub, child_point(j))).origin.location = link.location;
         segment_into[static_cast<std::size_t>(j)] = segment;
       }
       if (li == base_) frame_ends_[l].link = link.name + "/" + tree.joints[static_cast<std::size_t>(children.front())].name;
@@ -163,7 +163,7 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
     if (block.gravity && link.mass > 0 && li != base_ && !split_flexible) {
       loads_.push_back({model.loads.size(), li, link.centre_of_mass - frame_ends_[l].local,
                         (Vec6() << link.mass * *block.gravity, Vec3::Zero()).finished(), false});
-      Load& weight = model.add_load(frame_ends_[l].point, frame_ends_[l].link, Vec6::Zero());
+      Load& weight = model.load(model.add_load(frame_ends_[l].point, frame_ends_[l].link, Vec6::Zero()));
       weight.self_weight = true;
       weight.origin.location = link.location;
     }
@@ -185,12 +185,12 @@ RobotLayout::RobotLayout(const RobotBlock& block, Model& model)
                                                             : Kinematics::revolute(Vec3::UnitX());
       c.stiffness = MatX::Constant(1, 1, spring.stiffness);
     }
-    Joint& made = model.add_joint(joint.name, at, {segment_into[j], at}, std::move(c));
+    Joint& made = model.joint(model.add_joint(joint.name, at, {segment_into[j], at}, std::move(c)));
     made.origin = spring.origin;
     made.origin.location = joint.location;
     joints_.push_back({model.joints.size() - 1, static_cast<int>(j)});
   }
-  model.add_support(name_of(base_), name_of(base_), {}, Connection{}).origin.location =
+  model.support(model.add_support(name_of(base_), name_of(base_), {}, Connection::rigid())).origin.location =
       tree.links[static_cast<std::size_t>(base_)].location;
   std::vector<double> zero(tree.joints.size(), 0.0);
   pose(zero, model);
@@ -203,7 +203,7 @@ std::optional<std::string> RobotLayout::add_end_effector(std::string name, int f
   if (!in_robot(frame)) return "frame '" + frame_name + "' lies above the base '" + tree_->links[static_cast<std::size_t>(base_)].name + "'";
   if (frame_axes) effectors_.push_back({model.end_effectors.size(), frame});
   if (!offset) {
-    EndEffector& e = model.add_end_effector(std::move(name), end.point, end.link);
+    EndEffector& e = model.end_effector(model.add_end_effector(std::move(name), end.point, end.link));
     e.origin = std::move(origin);
     return std::nullopt;
   }
@@ -214,9 +214,9 @@ std::optional<std::string> RobotLayout::add_end_effector(std::string name, int f
   }
   const std::string tcp = name + ".tcp";
   add_point(model, tcp, frame, *offset, origin.location);
-  model.add_rigid_link(tcp, end.point, tcp).origin.location = origin.location;
+  model.link(model.add_rigid_link(tcp, end.point, tcp)).origin.location = origin.location;
   tool_links_.push_back({tcp, frame, *offset, model.end_effectors.size()});
-  EndEffector& e = model.add_end_effector(std::move(name), tcp, tcp);
+  EndEffector& e = model.end_effector(model.add_end_effector(std::move(name), tcp, tcp));
   e.origin = std::move(origin);
   return std::nullopt;
 }
@@ -228,7 +228,7 @@ std::optional<std::string> RobotLayout::add_load(int frame, const Vec6& wrench, 
            tree_->links[static_cast<std::size_t>(base_)].name + "'";
   const FrameEnd& end = frame_ends_[static_cast<std::size_t>(frame)];
   loads_.push_back({model.loads.size(), frame, offset.value_or(Vec3::Zero()) - end.local, wrench, frame_axes});
-  Load& load = model.add_load(end.point, end.link, Vec6::Zero());
+  Load& load = model.load(model.add_load(end.point, end.link, Vec6::Zero()));
   load.origin = std::move(origin);
   return std::nullopt;
 }

@@ -23,7 +23,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-constexpr std::array kStatuses{PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid};
+constexpr const auto& kStatuses = kPoseStatuses;
 
 // ---- reading poses -----------------------------------------------------------------------
 

@@ -49,7 +49,7 @@ std::string hdf5_error(const std::filesystem::path& file, const std::string& wha
 }
 
 constexpr const char* kFormat = "stiffmsa-sweep/1";
-constexpr PoseStatus kStatuses[] = {PoseStatus::ok, PoseStatus::singular, PoseStatus::free_motion, PoseStatus::invalid};
+
 
 // Variable-length UTF-8 text, as h5py reads into str. Negative: HDF5 failed.
 hid_t make_text_type() {
@@ -62,7 +62,7 @@ hid_t make_text_type() {
 // Negative: HDF5 failed.
 hid_t make_status_type() {
   const hid_t type = H5Tenum_create(H5T_NATIVE_INT8);
-  for (auto status : kStatuses) {
+  for (auto status : kPoseStatuses) {
     const auto code = static_cast<std::int8_t>(status);
     if (type < 0 || H5Tenum_insert(type, to_string(status), &code) < 0) return -1;
   }
@@ -203,7 +203,7 @@ void SweepHdf5Writer::commit(const std::string& summary_json, const SweepSummary
   File& f = *file_;
   f.attribute_text(f.file.get(), "summary", summary_json);
   f.attribute_count(f.file.get(), "poses", summary.poses());
-  for (auto status : kStatuses)
+  for (auto status : kPoseStatuses)
     f.attribute_count(f.file.get(), std::string("status.") + to_string(status), summary.count(status));
   f.parameters.clear();
   f.values.clear();

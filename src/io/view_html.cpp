@@ -32,7 +32,7 @@ const std::vector<std::string> kRoleNames = {"rigid", "passive", "elastic", "act
 int link_kind_code(const LinkKind& kind) { return static_cast<int>(kind.index()); }
 
 int role_code(const Connection& c) {
-  if (c.actuated) return 3;
+  if (c.is_actuated) return 3;
   if (c.stiffness) return 2;
   if (c.kinematics.type == JointType::rigid) return 0;
   return 1;

@@ -6,6 +6,7 @@
 #include "model/link_ends.hpp"
 #include "stiffmsa/deformed_shape.hpp"
 #include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -15,9 +16,8 @@ namespace fs = std::filesystem;
 constexpr int kVtkLine = 3;  // VTK's cell type of a straight two-point line
 
 void append_number(std::string& out, double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g ", value + 0.0);
-  out += buffer;
+  append_shortest_text(out, value);
+  out += ' ';
 }
 
 // Text with '&', '<', '>' and '"' escaped, for an XML attribute or comment.

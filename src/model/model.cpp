@@ -4,6 +4,9 @@
 #include <sstream>
 #include <utility>
 
+#include "model/suggest.hpp"
+#include "stiffmsa/result.hpp"
+
 namespace stiffmsa {
 
 std::string Diagnostic::to_string() const {
@@ -53,6 +56,21 @@ SingularModelError::SingularModelError(Cause cause, std::string summary, std::ve
       cause_(cause),
       summary_(std::move(summary)),
       details_(std::move(details)) {}
+
+namespace {
+std::string no_such_name(const std::string& kind, const std::string& name,
+                         const std::vector<std::string>& candidates) {
+  return "there is no " + kind + " '" + name + "'" +
+         (candidates.empty() ? "; there are none"
+                             : detail::suggestion(name, candidates, "there are " + kind + "s"));
+}
+}  // namespace
+
+NameError::NameError(std::string kind, std::string name, const std::vector<std::string>& candidates)
+    : UsageError(no_such_name(kind, name, candidates)),
+      kind_(std::move(kind)),
+      name_(std::move(name)),
+      suggestion_(detail::nearest(name_, candidates)) {}
 
 const SourceLocation& Origin::of(const std::string& key) const {
   auto it = key_locations.find(key);
@@ -115,56 +133,186 @@ int free_direction_count(const Kinematics& k) {
   return 0;
 }
 
-Point& Model::add_point(std::string name, const Vec3& position) {
-  points.push_back(Point{std::move(name), position, {}});
-  return points.back();
-}
-
 namespace {
-Link& push_link(Model& m, std::string name, std::string from, std::string to, LinkKind kind) {
-  m.links.push_back(Link{std::move(name), std::move(from), std::move(to), std::move(kind), {}});
-  return m.links.back();
+// A scalar stands for a 1×1 matrix or a single value: only where there is one free direction.
+void require_one_direction(const Kinematics& kinematics, const char* what) {
+  const int p = free_direction_count(kinematics);
+  if (p != 1)
+    throw UsageError(std::string("a scalar ") + what + " is for a connection with one free direction; a " +
+                     to_string(kinematics.type) + " one has " + std::to_string(p) + ": give " +
+                     (what == std::string("stiffness") ? "a p×p matrix" : "p values"));
 }
 }  // namespace
 
-Link& Model::add_beam(std::string name, std::string from, std::string to, const Material& material,
-                      const Section& section) {
-  return push_link(*this, std::move(name), std::move(from), std::move(to),
+Connection Connection::rigid() { return Connection(); }
+Connection Connection::passive(Kinematics kinematics) {
+  Connection c;
+  c.kinematics = std::move(kinematics);
+  return c;
+}
+Connection Connection::elastic(Kinematics kinematics, MatX stiffness) {
+  Connection c = passive(std::move(kinematics));
+  c.stiffness = std::move(stiffness);
+  return c;
+}
+Connection Connection::elastic(Kinematics kinematics, double stiffness) {
+  require_one_direction(kinematics, "stiffness");
+  return elastic(std::move(kinematics), MatX::Constant(1, 1, stiffness));
+}
+Connection Connection::actuated(Kinematics kinematics) {
+  Connection c = passive(std::move(kinematics));
+  c.is_actuated = true;
+  return c;
+}
+Connection Connection::actuated(Kinematics kinematics, MatX stiffness) {
+  Connection c = elastic(std::move(kinematics), std::move(stiffness));
+  c.is_actuated = true;
+  return c;
+}
+Connection Connection::actuated(Kinematics kinematics, double stiffness) {
+  Connection c = elastic(std::move(kinematics), stiffness);
+  c.is_actuated = true;
+  return c;
+}
+Connection Connection::preloaded(VecX values) const {
+  Connection c = *this;
+  c.preload = std::move(values);
+  return c;
+}
+Connection Connection::preloaded(double value) const {
+  require_one_direction(kinematics, "preload");
+  return preloaded(VecX::Constant(1, value));
+}
+
+namespace {
+std::vector<std::string> keys_of(const auto& named) {
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : named) keys.push_back(key);
+  return keys;
+}
+}  // namespace
+
+void Model::add_material(std::string material_name, const Material& material) {
+  if (materials.contains(material_name))
+    throw UsageError("the material '" + material_name + "' is defined already");
+  materials.emplace(std::move(material_name), material);
+}
+void Model::add_section(std::string section_name, const Section& section) {
+  if (sections.contains(section_name))
+    throw UsageError("the section '" + section_name + "' is defined already");
+  sections.emplace(std::move(section_name), section);
+}
+
+PointIndex Model::add_point(std::string point_name, const Vec3& position) {
+  points.push_back(Point{std::move(point_name), position, {}});
+  return {points.size() - 1};
+}
+
+namespace {
+LinkIndex push_link(Model& m, std::string name, std::string from, std::string to, LinkKind kind) {
+  m.links.push_back(Link{std::move(name), std::move(from), std::move(to), std::move(kind), {}});
+  return {m.links.size() - 1};
+}
+}  // namespace
+
+LinkIndex Model::add_beam(std::string link_name, std::string from, std::string to,
+                          const Material& material, const Section& section) {
+  return push_link(*this, std::move(link_name), std::move(from), std::move(to),
                    BeamLink{material, section, false, std::nullopt});
 }
-Link& Model::add_rigid_link(std::string name, std::string from, std::string to) {
-  return push_link(*this, std::move(name), std::move(from), std::move(to), RigidLink{});
+LinkIndex Model::add_beam(std::string link_name, std::string from, std::string to,
+                          std::string_view material_name, std::string_view section_name) {
+  return add_beam(std::move(link_name), std::move(from), std::move(to), material(material_name),
+                  section(section_name));
 }
-Link& Model::add_matrix_link(std::string name, std::string from, std::string to, const Mat12& K,
-                             LinkFrame frame) {
-  return push_link(*this, std::move(name), std::move(from), std::move(to),
+const Material& Model::material(std::string_view material_name) const {
+  const auto found = materials.find(material_name);
+  if (found == materials.end())
+    throw NameError("material", std::string(material_name), keys_of(materials));
+  return found->second;
+}
+const Section& Model::section(std::string_view section_name) const {
+  const auto found = sections.find(section_name);
+  if (found == sections.end())
+    throw NameError("section", std::string(section_name), keys_of(sections));
+  return found->second;
+}
+LinkIndex Model::add_rigid_link(std::string link_name, std::string from, std::string to) {
+  return push_link(*this, std::move(link_name), std::move(from), std::move(to), RigidLink{});
+}
+LinkIndex Model::add_matrix_link(std::string link_name, std::string from, std::string to,
+                                 const Mat12& K, LinkFrame frame) {
+  return push_link(*this, std::move(link_name), std::move(from), std::move(to),
                    MatrixLink{K, frame, std::nullopt});
 }
-Link& Model::add_compliance_link(std::string name, std::string from, std::string to,
-                                 const Mat6& C, LinkFrame frame) {
-  return push_link(*this, std::move(name), std::move(from), std::move(to),
+LinkIndex Model::add_compliance_link(std::string link_name, std::string from, std::string to,
+                                     const Mat6& C, LinkFrame frame) {
+  return push_link(*this, std::move(link_name), std::move(from), std::move(to),
                    ComplianceLink{C, frame, std::nullopt});
 }
-Joint& Model::add_joint(std::string name, std::string at, std::vector<std::string> link_names,
-                        Connection connection) {
-  joints.push_back(Joint{std::move(name), std::move(at), std::move(link_names),
+JointIndex Model::add_joint(std::string joint_name, std::string at,
+                            std::vector<std::string> link_names, Connection connection) {
+  joints.push_back(Joint{std::move(joint_name), std::move(at), std::move(link_names),
                          std::move(connection), {}});
-  return joints.back();
+  return {joints.size() - 1};
 }
-Support& Model::add_support(std::string name, std::string at, std::vector<std::string> link_names,
-                            Connection connection) {
-  supports.push_back(Support{std::move(name), std::move(at), std::move(link_names),
+SupportIndex Model::add_support(std::string support_name, std::string at,
+                                std::vector<std::string> link_names, Connection connection) {
+  supports.push_back(Support{std::move(support_name), std::move(at), std::move(link_names),
                              std::move(connection), {}});
-  return supports.back();
+  return {supports.size() - 1};
 }
-Load& Model::add_load(std::string at, std::optional<std::string> link, const Vec6& wrench) {
+LoadIndex Model::add_load(std::string at, std::optional<std::string> link, const Vec6& wrench) {
   loads.push_back(Load{std::move(at), std::move(link), wrench, false, {}});
-  return loads.back();
+  return {loads.size() - 1};
 }
-EndEffector& Model::add_end_effector(std::string name, std::string at,
-                                     std::optional<std::string> link) {
-  end_effectors.push_back(EndEffector{std::move(name), std::move(at), std::move(link), std::nullopt, {}});
-  return end_effectors.back();
+EndEffectorIndex Model::add_end_effector(std::string end_effector_name, std::string at,
+                                         std::optional<std::string> link) {
+  end_effectors.push_back(
+      EndEffector{std::move(end_effector_name), std::move(at), std::move(link), std::nullopt, {}});
+  return {end_effectors.size() - 1};
+}
+
+namespace {
+template <class Entry>
+const Entry& named(const std::vector<Entry>& entries, std::string_view name, const char* kind) {
+  for (const Entry& e : entries)
+    if (e.name == name) return e;
+  std::vector<std::string> names;
+  names.reserve(entries.size());
+  for (const Entry& e : entries) names.push_back(e.name);
+  throw NameError(kind, std::string(name), names);
+}
+
+constexpr std::array<std::pair<SolverUsed, const char*>, 7> kSolverUsedNames{{
+    {SolverUsed::none, ""},
+    {SolverUsed::tree, "tree"},
+    {SolverUsed::tree_with_cuts, "tree_with_cuts"},
+    {SolverUsed::frame, "frame"},
+    {SolverUsed::klu, "klu"},
+    {SolverUsed::sparse_lu, "sparse_lu"},
+    {SolverUsed::umfpack, "umfpack"},
+}};
+}  // namespace
+
+const EndEffectorResult& Result::end_effector(std::string_view name) const {
+  return named(end_effectors, name, "end effector");
+}
+const LinkResult& Result::link(std::string_view name) const { return named(links, name, "link"); }
+const JointResult& Result::joint(std::string_view name) const { return named(joints, name, "joint"); }
+const SupportResult& Result::support(std::string_view name) const {
+  return named(supports, name, "support");
+}
+
+const char* to_string(SolverUsed solver) {
+  for (const auto& [value, text] : kSolverUsedNames)
+    if (value == solver) return text;
+  return "";
+}
+std::optional<SolverUsed> solver_used_from_string(std::string_view name) {
+  for (const auto& [value, text] : kSolverUsedNames)
+    if (name == text) return value;
+  return std::nullopt;
 }
 
 const Point* Model::find_point(const std::string& name) const {

@@ -114,7 +114,7 @@ bool same_connection(const Connection& a, const Connection& b) {
   };
   return a.kinematics.type == b.kinematics.type && a.kinematics.free_rows.size() == b.kinematics.free_rows.size() &&
          dims(a.stiffness) == dims(b.stiffness) && a.preload.has_value() == b.preload.has_value() &&
-         (!a.preload || a.preload->size() == b.preload->size()) && a.actuated == b.actuated;
+         (!a.preload || a.preload->size() == b.preload->size()) && a.is_actuated == b.is_actuated;
 }
 
 bool same_link_kind(const LinkKind& a, const LinkKind& b) {

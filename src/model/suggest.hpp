@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "stiffmsa/number_text.hpp"
+
 namespace stiffmsa::detail {
 
 // Levenshtein distance: insertions, deletions and substitutions each cost 1.
@@ -46,16 +48,10 @@ inline std::optional<std::string> nearest(std::string_view word,
   return best;
 }
 
-// "a, b, c": items listed for a message; a long list is cut, since a message names a few.
+// Valid keys or names listed for a message: a long list is cut, since a message names a few.
 inline std::string comma_list(const std::vector<std::string>& items) {
-  constexpr std::size_t shown = 12;
-  std::string text;
-  for (std::size_t i = 0; i < items.size() && i < shown; ++i) {
-    if (i > 0) text += ", ";
-    text += items[i];
-  }
-  if (items.size() > shown) text += " and " + std::to_string(items.size() - shown) + " more";
-  return text;
+  constexpr std::size_t kShown = 12;
+  return name_list(items, ", ", kShown);
 }
 
 // The tail of a message about `word` not being one of `candidates`: "; did you mean 'x'?"

@@ -15,16 +15,17 @@
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/number_text.hpp"
+#include "tolerances.hpp"
 
 namespace stiffmsa {
 namespace {
 
-constexpr double kParallelTolerance = 1e-9;   // |a × b| of unit vectors
-constexpr double kRankTolerance = 1e-9;       // smallest over largest singular value
-constexpr double kMatrixTolerance = 1e-9;     // symmetry, semi-definiteness: relative to max|M|
-constexpr double kDefiniteTolerance = 1e-12;  // smallest over largest eigenvalue
-constexpr double kFreeFreeTolerance = 1e-6;   // ‖K·R‖₂ relative to ‖K‖₂·‖R‖₂
-constexpr double kLengthTolerance = 1e-12;    // relative to max(1, model extent)
+using detail::kDefiniteTolerance;
+using detail::kFreeFreeTolerance;
+using detail::kLengthTolerance;
+using detail::kMatrixTolerance;
+using detail::kParallelTolerance;
+using detail::kRankTolerance;
 
 std::string format_number(double value) {
   std::ostringstream out;
@@ -346,7 +347,7 @@ class Checker {
     };
     report(s, name,
            name + " must be symmetric, but " + entry(row, col) + " and " + entry(col, row) +
-               " (allowed difference: 1e-9·max|" + name + "|)");
+               " (allowed difference: " + shortest_text(kMatrixTolerance) + "·max|" + name + "|)");
     return false;
   }
 
@@ -459,7 +460,7 @@ class Checker {
       report(s, "K",
              "K is not free-free: the link's rigid-body motions are not in its null "
              "space (‖K·R‖₂ = " +
-                 format_number(residual) + ", above 1e-6·‖K‖₂·‖R‖₂ = " + format_number(bound) +
+                 format_number(residual) + ", above " + shortest_text(kFreeFreeTolerance) + "·‖K‖₂·‖R‖₂ = " + format_number(bound) +
                  "); such a matrix would tie the link to the ground");
   }
 
@@ -551,7 +552,7 @@ class Checker {
                "preload must hold p values" + sized() + "; got " + std::to_string(c.preload->size()));
       else
         require_finite(s, "preload", *c.preload);
-      if (c.actuated && !c.stiffness)
+      if (c.is_actuated && !c.stiffness)
         report(s, "preload",
                "a preload on a locked actuator (actuated, no stiffness) has no "
                "effect; give the actuator a stiffness or remove the preload");

@@ -22,6 +22,7 @@
 
 #include "assembly/topology.hpp"
 #include "solver/tree_solver.hpp"
+#include "tolerances.hpp"
 
 namespace stiffmsa::detail {
 
@@ -35,11 +36,6 @@ struct FramePlan {
 // nullopt else.
 std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& blocks);
 
-// The least reciprocal condition estimate of the scaled K a frame solve accepts. A member's
-// wrenches come from differences of its ends' deflections, K12·Δt, which lose about as many
-// digits as K's condition has: measured on slender members near this bar, deflections and
-// wrenches stay within ~3·10⁻¹¹ of the mixed LU's (docs/theory.md §7.3), ~10 digits.
-inline constexpr double kFrameLeastRcond = 1e-6;
 
 struct FrameSolution {
   double reciprocal_condition = 0;  // of K, scaled by its diagonal (Hager's estimate)

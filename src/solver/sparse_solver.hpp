@@ -8,6 +8,7 @@
 
 #include "assembly/assembler.hpp"
 #include "stiffmsa/analysis.hpp"
+#include "tolerances.hpp"
 
 namespace stiffmsa::detail {
 
@@ -74,8 +75,6 @@ class FactorizedSystem {
   // B is taken by value: its storage becomes the solution (move it in where it is not needed
   // after), and only its nonzeros are kept for the residuals.
   MatX solve(MatX b, int refinement_steps, double& relative_residual) const;
-
-  static constexpr double kRefineAbove = 1e-14;
 
  private:
   // y ← S_c·Â⁻¹·S_r·y, in place.

@@ -110,3 +110,45 @@ def test_cantilever_built_in_code_matches_its_closed_forms():
     for (row, col), value in closed.items():
         assert tool.compliance[row, col] == pytest.approx(value, rel=1e-9), (row, col)
     assert tool.deflection[1] == pytest.approx(-100 * L**3 / (3 * E * I), rel=1e-9)
+
+
+def test_named_materials_sections_and_connection_factories_build_the_same_arm():
+    built = load_example("planar_2r_arm").planar_2r_arm()
+    named = stiffmsa.Model("planar-2r")
+    named.add_material("aluminium", stiffmsa.Material(E=7.0e10, nu=0.33))
+    named.add_section("upper_box", stiffmsa.Section.rect_tube(0.06, 0.08, 0.004))
+    named.add_section("fore_box", stiffmsa.Section.rect_tube(0.05, 0.06, 0.003))
+    assert sorted(named.sections) == ["fore_box", "upper_box"] and named.materials["aluminium"].E == 7.0e10
+    for name, position in built.to_dict()["points"].items():
+        named.add_point(name, position)
+    named.add_rigid_link("pedestal", "floor", "shoulder")
+    named.add_beam("upper_arm", "shoulder", "elbow", "aluminium", "upper_box")
+    named.add_beam("forearm", "elbow", "tip", "aluminium", "fore_box")
+    turning = stiffmsa.Kinematics.revolute([0, 0, 1])
+    named.add_joint("shoulder_joint", "shoulder", ["pedestal", "upper_arm"], stiffmsa.Connection.elastic(turning, 2.0e5))
+    named.add_joint("elbow_joint", "elbow", ["upper_arm", "forearm"], stiffmsa.Connection.elastic(turning, 1.0e5))
+    named.add_support("base", "floor", [], stiffmsa.Connection.rigid())
+    named.add_load("tip", [50, -200, 0, 0, 0, 0])
+    named.add_end_effector("tool", "tip")
+    assert stiffmsa.solve(named).to_json() == stiffmsa.solve(built).to_json()
+    with pytest.raises(stiffmsa.UsageError, match="there is no material 'aluminum'; did you mean 'aluminium'"):
+        named.add_beam("spare", "elbow", "tip", "aluminum", "fore_box")
+
+
+def test_connection_factories():
+    hinge = stiffmsa.Kinematics.revolute([0, 0, 1])
+    motor = stiffmsa.Connection.actuator(hinge)
+    assert motor.actuated and motor.stiffness is None
+    drive = stiffmsa.Connection.actuator(hinge, 3e4).preloaded(2.5)
+    assert drive.actuated and drive.stiffness.tolist() == [[3e4]] and drive.preload.tolist() == [2.5]
+    assert not stiffmsa.Connection.passive(hinge).actuated
+    assert stiffmsa.Connection.rigid().kinematics.free_direction_count == 0
+
+
+def test_results_by_name():
+    result = stiffmsa.solve(load_example("planar_2r_arm").planar_2r_arm())
+    assert np.array_equal(result.end_effector("tool").compliance, result.end_effectors["tool"].compliance)
+    assert result.joint("elbow_joint").actuated is False
+    assert result.report.usable and result.report.solver == "tree"
+    with pytest.raises(stiffmsa.UsageError, match="there is no joint 'elbow_jiont'; did you mean 'elbow_joint'"):
+        result.joint("elbow_jiont")

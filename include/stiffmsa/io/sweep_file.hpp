@@ -128,7 +128,7 @@ class SweepSummary {
 
   std::vector<SweepColumn> columns_;
   std::size_t poses_ = 0;
-  std::array<std::size_t, 4> counts_{};  // by PoseStatus
+  std::array<std::size_t, kPoseStatuses.size()> counts_{};  // by PoseStatus
   std::vector<std::optional<Pose>> worst_;
   std::optional<Pose> first_failed_;
   std::size_t large_deflections_ = 0;

@@ -1,0 +1,12 @@
+#pragma once
+// The analysis's way into a Workspace: its internals are no part of the public API, so that a
+// binding wraps Workspace as an opaque handle and the analysis may reshape them freely.
+#include "stiffmsa/analysis.hpp"
+
+namespace stiffmsa::detail {
+
+struct WorkspaceAccess {
+  static Workspace::Impl& impl(Workspace& workspace) { return *workspace.impl_; }
+};
+
+}  // namespace stiffmsa::detail
