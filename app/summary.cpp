@@ -410,8 +410,23 @@ std::string parameters_text(const std::vector<ParameterValue>& parameters) {
   return text;
 }
 
+// The library's messages name its own options; on the command line they are set by flags, which
+// the messages printed here name instead.
+std::string with_flag_hints(std::string_view message) {
+  static constexpr std::pair<std::string_view, std::string_view> kFlagOfOption[] = {
+      {"(LoadLimits::max_file_bytes)", "with --max-file-size BYTES"},
+      {"(LoadLimits::max_nesting_depth)", "with --max-depth N"},
+      {"(LoadLimits::max_entities)", "with --max-entities N"},
+      {"SolveOptions::accept_idle_motions", "--accept-idle-motions"}};
+  std::string text(message);
+  for (const auto& [option, flag] : kFlagOfOption)
+    for (auto at = text.find(option); at != std::string::npos; at = text.find(option, at + flag.size()))
+      text.replace(at, option.size(), flag);
+  return text;
+}
+
 void print_error(std::ostream& err, std::string_view message) {
-  err << error_prefix << message << '\n';
+  err << error_prefix << with_flag_hints(message) << '\n';
 }
 
 void print_input_error(std::ostream& err, const InputError& error) {

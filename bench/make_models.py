@@ -4,6 +4,7 @@ bench_models.cpp builds in code, for timing the `stiffmsa solve` command on them
 
     make_models.py chain N                > chain.yaml   # N beam links, 10 m cantilever
     make_models.py frame NX NY STOREYS    > frame.yaml   # building frame (5 5 10: 960 beams)
+    make_models.py lattice NX NY NZ       > lattice.yaml # cubic lattice (6 6 7: 1 015 beams)
     make_models.py frame3dd NX NY STOREYS > frame.3dd    # the same frame as Frame3DD input
     make_models.py frame3dd NX NY STOREYS mm > frame.3dd # the same, in N and mm
 
@@ -71,6 +72,35 @@ def frame(nx, ny, storeys):
     return out
 
 
+def lattice(nx, ny, nz):
+    """A cubic lattice of NX x NY x NZ cells: (NX+1)(NY+1)(NZ+1) nodes 1 m apart, a beam along
+    every cell edge (the bottom layer's too), every bottom node clamped, a load at a top corner."""
+    def node(i, j, k):
+        return f"n{i}_{j}_{k}"
+
+    out = ["format: stiffmsa/1", f"name: lattice-{nx}x{ny}x{nz}", "",
+           "materials:", "  steel: {E: 2.1e11, nu: 0.3}",
+           "sections:", "  tube: {shape: tube, D: 0.06, t: 0.004}", "", "points:"]
+    out += [f"  {node(i, j, k)}: [{float(i)!r}, {float(j)!r}, {float(k)!r}]"
+            for k in range(nz + 1) for j in range(ny + 1) for i in range(nx + 1)]
+    out.append("links:")
+    for k in range(nz + 1):
+        if k > 0:
+            out += [f"  z{node(i, j, k)}: {{type: beam, from: {node(i, j, k - 1)}, to: {node(i, j, k)}, "
+                     "material: steel, section: tube}" for j in range(ny + 1) for i in range(nx + 1)]
+        out += [f"  x{node(i, j, k)}: {{type: beam, from: {node(i, j, k)}, to: {node(i + 1, j, k)}, "
+                 "material: steel, section: tube}" for j in range(ny + 1) for i in range(nx)]
+        out += [f"  y{node(i, j, k)}: {{type: beam, from: {node(i, j, k)}, to: {node(i, j + 1, k)}, "
+                 "material: steel, section: tube}" for j in range(ny) for i in range(nx + 1)]
+    out.append("supports:")
+    out += [f"  g{node(i, j, 0)}: {{type: rigid, at: {node(i, j, 0)}}}"
+            for j in range(ny + 1) for i in range(nx + 1)]
+    corner = node(nx, ny, nz)
+    out += ["loads:", f"  - {{at: {corner}, link: z{corner}, wrench: [2.0e3, 1.0e3, -5.0e3, 0, 0, 0]}}",
+            "end_effectors:", f"  top_corner: {{at: {corner}, link: z{corner}}}"]
+    return out
+
+
 def rect_tube(b, h, t):
     """A, Iy, Iz, J, Asy, Asz of stiffmsa's rect_tube (b along local y, h along local z)."""
     bi, hi = b - 2 * t, h - 2 * t
@@ -135,6 +165,8 @@ def main(argv):
         lines = chain(int(argv[2]))
     elif len(argv) == 5 and argv[1] == "frame":
         lines = frame(*(int(a) for a in argv[2:]))
+    elif len(argv) == 5 and argv[1] == "lattice":
+        lines = lattice(*(int(a) for a in argv[2:]))
     elif len(argv) in (5, 6) and argv[1] == "frame3dd" and argv[5:] in ([], ["mm"]):
         lines = frame3dd(*(int(a) for a in argv[2:5]), mm=len(argv) == 6)
     else:

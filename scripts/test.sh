@@ -11,6 +11,8 @@ source scripts/build-cache.sh
 cmake -S . -B build -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Release -DSTIFFMSA_WITH_MPI=ON -DSTIFFMSA_WITH_HDF5=ON
 cmake --build build -j2
 ctest --test-dir build --output-on-failure
+# The installed CMake package from a separate project (tests/consumer; docs/library.md).
+bash scripts/test-install.sh build
 
 # The Python package, installed as the README shows (offline: Debian's build tools, no index),
 # and its tests against the command just built. pytest's exit code 5 (no tests ran) fails too.

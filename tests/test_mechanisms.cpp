@@ -196,7 +196,7 @@ TEST(MechanismCulprits, MotionThatNoEndEffectorStopsIsRefusedUnloaded) {
   EXPECT_EQ(error.details()[0],
             "free motion 1: passive joint 'wrist_3_joint' (revolute at wrist_3) lets it happen; it moves link "
             "'flange'; it moves no end effector (an idle motion: accept it with `options: {accept_idle_motions: "
-            "true}` in the model or --accept-idle-motions)")
+            "true}` in the model or SolveOptions::accept_idle_motions)")
       << error.what();
 
   auto& wrist = model.joints.back().connection;
@@ -207,7 +207,7 @@ TEST(MechanismCulprits, MotionThatNoEndEffectorStopsIsRefusedUnloaded) {
   EXPECT_EQ(three.details()[0],
             "free motions 1, 2 and 3: passive joint 'wrist_3_joint' (spherical at wrist_3) lets them happen; they "
             "move link 'flange'; they move no end effector (idle motions: accept them with `options: "
-            "{accept_idle_motions: true}` in the model or --accept-idle-motions)")
+            "{accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)")
       << three.what();
 }
 

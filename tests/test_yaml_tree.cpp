@@ -196,7 +196,7 @@ TEST(YamlTree, NestingBeyondTheLimitIsRefusedWhereItBegins) {
   EXPECT_EQ(d.location.line, 2);
   EXPECT_EQ(d.location.column, 7);  // the second `[`, the fourth level
   EXPECT_NE(d.message.find("the limit of 3 levels"), std::string::npos) << d.message;
-  EXPECT_NE(d.message.find("--max-depth"), std::string::npos) << d.message;
+  EXPECT_NE(d.message.find("(LoadLimits::max_nesting_depth)"), std::string::npos) << d.message;
 }
 
 TEST(YamlTree, HostileNestingIsRefusedWithoutRecursion) {

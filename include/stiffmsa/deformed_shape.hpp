@@ -1,9 +1,17 @@
 #pragma once
 // The deformed shape between a link's ends, from the deflections a solve gives at the ends: what
 // the viewer draws and the VTK file carries along each link.
+#include <memory>
+#include <optional>
+#include <string_view>
+
 #include "stiffmsa/model.hpp"
 
 namespace stiffmsa {
+
+namespace detail {
+class ModelIndex;
+}
 
 // The small motion of one point of a link's centre line: displacement and rotation (global).
 struct CentreLineMotion {
@@ -23,5 +31,25 @@ CentreLineMotion centre_line_motion(bool bends, const Vec3& from, const Vec3& to
 
 // Whether a link kind bends along its length (beams) or is drawn as a chord between its ends.
 bool bends(const LinkKind& kind);
+
+// Where a model's parts are drawn: the position in `model.points` of the point at each link end
+// and of each named point, by the rule the analyses use (a repeated name finds the first point
+// bearing it). Refers to the model, which must outlive it.
+class ModelPoints {
+ public:
+  explicit ModelPoints(const Model& model);
+  ~ModelPoints();
+  ModelPoints(const ModelPoints&) = delete;
+  ModelPoints& operator=(const ModelPoints&) = delete;
+  int of_link_end(std::size_t link, LinkEnd end) const;  // −1 where the link names no point
+  int of_name(std::string_view point) const;              // −1 where no point bears the name
+
+ private:
+  std::unique_ptr<const detail::ModelIndex> index_;
+};
+
+// A beam's local y axis in global axes, where its section's width b lies
+// (docs/model-format.md): from the beam's ends and its optional reference vector `zref`.
+Vec3 beam_y_axis(const Vec3& from, const Vec3& to, const std::optional<Vec3>& zref);
 
 }  // namespace stiffmsa

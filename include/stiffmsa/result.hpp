@@ -10,12 +10,6 @@
 
 namespace stiffmsa {
 
-struct SystemSize {
-  long unknowns = 0;
-  long equations = 0;
-  long nonzeros = 0;
-};
-
 struct LinkEndResult {
   std::optional<Vec6> deflection;  // Δt = [Δp; Δφ]
   std::optional<Vec6> wrench;      // W applied to the link at this end

@@ -28,4 +28,11 @@ inline Mat6 rigid_transport(const Vec3& d) {
   return D;
 }
 
+// The size of a model's mixed system (the assembly's, reported by check() and in results).
+struct SystemSize {
+  long unknowns = 0;
+  long equations = 0;
+  long nonzeros = 0;
+};
+
 }  // namespace stiffmsa

@@ -1,5 +1,8 @@
 #include "stiffmsa/deformed_shape.hpp"
 
+#include "elements/beam_element.hpp"
+#include "model/link_ends.hpp"
+
 namespace stiffmsa {
 
 CentreLineMotion centre_line_motion(bool bends, const Vec3& from, const Vec3& to, const Vec6& from_deflection,
@@ -32,5 +35,18 @@ CentreLineMotion centre_line_motion(bool bends, const Vec3& from, const Vec3& to
 }
 
 bool bends(const LinkKind& kind) { return std::holds_alternative<BeamLink>(kind); }
+
+ModelPoints::ModelPoints(const Model& model) : index_(std::make_unique<const detail::ModelIndex>(model)) {}
+ModelPoints::~ModelPoints() = default;
+
+int ModelPoints::of_link_end(std::size_t link, LinkEnd end) const {
+  return index_->point_of_end(detail::LinkEndRef{static_cast<int>(link), end}.id());
+}
+
+int ModelPoints::of_name(std::string_view point) const { return index_->point_position(point); }
+
+Vec3 beam_y_axis(const Vec3& from, const Vec3& to, const std::optional<Vec3>& zref) {
+  return detail::link_axes(from, to, zref).row(1).transpose();
+}
 
 }  // namespace stiffmsa

@@ -36,9 +36,9 @@ std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix);
 // How the description of a free motion that moves no end effector tells the user to accept
 // it; a solve that has accepted it says so instead.
 inline constexpr std::string_view kAcceptIdleMotionHint =
-    "(an idle motion: accept it with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
+    "(an idle motion: accept it with `options: {accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)";
 inline constexpr std::string_view kAcceptIdleMotionsHint =
-    "(idle motions: accept them with `options: {accept_idle_motions: true}` in the model or --accept-idle-motions)";
+    "(idle motions: accept them with `options: {accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)";
 inline constexpr std::string_view kAcceptedIdleMotionTag = "(an idle motion, accepted)";
 inline constexpr std::string_view kAcceptedIdleMotionsTag = "(idle motions, accepted)";
 

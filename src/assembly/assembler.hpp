@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "assembly/topology.hpp"
-#include "stiffmsa/result.hpp"
+#include "stiffmsa/types.hpp"
 
 namespace stiffmsa::detail {
 

@@ -1486,8 +1486,8 @@ std::string byte_count(std::uintmax_t bytes) {
 [[noreturn]] void throw_too_large(const std::string& file, const std::string& size_and_limit) {
   throw InputError({file, 0, 0}, "",
                    "the model file is " + size_and_limit +
-                       "; if the model is meant to be this large, raise the limit with "
-                       "--max-file-size BYTES (LoadLimits::max_file_bytes)");
+                       "; if the model is meant to be this large, raise the limit "
+                       "(LoadLimits::max_file_bytes)");
 }
 
 void require_size_within(std::uintmax_t bytes, const std::string& file, const LoadLimits& limits) {
@@ -1648,7 +1648,7 @@ void require_entity_counts_within(const YamlNode& root, const std::string& file,
                         "the model has " + std::to_string(count) + " " + kind +
                             ", above the limit of " + std::to_string(limits.max_entities) +
                             " of each kind; if the model is meant to be this large, raise the "
-                            "limit with --max-entities N (LoadLimits::max_entities)"});
+                            "limit (LoadLimits::max_entities)"});
   }
   if (!too_many.empty()) throw InputError(std::move(too_many));
 }

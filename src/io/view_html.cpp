@@ -6,10 +6,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "elements/beam_element.hpp"
 #include "io/view_assets.hpp"
 #include "io/view_page.hpp"
-#include "model/link_ends.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/deformed_shape.hpp"
 #include "stiffmsa/io/result_file.hpp"
@@ -77,14 +75,14 @@ std::vector<float> drawn_axes(const Kinematics& k) {
 }
 
 template <typename Connected>
-json connections_json(const std::vector<Connected>& items, const detail::ModelIndex& index) {
+json connections_json(const std::vector<Connected>& items, const ModelPoints& index) {
   json names = json::array(), types = json::array();
   std::vector<std::int32_t> at, role;
   std::vector<float> axes;
   for (const Connected& item : items) {
     names.push_back(item.name);
     types.push_back(to_string(item.connection.kinematics.type));
-    at.push_back(index.point_position(item.at));
+    at.push_back(index.of_name(item.at));
     role.push_back(role_code(item.connection));
     const auto a = drawn_axes(item.connection.kinematics);
     axes.insert(axes.end(), a.begin(), a.end());
@@ -109,7 +107,7 @@ const std::optional<Vec6>& end_deflection(const LinkResult& link, LinkEnd end) {
   return end == LinkEnd::from ? link.from.deflection : link.to.deflection;
 }
 
-json deformed_json(const Model& model, const Result* result, const detail::ModelIndex& index,
+json deformed_json(const Model& model, const Result* result, const ModelPoints& index,
                    const ModelViewOptions& options, double size) {
   json deformed = {{"solved", result != nullptr}, {"message", options.not_solved}};
   if (!result) return deformed;
@@ -126,7 +124,7 @@ json deformed_json(const Model& model, const Result* result, const detail::Model
     const LinkResult& solved = i < result->links.size() ? result->links[i] : unsolved;
     const auto& from = end_deflection(solved, LinkEnd::from);
     const auto& to = end_deflection(solved, LinkEnd::to);
-    const int from_point = index.point_of_end(2 * static_cast<int>(i)), to_point = index.point_of_end(2 * static_cast<int>(i) + 1);
+    const int from_point = index.of_link_end(i, LinkEnd::from), to_point = index.of_link_end(i, LinkEnd::to);
     known[i] = from && to && from_point >= 0 && to_point >= 0;
     for (int s = 0; s <= segments; ++s) {
       Vec3 d = Vec3::Zero();
@@ -151,11 +149,11 @@ json deformed_json(const Model& model, const Result* result, const detail::Model
   return deformed;
 }
 
-json end_effectors_json(const Model& model, const Result* result, const detail::ModelIndex& index) {
+json end_effectors_json(const Model& model, const Result* result, const ModelPoints& index) {
   json list = json::array();
   for (std::size_t i = 0; i < model.end_effectors.size(); ++i) {
     const EndEffector& effector = model.end_effectors[i];
-    json entry = {{"name", effector.name}, {"at", index.point_position(effector.at)}, {"link", nullptr}};
+    json entry = {{"name", effector.name}, {"at", index.of_name(effector.at)}, {"link", nullptr}};
     if (result && i < result->end_effectors.size()) {
       const EndEffectorResult& solved = result->end_effectors[i];
       entry["link"] = solved.link;
@@ -178,7 +176,7 @@ json end_effectors_json(const Model& model, const Result* result, const detail::
 }
 
 json model_json(const Model& model, const Result* result, const ModelViewOptions& options) {
-  const detail::ModelIndex index(model);
+  const ModelPoints index(model);
   const double size = model_size(model);
 
   json point_names = json::array();
@@ -195,7 +193,7 @@ json model_json(const Model& model, const Result* result, const ModelViewOptions
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     const Link& link = model.links[i];
     link_names.push_back(link.name);
-    const int from = index.point_of_end(2 * static_cast<int>(i)), to = index.point_of_end(2 * static_cast<int>(i) + 1);
+    const int from = index.of_link_end(i, LinkEnd::from), to = index.of_link_end(i, LinkEnd::to);
     ends.push_back(from);
     ends.push_back(to);
     kinds.push_back(link_kind_code(link.kind));
@@ -205,7 +203,7 @@ json model_json(const Model& model, const Result* result, const ModelViewOptions
       drawn = drawn_section(beam->section);
       const Vec3& a = model.points[static_cast<std::size_t>(from)].position;
       const Vec3& b = model.points[static_cast<std::size_t>(to)].position;
-      if ((b - a).norm() > 0) y_axis = detail::link_axes(a, b, beam->zref).row(1).transpose();
+      if ((b - a).norm() > 0) y_axis = beam_y_axis(a, b, beam->zref);
     }
     sections.insert(sections.end(), {float(drawn.width), float(drawn.height), drawn.round ? 1.0f : 0.0f});
     const auto f = to_floats(y_axis);
@@ -214,7 +212,7 @@ json model_json(const Model& model, const Result* result, const ModelViewOptions
 
   json loads = json::array();
   for (const Load& load : model.loads) {
-    loads.push_back({{"at", index.point_position(load.at)},
+    loads.push_back({{"at", index.of_name(load.at)},
                      {"force", vector_json(load.wrench.head<3>())},
                      {"moment", vector_json(load.wrench.tail<3>())}});
   }

@@ -3,7 +3,6 @@
 
 #include <cstdio>
 
-#include "model/link_ends.hpp"
 #include "stiffmsa/deformed_shape.hpp"
 #include "stiffmsa/io/result_file.hpp"
 #include "stiffmsa/number_text.hpp"
@@ -50,7 +49,7 @@ void append_array(std::string& out, const DataArray& array) {
 }  // namespace
 
 std::string vtu_text(const Model& model, const Result& result, int beam_segments) {
-  const detail::ModelIndex index(model);
+  const ModelPoints index(model);
   DataArray points{"Points", "Float64", 3, {}}, displacement{"displacement", "Float64", 3, {}},
       rotation{"rotation", "Float64", 3, {}}, point_determined{"determined", "Int32", 1, {}};
   DataArray connectivity{"connectivity", "Int32", 1, {}}, offsets{"offsets", "Int32", 1, {}},
@@ -61,8 +60,8 @@ std::string vtu_text(const Model& model, const Result& result, int beam_segments
   long point_count = 0, cell_count = 0;
   static const LinkResult unsolved;
   for (std::size_t i = 0; i < model.links.size(); ++i) {
-    const int from_point = index.point_of_end(2 * static_cast<int>(i));
-    const int to_point = index.point_of_end(2 * static_cast<int>(i) + 1);
+    const int from_point = index.of_link_end(i, LinkEnd::from);
+    const int to_point = index.of_link_end(i, LinkEnd::to);
     if (from_point < 0 || to_point < 0) continue;
     const Vec3& from = model.points[static_cast<std::size_t>(from_point)].position;
     const Vec3& to = model.points[static_cast<std::size_t>(to_point)].position;

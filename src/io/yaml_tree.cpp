@@ -20,8 +20,7 @@ namespace stiffmsa::detail {
 std::string nesting_too_deep_message(int max_depth, int deepest) {
   return "mappings and lists nest deeper here than the limit of " + std::to_string(max_depth) +
          " levels" + (deepest > 0 ? " (the file reaches " + std::to_string(deepest) + ")" : "") +
-         "; if the model is meant to nest this deep, raise the limit with --max-depth N "
-         "(LoadLimits::max_nesting_depth)";
+         "; if the model is meant to nest this deep, raise the limit (LoadLimits::max_nesting_depth)";
 }
 
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "assembly/assembler.hpp"
-#include "stiffmsa/analysis.hpp"
+#include "stiffmsa/solver_kind.hpp"
 #include "tolerances.hpp"
 
 namespace stiffmsa::detail {

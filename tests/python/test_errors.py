@@ -40,10 +40,26 @@ def test_invalid_model_raises_input_error_with_its_diagnostics(file, cli):
     for d in diagnostics:
         assert d.file == str(path)
         assert d.message
-    # The command prints the same diagnostics, one per line.
+    # The command prints the same diagnostics, one per line, naming its flags where the library
+    # names its options.
     stderr = run_cli(cli, "solve", path, check=False).stderr
     assert [line for line in stderr.splitlines() if line.startswith("stiffmsa: error: ")] == [
-        f"stiffmsa: error: {d}" for d in diagnostics]
+        f"stiffmsa: error: {with_flag_hints(str(d))}" for d in diagnostics]
+
+
+# The library's options and the command's flags for them, as the command prints them.
+FLAG_OF_OPTION = {
+    "(LoadLimits::max_file_bytes)": "with --max-file-size BYTES",
+    "(LoadLimits::max_nesting_depth)": "with --max-depth N",
+    "(LoadLimits::max_entities)": "with --max-entities N",
+    "SolveOptions::accept_idle_motions": "--accept-idle-motions",
+}
+
+
+def with_flag_hints(message):
+    for option, flag in FLAG_OF_OPTION.items():
+        message = message.replace(option, flag)
+    return message
 
 
 def test_errors_are_stiffmsa_errors():
