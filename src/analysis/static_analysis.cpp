@@ -192,8 +192,12 @@ struct Problem {
 
   Problem(const Problem&) = delete;
   Problem& operator=(const Problem&) = delete;
+  // A model of more blocks than this (a long chain, a large frame) does not keep a second set
+  // in its workspace between solves, as its tree solve's large buffers are not kept either: a
+  // robot's blocks are tens, kept to be refilled by its next pose.
+  static constexpr std::size_t kMostKeptBlocks = 4096;
   ~Problem() {
-    if (!blocks_are_the_reference) ws.pose_blocks = std::move(blocks);
+    if (!blocks_are_the_reference && blocks.size() <= kMostKeptBlocks) ws.pose_blocks = std::move(blocks);
   }
 
   VecX load_rhs() const {
