@@ -330,9 +330,10 @@ struct TreeFixture {
     reset_low();
   }
   void reset_low() { low.setConstant(compensated ? 0.0 : std::nan("")); }
+  RowMajorMatX increment;  // the passes' scratch
   // The unknowns the passes mean: both parts where compensated.
   RowMajorMatX solution() const { return compensated ? RowMajorMatX(x + low) : x; }
-  TreeState state() { return TreeState(x, low, external, compensated); }
+  TreeState state() { return TreeState(x, low, external, compensated, increment); }
   // Both passes of `block` toward `toward_root`, then the residual of its rows. What they hand
   // on starts as NaN in both parts (the solve does not zero its unknowns): W at `toward_root`,
   // and Δt at the link's other end (no `held` ends) or at the group's other ends.

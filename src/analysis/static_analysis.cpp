@@ -72,6 +72,8 @@ struct Workspace::Impl {
   std::optional<std::uint64_t> block_pattern;
   // The tree solve's buffers, kept from one pose to the next.
   detail::TreeScratch tree_scratch;
+  // The blocks of the pose solved last, refilled with the next pose's numbers (refill_blocks).
+  detail::Blocks pose_blocks;
   // Where the model is no tree but a frame (every link flexible, every connection a weld), `auto`
   // solves the condensed displacement system first (solver/frame_solver.hpp).
   std::optional<detail::FramePlan> frame;
@@ -175,7 +177,8 @@ struct Problem {
       ws.recorded_blocks.clear();
       blocks_are_the_reference = true;
     } else {
-      blocks = detail::make_blocks(model, ws.topology, ws.spin_locks);
+      blocks = std::move(ws.pose_blocks);
+      detail::refill_blocks(model, ws.topology, ws.spin_locks, blocks);
     }
     external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
     for (std::size_t i = 0; i < model.loads.size(); ++i) {
@@ -186,6 +189,16 @@ struct Problem {
       loaded |= j.connection.preload && !j.connection.preload->isZero(0);
     for (const auto& s : model.supports)
       loaded |= s.connection.preload && !s.connection.preload->isZero(0);
+  }
+
+  Problem(const Problem&) = delete;
+  Problem& operator=(const Problem&) = delete;
+  // A model of more blocks than this (a long chain, a large frame) does not keep a second set
+  // in its workspace between solves, as its tree solve's large buffers are not kept either: a
+  // robot's blocks are tens, kept to be refilled by its next pose.
+  static constexpr std::size_t kMostKeptBlocks = 4096;
+  ~Problem() {
+    if (!blocks_are_the_reference && blocks.size() <= kMostKeptBlocks) ws.pose_blocks = std::move(blocks);
   }
 
   VecX load_rhs() const {
@@ -273,6 +286,10 @@ double equilibrium_error(const Problem& problem, const Result& result) {
 Result empty_result(const Model& model, const Workspace::Impl& ws) {
   Result result;
   result.model = model.name;
+  result.links.reserve(model.links.size());
+  result.joints.reserve(model.joints.size());
+  result.supports.reserve(model.supports.size());
+  result.end_effectors.reserve(model.end_effectors.size());
   for (const auto& l : model.links) result.links.push_back({l.name, {}, {}});
   for (const auto& j : model.joints) {
     JointResult joint;
@@ -388,7 +405,8 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
     detail::TreeScratch& scratch;
     ~Release() { scratch.release_large(); }
   } release{scratch};
-  const detail::EndWrenches external = detail::load_cases(problem.model, t);
+  detail::EndWrenches& external = scratch.load_case_wrenches;
+  detail::load_cases_into(problem.model, t, external);
   const char* solver = nullptr;
   double reciprocal_condition = 0;  // of what was factorised: nothing on the tree
   if (kind == BlockSolve::tree) {

@@ -66,5 +66,10 @@ std::vector<SpinLock> find_spin_locks(const Model& model, const Topology& topolo
 // the ball joints that `locks` name hold their rod's spin.
 std::vector<std::unique_ptr<ElementBlock>> make_blocks(const Model& model, const Topology& topology,
                                                        const std::vector<SpinLock>& locks = {});
+// The same blocks written into `blocks`: those already of the right kind (another pose's of
+// this topology) are refilled with the model's numbers and keep their buffers, so that a pose
+// allocates no block; the others are made.
+void refill_blocks(const Model& model, const Topology& topology, const std::vector<SpinLock>& locks,
+                   std::vector<std::unique_ptr<ElementBlock>>& blocks);
 
 }  // namespace stiffmsa::detail

@@ -9,6 +9,16 @@
 
 namespace stiffmsa::detail {
 
+// `kept` becomes a copy of *kinematics, or nothing where it is null (its buffers kept).
+inline void from_kinematics(const Kinematics* kinematics, std::optional<Kinematics>& kept) {
+  if (!kinematics)
+    kept.reset();
+  else if (kept)
+    *kept = *kinematics;
+  else
+    kept.emplace(*kinematics);
+}
+
 // A rigid or passive joint over m >= 2 link ends (paper eqs. 4–8); rigid is p = 0, and so is a
 // locked actuator. 6m equations:
 //   Λ_r·(Δt_1 − Δt_k) = 0, k = 2..m                     r(m−1)
@@ -18,12 +28,16 @@ class ConstraintJointBlock final : public ElementBlock {
  public:
   ConstraintJointBlock(std::vector<int> ends, FreeDirections directions,
                        std::optional<VecX> preload);
+  // Another pose's numbers in place, the ends kept: a workspace's blocks keep their buffers.
+  void refill(const FreeDirections& directions, const std::optional<VecX>& preload);
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
+  const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
+  void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
   // A passive joint is cut: each end beyond the root's takes its free motion q_k (p unknowns)
   // as given, and leaves its Λ_p·W_k rows.
   bool passes_tree() const override { return true; }
@@ -38,6 +52,7 @@ class ConstraintJointBlock final : public ElementBlock {
   std::vector<int> ends_;
   FreeDirections directions_;
   std::optional<VecX> preload_;
+  std::optional<Kinematics> kinematics_;
 };
 
 // An elastic joint between two link ends (paper eqs. 9–11, spring sign per theory-notes):
@@ -48,12 +63,15 @@ class ElasticJointBlock final : public ElementBlock {
  public:
   ElasticJointBlock(int end_1, int end_2, FreeDirections directions, const MatX& stiffness,
                     std::optional<VecX> preload);
+  void refill(const FreeDirections& directions, const MatX& stiffness, const std::optional<VecX>& preload);
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
+  const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
+  void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
   bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
   void pass_deflection_from_root(int toward_root, TreeState& state) const override;
@@ -61,6 +79,7 @@ class ElasticJointBlock final : public ElementBlock {
  private:
   int end_1_, end_2_;
   FreeDirections directions_;
+  std::optional<Kinematics> kinematics_;
   SmallMat spring_;  // G·K·Λ_p: the same on every refill, so formed once
   std::optional<VecX> preload_;
 };
@@ -73,12 +92,16 @@ class SupportBlock final : public ElementBlock {
  public:
   SupportBlock(std::vector<int> ends, FreeDirections directions, const std::optional<MatX>& stiffness,
                std::optional<VecX> preload);
+  void refill(const FreeDirections& directions, const std::optional<MatX>& stiffness,
+              const std::optional<VecX>& preload);
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
+  const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
+  void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
   // Every support passes. At the root, a passive one is cut: its free motion (p unknowns) is
   // taken as given and its Λ_p rows are left. Any other support closes a loop through the
   // ground and is cut there: its ends are joined as one and its reaction R = Σ(W_k − W_ext,k)
@@ -96,6 +119,7 @@ class SupportBlock final : public ElementBlock {
   FreeDirections directions_;
   std::optional<SmallMat> spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
   std::optional<VecX> preload_;
+  std::optional<Kinematics> kinematics_;
 };
 
 // A link end alone at its point and named nowhere: W = W_ext.

@@ -8,6 +8,11 @@ ConstraintJointBlock::ConstraintJointBlock(std::vector<int> ends, FreeDirections
                                            std::optional<VecX> preload)
     : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {}
 
+void ConstraintJointBlock::refill(const FreeDirections& directions, const std::optional<VecX>& preload) {
+  directions_ = directions;
+  preload_ = preload;
+}
+
 void ConstraintJointBlock::write_equations(Index row, EquationWriter& out) const {
   const auto& lr = directions_.constrained();
   const auto& lp = directions_.free();

@@ -13,6 +13,13 @@ ElasticJointBlock::ElasticJointBlock(int end_1, int end_2, FreeDirections direct
       spring_(SmallMat(directions_.gram() * SmallMat(stiffness)) * directions_.free()),
       preload_(std::move(preload)) {}
 
+void ElasticJointBlock::refill(const FreeDirections& directions, const MatX& stiffness,
+                               const std::optional<VecX>& preload) {
+  directions_ = directions;
+  spring_ = SmallMat(directions_.gram() * SmallMat(stiffness)) * directions_.free();
+  preload_ = preload;
+}
+
 void ElasticJointBlock::write_equations(Index row, EquationWriter& out) const {
   const auto& lr = directions_.constrained();
   const auto& lp = directions_.free();

@@ -55,11 +55,6 @@ void TreeState::set_copy(Index target, Index source) {
   if (compensated) x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
 }
 
-void TreeState::set_value(Index target, const MatX& value) {
-  x.middleRows<6>(target) = value;
-  if (compensated) x_low.middleRows<6>(target).setZero();
-}
-
 void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root, bool with_reaction) {
   if (with_reaction)
     increment = cut(0, 6);
@@ -82,27 +77,35 @@ void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root,
     set_sum(wrench_column(toward_root), wrench_column(through), -1.0);
 }
 
-EndWrenches::EndWrenches(int end_count, Index columns)
-    : slot_(static_cast<std::size_t>(end_count), -1), zero_(MatX::Zero(6, columns)) {}
+EndWrenches::EndWrenches(int end_count, Index columns) { reset(end_count, columns); }
+
+void EndWrenches::reset(int end_count, Index columns) {
+  slot_.assign(static_cast<std::size_t>(end_count), -1);
+  used_ = 0;
+  zero_.setZero(6, columns);
+}
 
 void EndWrenches::add(int end, Index column, const Vec6& wrench) {
   int& slot = slot_[static_cast<std::size_t>(end)];
   if (slot < 0) {
-    slot = static_cast<int>(values_.size());
-    values_.push_back(zero_);
+    slot = static_cast<int>(used_++);
+    if (used_ > values_.size())
+      values_.push_back(zero_);
+    else
+      values_[used_ - 1].setZero(6, zero_.cols());
   }
   values_[static_cast<std::size_t>(slot)].col(column) += wrench;
 }
 
-EndWrenches EndWrenches::widened(Index columns) const {
-  EndWrenches wide(static_cast<int>(slot_.size()), columns);
+void EndWrenches::widen_into(Index columns, EndWrenches& wide) const {
+  wide.reset(static_cast<int>(slot_.size()), columns);
   wide.slot_ = slot_;
-  wide.values_.reserve(values_.size());
-  for (const MatX& value : values_) {
-    wide.values_.push_back(wide.zero_);
-    wide.values_.back().leftCols(value.cols()) = value;
+  wide.used_ = used_;
+  if (wide.values_.size() < used_) wide.values_.resize(used_);
+  for (std::size_t i = 0; i < used_; ++i) {
+    wide.values_[i].setZero(6, columns);
+    wide.values_[i].leftCols(values_[i].cols()) = values_[i];
   }
-  return wide;
 }
 
 const MatX& EndWrenches::at(int end) const {

@@ -10,6 +10,10 @@
 
 #include "stiffmsa/types.hpp"
 
+namespace stiffmsa {
+struct Kinematics;
+}
+
 namespace stiffmsa::detail {
 
 using Index = Eigen::Index;
@@ -80,18 +84,22 @@ inline constexpr Index kLoadCase = 0;
 // The external wrenches at the link ends, 6 × k per loaded end (k load cases).
 class EndWrenches {
  public:
-  EndWrenches(int end_count, Index columns);
+  EndWrenches(int end_count = 0, Index columns = 0);
+  // No wrench at any of `end_count` ends in `columns` columns; buffers are kept, so that the
+  // load cases of the next pose allocate nothing.
+  void reset(int end_count, Index columns);
   Index columns() const { return zero_.cols(); }
   bool any_at(int end) const { return slot_[static_cast<std::size_t>(end)] >= 0; }
   void add(int end, Index column, const Vec6& wrench);
   // 6 × k: the wrenches at `end`, zero where none is applied.
   const MatX& at(int end) const;
-  // The same wrenches with zero columns appended up to `columns`.
-  EndWrenches widened(Index columns) const;
+  // The same wrenches with zero columns appended up to `columns`, into `wide` (its buffers kept).
+  void widen_into(Index columns, EndWrenches& wide) const;
 
  private:
   std::vector<int> slot_;  // per link end: index into values_, or −1
-  std::vector<MatX> values_;
+  std::vector<MatX> values_;  // the first `used_` in use; the others kept for the next reset
+  std::size_t used_ = 0;
   MatX zero_;
 };
 
@@ -105,14 +113,18 @@ using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen
 // holds each rounded to double and x_low what the rounding left out, so that ten thousand
 // links add no more error than one; else x_low is not read or written.
 struct TreeState {
-  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, bool compensated_)
-      : x(x_), x_low(x_low_), external(external_), compensated(compensated_), increment(6, x_.cols()) {}
+  // `increment` is the caller's buffer (a workspace's, kept from pose to pose), sized here.
+  TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, bool compensated_,
+            RowMajorMatX& increment_)
+      : x(x_), x_low(x_low_), external(external_), compensated(compensated_), increment(increment_) {
+    increment.resize(6, x.cols());
+  }
 
   RowMajorMatX& x;
   RowMajorMatX& x_low;
   const EndWrenches& external;
   bool compensated;
-  RowMajorMatX increment;  // 6 × k scratch of the passes, for set_sum
+  RowMajorMatX& increment;  // 6 × k scratch of the passes, for set_sum
 
   // The values of the current block's cut unknowns (see ElementBlock::cut_unknowns), one row
   // per unknown and a column per load case; set by the solve before it calls a cut block.
@@ -127,7 +139,11 @@ struct TreeState {
   // values and the sum not rounded.
   void set_sum(Index target, Index source, double sign);
   void set_copy(Index target, Index source);  // both parts where compensated
-  void set_value(Index target, const MatX& value);  // low part zero where compensated
+  template <class Derived>  // low part zero where compensated
+  void set_value(Index target, const Eigen::MatrixBase<Derived>& value) {
+    x.middleRows<6>(target) = value;
+    if (compensated) x_low.middleRows<6>(target).setZero();
+  }
   // W at `toward_root` of link ends joined as one (a joint, or a support that is not the root)
   // from Σ W_k = Σ W_ext,k + R, as a running sum through the first of the other ends. R is a
   // support's reaction, its cut unknowns (`with_reaction`), else zero.
@@ -150,6 +166,9 @@ class ElementBlock {
   // A joint's or support's free and constrained directions in this pose (the results read them
   // back rather than recomputing them); null for other blocks.
   virtual const FreeDirections* directions() const { return nullptr; }
+  // The kinematics those directions were computed from (free_directions), where they were:
+  // a refill with the same kinematics keeps them (refill_blocks). Null for other blocks.
+  virtual const Kinematics* kinematics() const { return nullptr; }
   // A flexible link's stiffness K12 (paper eq. 1), [W_i; W_j] = K12·[Δt_i; Δt_j] in the global
   // frame, for the frame solve (solver/frame_solver.hpp); nullopt for a rigid link and for
   // connection blocks.

@@ -12,6 +12,16 @@ SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
   if (stiffness) spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
 }
 
+void SupportBlock::refill(const FreeDirections& directions, const std::optional<MatX>& stiffness,
+                          const std::optional<VecX>& preload) {
+  directions_ = directions;
+  if (stiffness)
+    spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
+  else
+    spring_.reset();
+  preload_ = preload;
+}
+
 void SupportBlock::write_equations(Index row, EquationWriter& out) const {
   const auto& lr = directions_.constrained();
   const auto& lp = directions_.free();

@@ -49,12 +49,17 @@ bool passes_tree(const Blocks& blocks) {
 }
 
 EndWrenches load_cases(const Model& model, const Topology& topology) {
-  EndWrenches cases(topology.end_count(), 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
+  EndWrenches cases;
+  load_cases_into(model, topology, cases);
+  return cases;
+}
+
+void load_cases_into(const Model& model, const Topology& topology, EndWrenches& cases) {
+  cases.reset(topology.end_count(), 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
   for (std::size_t i = 0; i < model.loads.size(); ++i)
     if (!model.loads[i].wrench.isZero(0)) cases.add(topology.load_ends[i], kLoadCase, model.loads[i].wrench);
   for (std::size_t e = 0; e < topology.effector_ends.size(); ++e)
     for (int c = 0; c < 6; ++c) cases.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
-  return cases;
 }
 
 namespace {
@@ -346,13 +351,13 @@ namespace {
 
 // Where each cut block's unknowns start, per entry of the order (blocks not cut have none).
 struct CutLayout {
-  std::vector<Index> first;
+  std::vector<Index>& first;  // a scratch buffer
   Index unknowns = 0;
 };
 
-CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& order) {
-  CutLayout layout;
-  layout.first.reserve(order.groups.size());
+CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& order, std::vector<Index>& first) {
+  CutLayout layout{first};
+  layout.first.clear();
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
     layout.first.push_back(layout.unknowns);
     layout.unknowns +=
@@ -365,11 +370,11 @@ CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& orde
 // cut); x_low is scratch, used where `compensated`.
 void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
                 const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns, bool compensated,
-                RowMajorMatX& x, RowMajorMatX& x_low) {
+                RowMajorMatX& x, RowMajorMatX& x_low, RowMajorMatX& increment) {
   // Not zeroed: the passes set every link end's rows (both parts where compensated).
   x.resize(unknowns, external.columns());
   if (compensated) x_low.resize(unknowns, external.columns());
-  TreeState state(x, x_low, external, compensated);
+  TreeState state(x, x_low, external, compensated, increment);
   state.cut_values = cut_values;
   // The group at entry k of the order, its cut unknowns made the current ones.
   auto enter_group = [&](std::size_t k) -> const ElementBlock& {
@@ -398,8 +403,11 @@ void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, co
 // the other rows' coefficients cost a comparison each.
 class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
  public:
-  CutRowResidual(const RowMajorMatX& x, RowMajorMatX& out, Index most_rows)
-      : x_(x), out_(out), target_(static_cast<std::size_t>(most_rows), -1) {}
+  // `target` is scratch.
+  CutRowResidual(const RowMajorMatX& x, RowMajorMatX& out, Index most_rows, std::vector<Index>& target)
+      : x_(x), out_(out), target_(target) {
+    target_.resize(static_cast<std::size_t>(most_rows));
+  }
   // The block's cut rows go to rows first_out, first_out + 1, … of `out`; its other rows nowhere.
   void start(const std::vector<Index>& rows, Index first_out) {
     std::fill(target_.begin(), target_.end(), -1);
@@ -418,19 +426,21 @@ class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
  private:
   const RowMajorMatX& x_;
   RowMajorMatX& out_;
-  std::vector<Index> target_;
+  std::vector<Index>& target_;
 };
 
-// b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows).
-RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                           const RowMajorMatX& x, const EndWrenches& external, Index m, TreeScratch& scratch) {
+// b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows), into
+// scratch.cut_residuals.
+void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order, const RowMajorMatX& x,
+                   const EndWrenches& external, Index m, TreeScratch& scratch) {
   const Index most_rows = most_equation_rows(blocks);
-  RowMajorMatX values = RowMajorMatX::Zero(m, x.cols());
-  CutRowResidual residual(x, values, most_rows);
+  RowMajorMatX& values = scratch.cut_residuals;
+  values.setZero(m, x.cols());
+  CutRowResidual residual(x, values, most_rows, scratch.cut_targets);
   VecX& column = scratch.column;
   RowMajorMatX& rhs = scratch.cut_rhs;
   size_rhs_buffers(column, rhs, most_rows, x.cols());
-  std::vector<Index> rows;
+  std::vector<Index>& rows = scratch.cut_rows;
   Index next = 0;
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
     const std::size_t b = static_cast<std::size_t>(topology.link_count + order.groups[k]);
@@ -445,7 +455,6 @@ RowMajorMatX cut_residuals(const Blocks& blocks, const Topology& topology, const
     next += static_cast<Index>(rows.size());
   }
   eigen_assert(next == m);
-  return values;
 }
 
 }  // namespace
@@ -456,33 +465,40 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
   const bool compensated = order.depth >= compensated_from_depth;
   const int link_count = topology.link_count;
   const Index unknowns = topology.unknowns();
-  const CutLayout layout = cut_layout(blocks, link_count, order);
+  const CutLayout layout = cut_layout(blocks, link_count, order, scratch.cut_first);
   const Index m = layout.unknowns;
   if (m == 0) {
     run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, compensated, scratch.x,
-               scratch.x_low);
+               scratch.x_low, scratch.increment);
     return 0;
   }
   if (m > most_cut_unknowns) return std::nullopt;
 
   // First run: the load cases with the cut unknowns at zero, then each cut unknown at 1 alone.
   const Index k = external.columns();
-  const EndWrenches widened = external.widened(k + m);
-  RowMajorMatX unit_values = RowMajorMatX::Zero(m, k + m);
+  EndWrenches& widened = scratch.widened;
+  external.widen_into(k + m, widened);
+  RowMajorMatX& unit_values = scratch.unit_values;
+  unit_values.setZero(m, k + m);
   unit_values.rightCols(m).setIdentity();
   RowMajorMatX& x = scratch.first_run;
   run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, compensated, x,
-             scratch.first_run_low);
+             scratch.first_run_low, scratch.increment);
 
   // The cut rows' residuals b − A·x: affine in the cut unknowns z, T_load + T_cut·z.
-  const RowMajorMatX t = cut_residuals(blocks, topology, order, x, widened, m, scratch);
+  cut_residuals(blocks, topology, order, x, widened, m, scratch);
+  const RowMajorMatX& t = scratch.cut_residuals;
   release_if_large(x);  // a long model's first run is not needed beside the second
 
   // T_cut·z = −T_load, equilibrated (rows, then columns, to a largest entry of 1) so that the
   // condition estimate does not depend on units: reactions in N beside motions in rad.
   if (!t.allFinite()) return std::nullopt;
-  MatX a = t.rightCols(m);
-  VecX row_scale(m), column_scale(m);
+  MatX& a = scratch.cut_matrix;
+  a = t.rightCols(m);
+  VecX& row_scale = scratch.row_scale;
+  VecX& column_scale = scratch.column_scale;
+  row_scale.resize(m);
+  column_scale.resize(m);
   for (Index i = 0; i < m; ++i) {
     const double largest = a.row(i).cwiseAbs().maxCoeff();
     if (!(largest > 0)) return std::nullopt;
@@ -496,18 +512,21 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
     column_scale(j) = 1 / largest;
     column *= column_scale(j);
   }
-  const Eigen::PartialPivLU<MatX> lu(a);
+  const Eigen::PartialPivLU<MatX>& lu = scratch.cut_lu.compute(a);
   if (!(lu.rcond() >= least_rcond)) return std::nullopt;
-  MatX rhs = t.leftCols(k);
+  MatX& rhs = scratch.cut_load;
+  rhs = t.leftCols(k);
   for (Index c = 0; c < k; ++c) rhs.col(c).array() *= -row_scale.array();
-  MatX z = lu.solve(rhs);
+  MatX& z = scratch.cut_solution;
+  z = lu.solve(rhs);
   for (Index c = 0; c < k; ++c) z.col(c).array() *= column_scale.array();
   if (!z.allFinite()) return std::nullopt;
 
   // Second run: the load cases with the cut unknowns solved.
-  const RowMajorMatX cut_values = z;
+  RowMajorMatX& cut_values = scratch.cut_values;
+  cut_values = z;
   run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated, scratch.x,
-             scratch.x_low);
+             scratch.x_low, scratch.increment);
   return m;
 }
 

@@ -24,6 +24,8 @@
 #include <optional>
 #include <vector>
 
+#include <Eigen/LU>
+
 #include "assembly/assembler.hpp"
 
 namespace stiffmsa::detail {
@@ -58,6 +60,8 @@ bool passes_tree(const Blocks& blocks);
 // The load cases of a solve: the model's loads in kLoadCase, then a unit wrench in each of the 6
 // directions at every end effector.
 EndWrenches load_cases(const Model& model, const Topology& topology);
+// The same into `cases`, whose buffers are kept.
+void load_cases_into(const Model& model, const Topology& topology, EndWrenches& cases);
 
 // What a tree solve and its check write, kept from one solve to the next (a workspace holds
 // one; the frame solve writes its solution to x and checks it the same way): poses of one
@@ -74,6 +78,17 @@ struct TreeScratch {
   // The check's: one block's residual and right-hand side.
   RowMajorMatX block_residual, block_rhs;
   VecX row_sums, column;
+  // The passes' 6 × k increment; the load cases of a pose.
+  RowMajorMatX increment;
+  EndWrenches load_case_wrenches;
+  // The cut solve's: its load cases widened by the cut unknowns' columns, the cut unknowns'
+  // values of each run, the cut rows' residuals and their small dense system.
+  EndWrenches widened;
+  RowMajorMatX unit_values, cut_values, cut_residuals;
+  MatX cut_matrix, cut_load, cut_solution;
+  VecX row_scale, column_scale;
+  Eigen::PartialPivLU<MatX> cut_lu;
+  std::vector<Index> cut_first, cut_rows, cut_targets;
   // Frees each buffer above 1 MiB; smaller ones are kept for the next pose.
   void release_large();
 };

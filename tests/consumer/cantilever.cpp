@@ -16,7 +16,7 @@ int main() {
   model.add_point("root", {0, 0, 0});
   model.add_point("tip", {length, 0, 0});
   model.add_beam("beam", "root", "tip", steel, stiffmsa::Section::rect(b, h));
-  model.add_support("clamp", "root", {}, stiffmsa::Connection{});
+  model.add_support("clamp", "root", {}, stiffmsa::Connection::rigid());
   model.add_end_effector("tip", "tip");
 
   const stiffmsa::Result result = stiffmsa::solve(model);
