@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "stiffmsa/number_text.hpp"
+
 namespace stiffmsa::detail {
 
 namespace {
@@ -14,7 +16,7 @@ void require_fraction(double value, const char* key, const char* what) {
   if (!(value >= 0 && value <= 1))  // also refuses NaN
     throw InputError({}, key,
                      std::string(what) + " must be a fraction of the length in [0, 1], got " +
-                         std::to_string(value));
+                         shortest_text(value));
 }
 
 // The transverse displacement and section rotation of the unloaded beam (exact for Timoshenko's
@@ -39,9 +41,9 @@ PlaneShapes plane_shapes(double xi, double phi, double L) {
   return s;
 }
 
-// One bending plane, written in the x-y plane's convention and mapped to the x-z plane by
-// s = −1 on the rotations (w' = −θy), as in beam_local_stiffness: the reactions at
-// [d1, r1, d2, r2] of the clamped beam to `plane` reactions computed with rotation r' = s·r.
+// Adds one bending plane's reactions [d1, r1, d2, r2], computed in the x-y plane's convention
+// with the rotation r' = s·r: s = −1 for the x-z plane (w' = −θy), as in beam_local_stiffness.
+// A moment doing work on r' does s times as much on r, hence s on the rotation entries.
 void put_plane(Vec12& f, int d1, int r1, int d2, int r2, double s, const std::array<double, 4>& r) {
   f(d1) += r[0];
   f(r1) += s * r[1];
