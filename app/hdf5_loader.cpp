@@ -1,5 +1,6 @@
-// stiffmsa::SweepHdf5Writer and SweepHdf5Reader for the command: forwarded to the HDF5 module, loaded when the first
-// HDF5 file is written (src/io/sweep_hdf5_module.hpp), so that the command itself links no HDF5.
+// stiffmsa::SweepHdf5Writer and SweepHdf5Reader for the command: forwarded to the HDF5 module,
+// loaded when the first HDF5 file is written (src/io/sweep_hdf5_module.hpp), so that the command
+// itself links no HDF5.
 #include "io/sweep_hdf5_module.hpp"
 #include "module_loader.hpp"
 #include "stiffmsa/errors.hpp"
@@ -11,8 +12,8 @@ namespace {
 
 const detail::Hdf5Module& hdf5_module() {
   using Entry = const detail::Hdf5Module* (*)();
-  const auto entry = reinterpret_cast<Entry>(
-      cli::module_entry(detail::kHdf5ModuleFile, detail::kHdf5ModuleEntry, "the HDF5 module (--hdf5)"));
+  const auto entry = reinterpret_cast<Entry>(cli::module_entry(
+      detail::kHdf5ModuleFile, detail::kHdf5ModuleEntry, "the HDF5 module (--hdf5)"));
   const detail::Hdf5Module* module = entry();
   if (module->rows_size != sizeof(SweepRows) || module->summary_size != sizeof(SweepSummary) ||
       module->column_size != sizeof(SweepColumn))
@@ -27,18 +28,22 @@ struct SweepHdf5Writer::File {
   void* writer;
 };
 
-SweepHdf5Writer::SweepHdf5Writer(const std::filesystem::path& target, const std::vector<std::string>& parameters,
+SweepHdf5Writer::SweepHdf5Writer(const std::filesystem::path& target,
+                                 const std::vector<std::string>& parameters,
                                  const std::vector<std::string>& parameter_units,
                                  const std::vector<SweepColumn>& columns) {
   const detail::Hdf5Module& module = hdf5_module();
-  file_ = std::make_unique<File>(File{module, module.open(target, parameters, parameter_units, columns)});
+  file_ = std::make_unique<File>(
+      File{module, module.open(target, parameters, parameter_units, columns)});
 }
 
 SweepHdf5Writer::~SweepHdf5Writer() {
   if (file_) file_->module.close(file_->writer);
 }
 
-const std::filesystem::path& SweepHdf5Writer::temporary_path() const { return file_->module.temporary_path(file_->writer); }
+const std::filesystem::path& SweepHdf5Writer::temporary_path() const {
+  return file_->module.temporary_path(file_->writer);
+}
 
 void SweepHdf5Writer::append(const SweepRows& rows) { file_->module.append(file_->writer, rows); }
 
@@ -51,7 +56,8 @@ struct SweepHdf5Reader::File {
   void* reader;
 };
 
-SweepHdf5Reader::SweepHdf5Reader(const std::filesystem::path& file, const std::vector<std::string>& parameters,
+SweepHdf5Reader::SweepHdf5Reader(const std::filesystem::path& file,
+                                 const std::vector<std::string>& parameters,
                                  const std::vector<SweepColumn>& columns) {
   const detail::Hdf5Module& module = hdf5_module();
   file_ = std::make_unique<File>(File{module, module.open_reader(file, parameters, columns)});

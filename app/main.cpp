@@ -10,9 +10,9 @@
 #include <string>
 #include <system_error>
 
+#include "merge_command.hpp"
 #include "stiffmsa/config.hpp"
 #include "stiffmsa/stiffmsa.hpp"
-#include "merge_command.hpp"
 #include "summary.hpp"
 #include "sweep_command.hpp"
 #include "view_command.hpp"
@@ -47,7 +47,8 @@ void refuse_to_overwrite_model(const fs::path& model_file, const fs::path& json_
   }
 }
 
-SolveOptions solve_options(const std::string& solver, bool accept_idle_motions, const std::string& direction) {
+SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
+                           const std::string& direction) {
   SolveOptions options;
   if (!direction.empty()) options.direction = parse_direction(direction);
   // CLI11 has already checked the name against the list of solvers.
@@ -69,19 +70,23 @@ int run_solve(const SolveCommand& command) {
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
   if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
-  const SolveOptions options = solve_options(command.solver, command.accept_idle_motions, command.direction);
+  const SolveOptions options =
+      solve_options(command.solver, command.accept_idle_motions, command.direction);
   // Without --set the file is read once, as any model; with it, as a family.
   const Model model = [&] {
     if (command.settings.empty()) return load_model(command.model_file, command.limits);
-    const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+    const ModelFamily family =
+        load_model_family(command.model_file, command.limits, parse_settings(command.settings));
     return family.build(family.default_values());
   }();
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
-  const auto vtk_files = command.vtk_file.empty() ? std::vector<fs::path>{} : write_vtk(model, result, command.vtk_file);
+  const auto vtk_files = command.vtk_file.empty() ? std::vector<fs::path>{}
+                                                  : write_vtk(model, result, command.vtk_file);
   print_solve_summary(std::cout, result, json_file);
-  for (const fs::path& file : vtk_files) std::cout << "ParaView file written to " << file.string() << '\n';
+  for (const fs::path& file : vtk_files)
+    std::cout << "ParaView file written to " << file.string() << '\n';
   return exit_success;
 }
 
@@ -94,14 +99,16 @@ struct ExpandCommand {
 };
 
 int run_expand(const ExpandCommand& command) {
-  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+  const ModelFamily family =
+      load_model_family(command.model_file, command.limits, parse_settings(command.settings));
   const Model model = family.build(family.default_values());
   if (command.output_file.empty()) {
     std::cout << model_to_yaml(model);
     return exit_success;
   }
   if (same_file(command.model_file, command.output_file))
-    throw UsageError("the output file '" + command.output_file + "' is the model file; choose another name for --output");
+    throw UsageError("the output file '" + command.output_file +
+                     "' is the model file; choose another name for --output");
   write_model_file(model, command.output_file);
   return exit_success;
 }
@@ -128,8 +135,10 @@ const CLI::Validator at_least_one(
 void add_solver_option(CLI::App& command, std::string& solver) {
   command
       .add_option("--solver", solver,
-                  "auto (tree-shaped models without factorising, parallel robots among them through a small "
-                  "dense system for their cuts; else klu, or sparse_lu where klu would fill in), or a sparse LU: "
+                  "auto (tree-shaped models without factorising, parallel robots among them "
+                  "through a small "
+                  "dense system for their cuts; else klu, or sparse_lu where klu would fill in), "
+                  "or a sparse LU: "
                   "sparse_lu, umfpack, klu")
       ->check(CLI::IsMember({"auto", "sparse_lu", "umfpack", "klu"}))
       ->capture_default_str();
@@ -166,16 +175,18 @@ int run(int argc, char** argv) {
       app.add_subcommand("solve", "Solve a model and print the stiffness of its end effectors");
   solve_app->add_option("MODEL", solve_command.model_file, "Model file (YAML or JSON)")->required();
   solve_app->add_option("--json", solve_command.json_file, "Write the result file to this path");
-  solve_app->add_option("--vtk", solve_command.vtk_file,
-                        "Write a ParaView file: OUT.vtu, or OUT.pvd with a .vtu per load case beside it");
+  solve_app->add_option(
+      "--vtk", solve_command.vtk_file,
+      "Write a ParaView file: OUT.vtu, or OUT.pvd with a .vtu per load case beside it");
   add_solver_option(*solve_app, solve_command.solver);
   solve_app->add_flag("--accept-idle-motions", solve_command.accept_idle_motions,
                       "Solve despite free motions that move no end effector (the spin of a "
                       "leg about its own axis); as `options: {accept_idle_motions: true}`");
   solve_app->add_option("--set", solve_command.settings,
                         "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
-  solve_app->add_option("--direction", solve_command.direction,
-                        "Also the stiffness along this direction, X,Y,Z in global axes (any length), e.g. 0,0,1");
+  solve_app->add_option(
+      "--direction", solve_command.direction,
+      "Also the stiffness along this direction, X,Y,Z in global axes (any length), e.g. 0,0,1");
   add_limit_options(*solve_app, solve_command.limits);
 
   CheckCommand check_command;
@@ -189,39 +200,53 @@ int run(int argc, char** argv) {
   bool sweep_accept_idle_motions = false;
   std::string sweep_direction;
   CLI::App* sweep_app = app.add_subcommand(
-      "sweep", "Solve a parametric model over a grid or a list of poses and write one CSV row per pose");
-  sweep_app->add_option("MODEL", sweep_command.model_file, "Model file with `parameters:`")->required();
+      "sweep",
+      "Solve a parametric model over a grid or a list of poses and write one CSV row per pose");
+  sweep_app->add_option("MODEL", sweep_command.model_file, "Model file with `parameters:`")
+      ->required();
   sweep_app->add_option("--csv", sweep_command.csv_file, "Write the rows to this CSV file");
-  sweep_app->add_option("--hdf5", sweep_command.hdf5_file, "Write the rows to this HDF5 file (beside or instead of --csv)");
-  sweep_app->add_option("--shard", sweep_command.shard,
-                        "Solve only the K-th of N equal parts of the poses, K/N (join them with `stiffmsa merge`)");
-  sweep_app->add_option("--block", sweep_command.block, "Poses solved and written at a time (memory, MPI balance)")
+  sweep_app->add_option("--hdf5", sweep_command.hdf5_file,
+                        "Write the rows to this HDF5 file (beside or instead of --csv)");
+  sweep_app->add_option(
+      "--shard", sweep_command.shard,
+      "Solve only the K-th of N equal parts of the poses, K/N (join them with `stiffmsa merge`)");
+  sweep_app
+      ->add_option("--block", sweep_command.block,
+                   "Poses solved and written at a time (memory, MPI balance)")
       ->check(at_least_one)
       ->capture_default_str();
-  sweep_app->add_option("--grid", sweep_command.grids,
-                        "A swept parameter: NAME=START:STOP:COUNT, both ends included (repeatable; the first "
-                        "varies fastest)");
-  sweep_app->add_option("--poses", sweep_command.poses_file,
-                        "A CSV whose header names parameters and whose rows are poses (instead of --grid)");
-  sweep_app->add_option("--set", sweep_command.settings,
-                        "A parameter held at another value than its default, NAME=VALUE (repeatable)");
-  sweep_app->add_flag("--full", sweep_command.full, "Also write the 36 compliance and 36 stiffness entries per end effector");
+  sweep_app->add_option(
+      "--grid", sweep_command.grids,
+      "A swept parameter: NAME=START:STOP:COUNT, both ends included (repeatable; the first "
+      "varies fastest)");
+  sweep_app->add_option(
+      "--poses", sweep_command.poses_file,
+      "A CSV whose header names parameters and whose rows are poses (instead of --grid)");
+  sweep_app->add_option(
+      "--set", sweep_command.settings,
+      "A parameter held at another value than its default, NAME=VALUE (repeatable)");
+  sweep_app->add_flag("--full", sweep_command.full,
+                      "Also write the 36 compliance and 36 stiffness entries per end effector");
   sweep_app->add_flag("--plot", sweep_command.plot,
                       "Draw PNG and SVG maps (2-D grid) or line plots (1-D grid) beside the CSV");
   sweep_app->add_flag("--view", sweep_command.view,
-                      "Write an HTML map beside the CSV: the pose under the mouse with its values (and ellipsoids with --full)");
-  sweep_app->add_option("--plot-column", sweep_command.plot_columns,
-                        "A column to plot (repeatable); default: E.k_trans_min and E.deflection_trans of "
-                        "every end effector E");
+                      "Write an HTML map beside the CSV: the pose under the mouse with its values "
+                      "(and ellipsoids with --full)");
+  sweep_app->add_option(
+      "--plot-column", sweep_command.plot_columns,
+      "A column to plot (repeatable); default: E.k_trans_min and E.deflection_trans of "
+      "every end effector E");
   sweep_app->add_option("--summary", sweep_command.summary_file,
                         "Write the JSON summary here (default: beside the CSV, NAME.summary.json)");
-  sweep_app->add_option("--threads", sweep_command.threads, "Threads to use (default: every core)")->check(at_least_one);
+  sweep_app->add_option("--threads", sweep_command.threads, "Threads to use (default: every core)")
+      ->check(at_least_one);
   sweep_app->add_flag("--quiet", sweep_command.quiet, "No progress bar");
   add_solver_option(*sweep_app, sweep_solver);
   sweep_app->add_flag("--accept-idle-motions", sweep_accept_idle_motions,
                       "Solve despite free motions that move no end effector");
-  sweep_app->add_option("--direction", sweep_direction,
-                        "Add the columns E.k_trans_dir and E.k_rot_dir: the stiffness along X,Y,Z (global axes)");
+  sweep_app->add_option(
+      "--direction", sweep_direction,
+      "Add the columns E.k_trans_dir and E.k_rot_dir: the stiffness along X,Y,Z (global axes)");
   add_limit_options(*sweep_app, sweep_command.limits);
 
   ViewCommand view_command;
@@ -232,11 +257,15 @@ int run(int argc, char** argv) {
   view_app->add_flag("--accept-idle-motions", view_accept_idle_motions, "As for solve");
   add_limit_options(*view_app, view_command.limits);
   ExpandCommand expand_command;
-  CLI::App* expand_app = app.add_subcommand(
-      "expand", "Write the plain model (format stiffmsa/1) that a robot block or parameters make at one pose");
-  expand_app->add_option("MODEL", expand_command.model_file, "Model file (YAML or JSON)")->required();
-  expand_app->add_option("-o,--output", expand_command.output_file, "Write the model here (default: standard output)");
-  expand_app->add_option("--set", expand_command.settings, "A parameter's value, NAME=VALUE (repeatable)");
+  CLI::App* expand_app = app.add_subcommand("expand",
+                                            "Write the plain model (format stiffmsa/1) that a "
+                                            "robot block or parameters make at one pose");
+  expand_app->add_option("MODEL", expand_command.model_file, "Model file (YAML or JSON)")
+      ->required();
+  expand_app->add_option("-o,--output", expand_command.output_file,
+                         "Write the model here (default: standard output)");
+  expand_app->add_option("--set", expand_command.settings,
+                         "A parameter's value, NAME=VALUE (repeatable)");
   add_limit_options(*expand_app, expand_command.limits);
 
   MergeCommand merge_command;

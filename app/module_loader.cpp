@@ -27,15 +27,18 @@ void* module_entry(const std::string& file_name, const char* entry, const std::s
   const fs::path command = fs::read_symlink("/proc/self/exe", error);
   const fs::path folder = error ? fs::path() : command.parent_path();
   std::string tried;
-  for (const fs::path& candidate : {folder / file_name, folder / STIFFMSA_CLI_MODULE_DIR / file_name}) {
+  for (const fs::path& candidate :
+       {folder / file_name, folder / STIFFMSA_CLI_MODULE_DIR / file_name}) {
     if (!fs::exists(candidate, error)) {
       tried += (tried.empty() ? "" : ", ") + candidate.lexically_normal().string();
       continue;
     }
     void* module = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!module) throw IoError("cannot load " + what + " (" + candidate.string() + "): " + dlerror());
+    if (!module)
+      throw IoError("cannot load " + what + " (" + candidate.string() + "): " + dlerror());
     void* function = dlsym(module, entry);
-    if (!function) throw IoError("cannot load " + what + " (" + candidate.string() + "): no entry " + entry);
+    if (!function)
+      throw IoError("cannot load " + what + " (" + candidate.string() + "): no entry " + entry);
     return loaded[file_name] = function;
   }
   throw IoError(what + " is not installed with this stiffmsa command (looked for " + tried + ")");

@@ -10,8 +10,8 @@ namespace {
 
 const detail::PlotModule& plot_module() {
   using Entry = const detail::PlotModule* (*)();
-  const auto entry = reinterpret_cast<Entry>(
-      cli::module_entry(detail::kPlotModuleFile, detail::kPlotModuleEntry, "the plot module (--plot)"));
+  const auto entry = reinterpret_cast<Entry>(cli::module_entry(
+      detail::kPlotModuleFile, detail::kPlotModuleEntry, "the plot module (--plot)"));
   const detail::PlotModule* module = entry();
   if (module->heatmap_size != sizeof(Heatmap) || module->line_plot_size != sizeof(LinePlot))
     throw IoError("the plot module was built from another version of stiffmsa than this command");
@@ -20,8 +20,12 @@ const detail::PlotModule& plot_module() {
 
 }  // namespace
 
-void write_plot(const Heatmap& plot, const std::filesystem::path& file) { plot_module().write_heatmap(plot, file); }
+void write_plot(const Heatmap& plot, const std::filesystem::path& file) {
+  plot_module().write_heatmap(plot, file);
+}
 
-void write_plot(const LinePlot& plot, const std::filesystem::path& file) { plot_module().write_line_plot(plot, file); }
+void write_plot(const LinePlot& plot, const std::filesystem::path& file) {
+  plot_module().write_line_plot(plot, file);
+}
 
 }  // namespace stiffmsa

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <algorithm>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -52,8 +51,7 @@ Mat6 without_round_off(const Mat6& m) {
 // A 6×6 matrix split into its four 3×3 blocks (translation | rotation), with row and column
 // labels, under a title and a line giving the unit of each block.
 void print_block_matrix(std::ostream& out, const std::string& title, const std::string& units,
-                        const Mat6& matrix, const Labels& row_labels,
-                        const Labels& column_labels) {
+                        const Mat6& matrix, const Labels& row_labels, const Labels& column_labels) {
   const Mat6 m = without_round_off(matrix);
   const std::string indent = "    ";
   const std::string block_separator = "  |";
@@ -110,8 +108,10 @@ void print_principal_stiffness(std::ostream& out, const Mat6& compliance) {
   out << "  Principal stiffness (ascending)\n"
       << "    against a force  [N/m]:    " << stiffness_values(principal.translational) << '\n'
       << "    against a moment [N·m/rad]:" << stiffness_values(principal.rotational) << '\n'
-      << "  Principal directions (unit vectors in global x, y, z; in the order of the values above)\n"
-      << "    of the force stiffness: " << directions_text(principal.translational_directions) << '\n'
+      << "  Principal directions (unit vectors in global x, y, z; in the order of the values "
+         "above)\n"
+      << "    of the force stiffness: " << directions_text(principal.translational_directions)
+      << '\n'
       << "    of the moment stiffness:" << directions_text(principal.rotational_directions) << '\n';
 }
 
@@ -121,11 +121,14 @@ std::string stiffness_or_unbounded(double value) {
 
 void print_directional_stiffness(std::ostream& out, const DirectionalStiffness& along) {
   out << "  Stiffness along " << direction_text(along.direction) << '\n'
-      << "    against a force along it  [N/m]:     " << stiffness_or_unbounded(along.translational) << '\n'
-      << "    against a moment about it [N·m/rad]: " << stiffness_or_unbounded(along.rotational) << '\n';
+      << "    against a force along it  [N/m]:     " << stiffness_or_unbounded(along.translational)
+      << '\n'
+      << "    against a moment about it [N·m/rad]: " << stiffness_or_unbounded(along.rotational)
+      << '\n';
 }
 
-void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection, const std::string& under = "the loads") {
+void print_deflection(std::ostream& out, const std::optional<Vec6>& deflection,
+                      const std::string& under = "the loads") {
   if (!deflection) {
     out << "  Deflection under " << under << ": undetermined\n";
     return;
@@ -155,8 +158,10 @@ void print_reduced_stiffness(std::ostream& out, const ReducedStiffness& reduced)
     // Appended, not "d" + number: GCC 12 warns falsely (-Wrestrict) on that sum.
     std::string numbered = "d";
     numbered += std::to_string(k + 1);
-    motion[static_cast<std::size_t>(k)] = on_axis ? deflection_labels[static_cast<std::size_t>(axis)] : numbered;
-    wrench[static_cast<std::size_t>(k)] = on_axis ? wrench_labels[static_cast<std::size_t>(axis)] : numbered;
+    motion[static_cast<std::size_t>(k)] =
+        on_axis ? deflection_labels[static_cast<std::size_t>(axis)] : numbered;
+    wrench[static_cast<std::size_t>(k)] =
+        on_axis ? wrench_labels[static_cast<std::size_t>(axis)] : numbered;
   }
   const std::string indent = "    ";
   out << "  Stiffness on the " << count << " directions not held rigidly (reduced_stiffness)\n";
@@ -170,7 +175,8 @@ void print_reduced_stiffness(std::ostream& out, const ReducedStiffness& reduced)
       out << '\n';
     }
   }
-  out << indent << "units as in the stiffness: N/m, N/rad in force rows; N·m/m, N·m/rad in moment rows"
+  out << indent
+      << "units as in the stiffness: N/m, N/rad in force rows; N·m/m, N·m/rad in moment rows"
       << (all_axes ? "" : " (mixed along a direction that both moves and turns)") << '\n'
       << indent << "  ";
   for (const auto& label : motion) out << pad_left(label, number_width);
@@ -208,9 +214,12 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
 
   if (e.compliance) print_principal_stiffness(out, *e.compliance);
   if (e.along_direction) print_directional_stiffness(out, *e.along_direction);
-  print_deflection(out, e.deflection, e.deflection_gravity ? "the loads and self-weight" : "the loads");
+  print_deflection(out, e.deflection,
+                   e.deflection_gravity ? "the loads and self-weight" : "the loads");
   if (e.deflection_gravity) print_deflection(out, e.deflection_gravity, "self-weight alone");
-  if (e.in_own_axes) print_deflection(out, e.in_own_axes->deflection, "the same loads, in the end effector's own axes");
+  if (e.in_own_axes)
+    print_deflection(out, e.in_own_axes->deflection,
+                     "the same loads, in the end effector's own axes");
 }
 
 // Below this fraction of the wrenches' scale (the largest force times the model's size, or the
@@ -245,7 +254,8 @@ struct Largest {
   }
 };
 
-void print_largest(std::ostream& out, const std::string& title, const Largest& largest, double lever) {
+void print_largest(std::ostream& out, const std::string& title, const Largest& largest,
+                   double lever) {
   out << title;
   if (largest.determined == 0 && largest.undetermined == 0) {
     out << ": none\n";
@@ -261,11 +271,13 @@ void print_largest(std::ostream& out, const std::string& title, const Largest& l
   if (round_off(largest.force * lever))
     out << "  force:  none (every force is zero or round-off)\n";
   else
-    out << "  force:  " << scientific(largest.force, number_width) << " N    at " << largest.force_at << '\n';
+    out << "  force:  " << scientific(largest.force, number_width) << " N    at "
+        << largest.force_at << '\n';
   if (round_off(largest.moment))
     out << "  moment: none (every moment is zero or round-off)\n";
   else
-    out << "  moment: " << scientific(largest.moment, number_width) << " N·m  at " << largest.moment_at << '\n';
+    out << "  moment: " << scientific(largest.moment, number_width) << " N·m  at "
+        << largest.moment_at << '\n';
   if (largest.undetermined > 0) {
     out << "  (and " << largest.undetermined << " undetermined)\n";
   }
@@ -273,8 +285,7 @@ void print_largest(std::ostream& out, const std::string& title, const Largest& l
 
 void print_report(std::ostream& out, const SolveReport& report) {
   const std::string solver = to_string(report.solver);
-  out << "\nSolve report" << (solver.empty() ? "" : " (solver " + solver + ")")
-      << '\n'
+  out << "\nSolve report" << (solver.empty() ? "" : " (solver " + solver + ")") << '\n'
       << "  relative residual:    " << scientific(report.relative_residual, 0, 2) << '\n'
       << "  equilibrium error:    " << scientific(report.equilibrium_error, 0, 2) << '\n'
       << "  reciprocal condition: ";
@@ -283,7 +294,8 @@ void print_report(std::ostream& out, const SolveReport& report) {
   else if (report.solver == SolverUsed::tree_with_cuts)
     out << "not estimated (the tree solve with cuts factorises no sparse system)";
   else if (report.reciprocal_condition == 0)
-    out << "0 (the system is singular: it was solved with its free motions or redundant constraints removed)";
+    out << "0 (the system is singular: it was solved with its free motions or redundant "
+           "constraints removed)";
   else
     out << scientific(report.reciprocal_condition, 0, 2);
   if (report.solver == SolverUsed::frame) out << " of the condensed stiffness";
@@ -321,12 +333,17 @@ const char* link_kind_name(const LinkKind& kind) {
 std::string connection_text(const Connection& c) {
   const Kinematics& k = c.kinematics;
   std::string text = to_string(k.type);
-  text += c.is_actuated ? ", actuated" : c.stiffness ? ", elastic" : k.type == JointType::rigid ? "" : ", passive";
+  text += c.is_actuated                ? ", actuated"
+          : c.stiffness                ? ", elastic"
+          : k.type == JointType::rigid ? ""
+                                       : ", passive";
   switch (k.type) {
     case JointType::revolute:
     case JointType::prismatic:
     case JointType::cylindrical: text += ", axis " + vector_text(k.axis); break;
-    case JointType::universal: text += ", axes " + vector_text(k.axis) + " and " + vector_text(k.axis_b); break;
+    case JointType::universal:
+      text += ", axes " + vector_text(k.axis) + " and " + vector_text(k.axis_b);
+      break;
     case JointType::planar: text += ", normal " + vector_text(k.normal); break;
     default: break;
   }
@@ -341,7 +358,8 @@ void print_geometry(std::ostream& out, const Model& model) {
   for (const Joint& joint : model.joints) width = std::max(width, joint.name.size());
   for (const Support& support : model.supports) width = std::max(width, support.name.size());
   width = std::min<std::size_t>(width, 24) + 2;
-  std::unordered_map<std::string_view, const Point*> points;  // a 100 000-link chain, looked up once each
+  std::unordered_map<std::string_view, const Point*>
+      points;  // a 100 000-link chain, looked up once each
   for (const Point& point : model.points) points.emplace(point.name, &point);
   const auto find = [&](const std::string& name) -> const Point* {
     const auto found = points.find(name);
@@ -354,15 +372,17 @@ void print_geometry(std::ostream& out, const Model& model) {
     const double length = from && to ? (to->position - from->position).norm() : 0.0;
     char number[32];
     std::snprintf(number, sizeof number, "%.6g", length);
-    out << "  " << pad_right(link.name, width) << pad_right(link_kind_name(link.kind), 12) << pad_right(number, 13)
-        << link.from << " -> " << link.to << '\n';
+    out << "  " << pad_right(link.name, width) << pad_right(link_kind_name(link.kind), 12)
+        << pad_right(number, 13) << link.from << " -> " << link.to << '\n';
   }
   if (!model.joints.empty()) out << "\nJoints:\n";
   for (const Joint& joint : model.joints)
-    out << "  " << pad_right(joint.name, width) << "at " << joint.at << ": " << connection_text(joint.connection) << '\n';
+    out << "  " << pad_right(joint.name, width) << "at " << joint.at << ": "
+        << connection_text(joint.connection) << '\n';
   if (!model.supports.empty()) out << "\nSupports:\n";
   for (const Support& support : model.supports)
-    out << "  " << pad_right(support.name, width) << "at " << support.at << ": " << connection_text(support.connection) << '\n';
+    out << "  " << pad_right(support.name, width) << "at " << support.at << ": "
+        << connection_text(support.connection) << '\n';
 }
 
 }  // namespace
@@ -370,7 +390,8 @@ void print_geometry(std::ostream& out, const Model& model) {
 void print_solve_summary(std::ostream& out, const Result& result,
                          const std::optional<std::filesystem::path>& result_file) {
   out << "Model: " << result.model << '\n';
-  if (!result.parameters.empty()) out << "Parameters: " << parameters_text(result.parameters) << '\n';
+  if (!result.parameters.empty())
+    out << "Parameters: " << parameters_text(result.parameters) << '\n';
   print_system_size(out, result.system);
 
   if (result.end_effectors.empty()) out << "\nNo end effectors.\n";
@@ -379,7 +400,8 @@ void print_solve_summary(std::ostream& out, const Result& result,
   Largest joint_wrench;
   for (const JointResult& joint : result.joints) joint_wrench.consider(joint.name, joint.wrench);
   out << '\n';
-  print_largest(out, "Largest joint wrench (on the first link end)", joint_wrench, result.model_size);
+  print_largest(out, "Largest joint wrench (on the first link end)", joint_wrench,
+                result.model_size);
 
   Largest support_reaction;
   for (const SupportResult& support : result.supports) {
@@ -406,7 +428,8 @@ std::string value_with_unit(double value, const std::string& unit) {
 std::string parameters_text(const std::vector<ParameterValue>& parameters) {
   std::string text;
   for (const ParameterValue& p : parameters)
-    text += (text.empty() ? "" : ", ") + p.name + " = " + value_with_unit(p.value, p.unit) + (p.set ? " (set)" : "");
+    text += (text.empty() ? "" : ", ") + p.name + " = " + value_with_unit(p.value, p.unit) +
+            (p.set ? " (set)" : "");
   return text;
 }
 
@@ -420,7 +443,8 @@ std::string with_flag_hints(std::string_view message) {
       {"SolveOptions::accept_idle_motions", "--accept-idle-motions"}};
   std::string text(message);
   for (const auto& [option, flag] : kFlagOfOption)
-    for (auto at = text.find(option); at != std::string::npos; at = text.find(option, at + flag.size()))
+    for (auto at = text.find(option); at != std::string::npos;
+         at = text.find(option, at + flag.size()))
       text.replace(at, option.size(), flag);
   return text;
 }

@@ -15,8 +15,8 @@ namespace stiffmsa::cli {
 // Exit codes of the command (README.md, "Exit codes").
 enum ExitCode : int {
   exit_success = 0,
-  exit_cannot_solve = 1,  // a valid model that is a mechanism or numerically singular
-  exit_invalid_input = 2, // bad model, bad usage, unreadable or unwritable files
+  exit_cannot_solve = 1,   // a valid model that is a mechanism or numerically singular
+  exit_invalid_input = 2,  // bad model, bad usage, unreadable or unwritable files
 };
 
 // Model name, system size, every end effector's compliance, stiffness, principal stiffnesses

@@ -5,16 +5,16 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
-#include <cstdint>
-#include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 
 #include "stiffmsa/config.hpp"
 #include "stiffmsa/number_text.hpp"
@@ -36,7 +36,8 @@ constexpr std::size_t kMaxPoses = 1'000'000'000'000'000;
 // "name=start:stop:count"
 GridAxis parse_grid(const std::string& spec) {
   const auto usage = [&](const std::string& what) {
-    return UsageError("--grid '" + spec + "': " + what + "; write NAME=START:STOP:COUNT, e.g. x=-0.2:0.2:41");
+    return UsageError("--grid '" + spec + "': " + what +
+                      "; write NAME=START:STOP:COUNT, e.g. x=-0.2:0.2:41");
   };
   const auto equals = spec.find('=');
   if (equals == std::string::npos || equals == 0) throw usage("no parameter name before '='");
@@ -52,15 +53,16 @@ GridAxis parse_grid(const std::string& spec) {
   if (!start || !stop) throw usage("START and STOP must be finite numbers");
   const std::string count_text = range.substr(colon2 + 1);
   std::size_t count = 0;
-  const auto [end, error] = std::from_chars(count_text.data(), count_text.data() + count_text.size(), count);
-  if (count_text.empty() || error != std::errc() || end != count_text.data() + count_text.size() || count == 0)
+  const auto [end, error] =
+      std::from_chars(count_text.data(), count_text.data() + count_text.size(), count);
+  if (count_text.empty() || error != std::errc() || end != count_text.data() + count_text.size() ||
+      count == 0)
     throw usage("COUNT must be a whole number of at least 1");
   axis.start = *start;
   axis.stop = *stop;
   axis.count = count;
   return axis;
 }
-
 
 // Output files must not be inputs or each other, and their folder must exist: checked before
 // the sweep, so that a long sweep does not end in an error that writes nothing.
@@ -77,15 +79,17 @@ void check_files(const SweepCommand& command, const std::vector<OutputFile>& out
     const auto& [output, option, noun] = outputs[i];
     for (const auto& [input, what] : inputs)
       if (same_file(output, input))
-        throw UsageError(option + " '" + output.string() + "' is " + what + "; choose another name");
+        throw UsageError(option + " '" + output.string() + "' is " + what +
+                         "; choose another name");
     for (std::size_t j = 0; j < i; ++j)
       if (same_file(output, outputs[j].path))
-        throw UsageError(noun + " '" + output.string() + "' would replace " + outputs[j].noun + "; choose another name for " +
-                         option);
+        throw UsageError(noun + " '" + output.string() + "' would replace " + outputs[j].noun +
+                         "; choose another name for " + option);
     const fs::path folder = output.parent_path().empty() ? fs::path(".") : output.parent_path();
     std::error_code error;
     if (!fs::is_directory(folder, error))
-      throw UsageError(option + " '" + output.string() + "': the folder '" + folder.string() + "' does not exist");
+      throw UsageError(option + " '" + output.string() + "': the folder '" + folder.string() +
+                       "' does not exist");
   }
 }
 
@@ -98,8 +102,10 @@ std::pair<std::size_t, std::size_t> parse_shard(const std::string& spec) {
     return !text.empty() && error == std::errc() && end == text.data() + text.size();
   };
   if (slash == std::string::npos || !whole(std::string_view(spec).substr(0, slash), part) ||
-      !whole(std::string_view(spec).substr(slash + 1), parts) || parts == 0 || part == 0 || part > parts)
-    throw UsageError("--shard '" + spec + "': write K/N with 1 <= K <= N, e.g. 3/8 for the third of eight parts");
+      !whole(std::string_view(spec).substr(slash + 1), parts) || parts == 0 || part == 0 ||
+      part > parts)
+    throw UsageError("--shard '" + spec +
+                     "': write K/N with 1 <= K <= N, e.g. 3/8 for the third of eight parts");
   return {part, parts};
 }
 
@@ -125,18 +131,20 @@ std::string file_fingerprint(const std::string& path, const std::string& what) {
 
 // What must be the same for parts to make one sweep: this program, the model file, the values
 // set, the poses, the columns and the solver (docs/cluster.md, "Shards").
-nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<GridAxis>& axes, std::size_t poses) {
+nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<GridAxis>& axes,
+                              std::size_t poses) {
   nlohmann::json identity;
   identity["stiffmsa"] = STIFFMSA_VERSION;
   identity["model_file"] = file_fingerprint(command.model_file, "the model file");
   nlohmann::json settings = nlohmann::json::object();
-  for (const auto& [name, value] : parse_settings(command.settings)) settings[name] = shortest_text(value);
+  for (const auto& [name, value] : parse_settings(command.settings))
+    settings[name] = shortest_text(value);
   identity["set"] = std::move(settings);
   if (command.poses_file.empty()) {
     nlohmann::json grid = nlohmann::json::array();
     for (const auto& axis : axes)
-      grid.push_back(axis.parameter + "=" + shortest_text(axis.start) + ":" + shortest_text(axis.stop) + ":" +
-                     std::to_string(axis.count));
+      grid.push_back(axis.parameter + "=" + shortest_text(axis.start) + ":" +
+                     shortest_text(axis.stop) + ":" + std::to_string(axis.count));
     identity["grid"] = std::move(grid);
   } else {
     identity["pose_file"] = file_fingerprint(command.poses_file, "the pose file");
@@ -145,7 +153,8 @@ nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<Gri
   identity["full"] = command.full;
   identity["solver"] = to_string(command.solve.solver);
   if (command.solve.direction)
-    identity["direction"] = {(*command.solve.direction)(0), (*command.solve.direction)(1), (*command.solve.direction)(2)};
+    identity["direction"] = {(*command.solve.direction)(0), (*command.solve.direction)(1),
+                             (*command.solve.direction)(2)};
   identity["accept_idle_motions"] = command.solve.accept_idle_motions;
   return identity;
 }
@@ -155,7 +164,8 @@ std::size_t grid_size(const std::vector<GridAxis>& axes) {
   std::size_t poses = 1;
   for (const auto& axis : axes) {
     if (axis.count > kMaxPoses / poses)
-      throw UsageError("the grid has more than " + std::to_string(kMaxPoses) + " poses; sweep fewer values per parameter");
+      throw UsageError("the grid has more than " + std::to_string(kMaxPoses) +
+                       " poses; sweep fewer values per parameter");
     poses *= axis.count;
   }
   return poses;
@@ -177,7 +187,8 @@ Vec3 parse_direction(const std::string& text) {
   }
   if (!numbers || count != 3)
     throw UsageError("--direction '" + text + "': write X,Y,Z, three finite numbers, e.g. 0,0,1");
-  if (direction.isZero(0)) throw UsageError("--direction '" + text + "': the direction must not be zero");
+  if (direction.isZero(0))
+    throw UsageError("--direction '" + text + "': the direction must not be zero");
   return direction;
 }
 
@@ -195,13 +206,14 @@ ParameterSettings parse_settings(const std::vector<std::string>& settings) {
     const auto value = equals == std::string::npos || equals == 0
                            ? std::nullopt
                            : parse_plain_number(std::string_view(setting).substr(equals + 1));
-    if (!value) throw UsageError("--set '" + setting + "': write NAME=VALUE with a finite number, e.g. x=0.1");
+    if (!value)
+      throw UsageError("--set '" + setting +
+                       "': write NAME=VALUE with a finite number, e.g. x=0.1");
     if (!parsed.emplace(setting.substr(0, equals), *value).second)
       throw UsageError("--set '" + setting + "': the parameter is set twice");
   }
   return parsed;
 }
-
 
 SweepResult SweepPlan::solve(std::size_t first, std::size_t count,
                              const std::function<void(std::size_t, std::size_t)>& progress) const {
@@ -211,14 +223,17 @@ SweepResult SweepPlan::solve(std::size_t first, std::size_t count,
   PoseTable block;
   block.parameters = listed->parameters;
   const std::size_t width = listed->parameters.size();
-  block.values.assign(listed->values.begin() + static_cast<std::ptrdiff_t>(first * width),
-                      listed->values.begin() + static_cast<std::ptrdiff_t>((first + count) * width));
+  block.values.assign(
+      listed->values.begin() + static_cast<std::ptrdiff_t>(first * width),
+      listed->values.begin() + static_cast<std::ptrdiff_t>((first + count) * width));
   return sweep(*family, block, block_options);
 }
 
 std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   if (command.grids.empty() == command.poses_file.empty())
-    throw UsageError("give the poses either as --grid NAME=START:STOP:COUNT (one per swept parameter) or as --poses FILE.csv");
+    throw UsageError(
+        "give the poses either as --grid NAME=START:STOP:COUNT (one per swept parameter) or as "
+        "--poses FILE.csv");
   if (command.csv_file.empty() && command.hdf5_file.empty())
     throw UsageError("give an output for the rows: --csv FILE.csv, --hdf5 FILE.h5, or both");
   auto owned = std::make_unique<PreparedSweep>();
@@ -228,11 +243,13 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   if (!command.shard.empty()) {
     shard = parse_shard(command.shard);
     if (command.plot)
-      throw UsageError("--plot with --shard: a part holds only some of the poses; draw the plots when merging "
-                       "(stiffmsa merge OUT.csv PART... --plot)");
+      throw UsageError(
+          "--plot with --shard: a part holds only some of the poses; draw the plots when merging "
+          "(stiffmsa merge OUT.csv PART... --plot)");
     if (command.view)
-      throw UsageError("--view with --shard: a part holds only some of the poses; the map is of a whole sweep "
-                       "run in one process");
+      throw UsageError(
+          "--view with --shard: a part holds only some of the poses; the map is of a whole sweep "
+          "run in one process");
   }
   if (command.plot) check_plot_grid(prepared.axes, !command.poses_file.empty());
   if (!command.grids.empty()) {
@@ -244,9 +261,10 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   const fs::path rows_file(command.csv_file.empty() ? command.hdf5_file : command.csv_file);
   prepared.files.csv = command.csv_file;
   prepared.files.hdf5 = command.hdf5_file;
-  prepared.files.summary = command.summary_file.empty()
-                               ? rows_file.parent_path() / (rows_file.stem().string() + ".summary.json")
-                               : fs::path(command.summary_file);
+  prepared.files.summary =
+      command.summary_file.empty()
+          ? rows_file.parent_path() / (rows_file.stem().string() + ".summary.json")
+          : fs::path(command.summary_file);
   prepared.files.plot_base = rows_file.parent_path() / rows_file.stem();
   std::vector<OutputFile> outputs;
   if (!command.csv_file.empty()) outputs.push_back({command.csv_file, "--csv", "the CSV"});
@@ -259,10 +277,12 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   check_files(command, outputs);
 #if !STIFFMSA_CLI_HDF5
   if (!command.hdf5_file.empty())
-    throw UsageError("--hdf5: this build of stiffmsa writes no HDF5 (built without HDF5); write --csv");
+    throw UsageError(
+        "--hdf5: this build of stiffmsa writes no HDF5 (built without HDF5); write --csv");
 #endif
 
-  prepared.family.emplace(load_model_family(command.model_file, command.limits, parse_settings(command.settings)));
+  prepared.family.emplace(
+      load_model_family(command.model_file, command.limits, parse_settings(command.settings)));
   std::size_t poses = 0;
   if (command.poses_file.empty()) {
     poses = grid_size(prepared.axes);
@@ -276,7 +296,8 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   const Model reference = prepared.family->build(prepared.family->default_values());
   description.run.model = reference.name;
   for (const auto& e : reference.end_effectors) description.run.end_effectors.push_back(e.name);
-  description.run.poses.parameters = command.poses_file.empty() ? std::vector<std::string>{} : prepared.listed.parameters;
+  description.run.poses.parameters =
+      command.poses_file.empty() ? std::vector<std::string>{} : prepared.listed.parameters;
   for (const auto& axis : prepared.axes) description.run.poses.parameters.push_back(axis.parameter);
   description.run.poses.grid = prepared.axes;
   if (command.solve.direction) description.run.direction = command.solve.direction->normalized();
@@ -301,7 +322,8 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
     prepared.files.plotted = plotted_columns(description.run, command.plot_columns);
     // A matrix entry is kept for its plot even without --full.
     for (const auto& column : prepared.files.plotted)
-      if (column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness)
+      if (column.quantity == SweepQuantity::compliance ||
+          column.quantity == SweepQuantity::stiffness)
         plan.options.keep_matrices = true;
   }
   plan.first = 0;
@@ -314,7 +336,8 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
     plan.first = bound(part - 1);
     plan.end = bound(part);
     nlohmann::json extra;
-    extra["shard"] = {{"part", part}, {"parts", parts}, {"first_pose", plan.first}, {"poses_in_all", poses}};
+    extra["shard"] = {
+        {"part", part}, {"parts", parts}, {"first_pose", plan.first}, {"poses_in_all", poses}};
     extra["identity"] = sweep_identity(command, prepared.axes, poses);
     prepared.extra_summary = extra.dump();
   }
@@ -334,8 +357,10 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
     prepared.extra_summary = extra.dump();
   }
   if (command.view && poses > kMaxPosesInMemory)
-    throw UsageError("--view: the sweep has " + std::to_string(poses) + " poses; a view map holds every pose's "
-                     "result in memory and is written of at most " + std::to_string(kMaxPosesInMemory));
+    throw UsageError("--view: the sweep has " + std::to_string(poses) +
+                     " poses; a view map holds every pose's "
+                     "result in memory and is written of at most " +
+                     std::to_string(kMaxPosesInMemory));
   return owned;
 }
 
@@ -356,17 +381,20 @@ int run_sweep(const SweepCommand& command) {
   for (std::size_t first = plan.first; first < plan.end; first += plan.block) {
     const std::size_t count = std::min(plan.block, plan.end - first);
     const std::size_t done = first - plan.first;
-    const SweepResult solved =
-        plan.solve(first, count, [&](std::size_t in_block, std::size_t) { bar.update(done + in_block, poses); });
+    const SweepResult solved = plan.solve(first, count, [&](std::size_t in_block, std::size_t) {
+      bar.update(done + in_block, poses);
+    });
     output.write(make_block(output.shape(), solved, first));
     threads = std::max(threads, solved.threads);
     if (command.view) {
       // The map shows every pose: the only output that holds the whole sweep in memory.
-      viewed.poses.values.insert(viewed.poses.values.end(), solved.poses.values.begin(), solved.poses.values.end());
+      viewed.poses.values.insert(viewed.poses.values.end(), solved.poses.values.begin(),
+                                 solved.poses.values.end());
       viewed.results.insert(viewed.results.end(), solved.results.begin(), solved.results.end());
     }
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bar.finish();
   auto files = output.finish(threads, seconds, prepared.extra_summary);
   if (command.view) {

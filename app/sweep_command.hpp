@@ -15,18 +15,19 @@ namespace stiffmsa::cli {
 
 struct SweepCommand {
   std::string model_file;
-  std::string csv_file;   // empty: no CSV (then hdf5_file)
-  std::string hdf5_file;  // empty: no HDF5
-  std::string shard;      // "K/N": the K-th of N parts of the poses; empty: all
-  std::size_t block = 4096;  // poses solved, passed on and written at a time
-  std::string summary_file;  // empty: beside the CSV, <stem>.summary.json
+  std::string csv_file;            // empty: no CSV (then hdf5_file)
+  std::string hdf5_file;           // empty: no HDF5
+  std::string shard;               // "K/N": the K-th of N parts of the poses; empty: all
+  std::size_t block = 4096;        // poses solved, passed on and written at a time
+  std::string summary_file;        // empty: beside the CSV, <stem>.summary.json
   std::vector<std::string> grids;  // "name=start:stop:count"
   std::string poses_file;
   std::vector<std::string> settings;  // "name=value": parameters held at other than defaults
   bool full = false;
   bool plot = false;
   bool view = false;  // an HTML map beside the CSV (docs/viewer.md)
-  std::vector<std::string> plot_columns;  // empty: k_trans_min and deflection_trans per end effector
+  std::vector<std::string>
+      plot_columns;  // empty: k_trans_min and deflection_trans per end effector
   std::size_t threads = 0;
   bool quiet = false;
   SolveOptions solve;
@@ -39,7 +40,7 @@ int run_sweep(const SweepCommand& command);
 struct SweepPlan {
   const ModelFamily* family = nullptr;
   SweepOptions options;
-  std::vector<GridAxis> axes;        // a grid, made block by block; empty: `listed`
+  std::vector<GridAxis> axes;         // a grid, made block by block; empty: `listed`
   const PoseTable* listed = nullptr;  // the pose file's poses
   std::size_t first = 0, end = 0;     // this run's poses
   std::size_t block = 4096;
@@ -56,8 +57,8 @@ struct PreparedSweep {
   PoseTable listed;
   SweepDescription description;
   SweepFiles files;
-  SweepPlan plan;  // points into this object: not to be copied
-  std::string extra_summary;  // JSON object: a shard's part and identity
+  SweepPlan plan;                   // points into this object: not to be copied
+  std::string extra_summary;        // JSON object: a shard's part and identity
   std::filesystem::path view_file;  // --view's HTML map; empty: none
   PreparedSweep() = default;
   PreparedSweep(const PreparedSweep&) = delete;

@@ -5,12 +5,12 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <ctime>
 #include <condition_variable>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <deque>
 #include <exception>
 #include <iostream>
@@ -47,13 +47,14 @@ std::string pack(const SweepBlock& block) {
   std::string rows;
   serialize_rows(rows, block.rows);
   const std::string summary = block.summary.serialize();
-  const BlockHeader header{rows.size(), summary.size(), block.csv.size(), block.plotted.size(), block.threads,
-                           block.seconds};
+  const BlockHeader header{rows.size(),          summary.size(), block.csv.size(),
+                           block.plotted.size(), block.threads,  block.seconds};
   std::string out(reinterpret_cast<const char*>(&header), sizeof header);
   out += rows;
   out += summary;
   out += block.csv;
-  out.append(reinterpret_cast<const char*>(block.plotted.data()), block.plotted.size() * sizeof(double));
+  out.append(reinterpret_cast<const char*>(block.plotted.data()),
+             block.plotted.size() * sizeof(double));
   return out;
 }
 
@@ -66,13 +67,15 @@ SweepBlock unpack(const std::string& bytes, const std::vector<SweepColumn>& colu
     throw Error("a block passed between MPI ranks has the wrong size");
   std::string_view rest(bytes);
   rest.remove_prefix(sizeof header);
-  SweepBlock block{deserialize_rows(rest.substr(0, header.rows_bytes)),
-                   SweepSummary::deserialize(columns, rest.substr(header.rows_bytes, header.summary_bytes)),
-                   std::string(rest.substr(header.rows_bytes + header.summary_bytes, header.csv_bytes)),
-                   std::vector<double>(header.plotted),
-                   header.threads,
-                   header.seconds};
-  std::memcpy(block.plotted.data(), rest.data() + header.rows_bytes + header.summary_bytes + header.csv_bytes,
+  SweepBlock block{
+      deserialize_rows(rest.substr(0, header.rows_bytes)),
+      SweepSummary::deserialize(columns, rest.substr(header.rows_bytes, header.summary_bytes)),
+      std::string(rest.substr(header.rows_bytes + header.summary_bytes, header.csv_bytes)),
+      std::vector<double>(header.plotted),
+      header.threads,
+      header.seconds};
+  std::memcpy(block.plotted.data(),
+              rest.data() + header.rows_bytes + header.summary_bytes + header.csv_bytes,
               header.plotted * sizeof(double));
   return block;
 }
@@ -110,7 +113,9 @@ std::pair<std::size_t, std::size_t> block_range(const SweepPlan& plan, std::uint
   return {first, std::min(plan.block, plan.end - first)};
 }
 
-std::size_t block_count(const SweepPlan& plan) { return (plan.end - plan.first + plan.block - 1) / plan.block; }
+std::size_t block_count(const SweepPlan& plan) {
+  return (plan.end - plan.first + plan.block - 1) / plan.block;
+}
 
 SweepBlock solve_block(const SweepPlan& plan, const BlockShape& shape, std::uint64_t index) {
   const auto [first, count] = block_range(plan, index);
@@ -125,7 +130,8 @@ bool dies_after_first_block(int rank) {
 }
 
 void send_assignment(int rank, std::uint64_t index) {
-  check(MPI_Send(&index, 1, MPI_UINT64_T, rank, kTagAssign, MPI_COMM_WORLD), "sending a block to a rank");
+  check(MPI_Send(&index, 1, MPI_UINT64_T, rank, kTagAssign, MPI_COMM_WORLD),
+        "sending a block to a rank");
 }
 
 // A rank other than the root: solves the blocks it is given and sends them back.
@@ -149,7 +155,8 @@ void serve(const SweepPlan& plan, const BlockShape& shape, int rank) {
     const std::uint64_t index = assigned.front();
     assigned.pop_front();
     const std::string bytes = pack(solve_block(plan, shape, index));
-    check(MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, kRoot, kTagBlock, MPI_COMM_WORLD),
+    check(MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, kRoot, kTagBlock,
+                   MPI_COMM_WORLD),
           "sending a solved block");
     if (first && dies_after_first_block(rank)) raise(SIGKILL);
   }
@@ -275,7 +282,8 @@ RootRun lead(const SweepPlan& plan, SweepOutput& output, int ranks, bool quiet) 
       int bytes = 0;
       MPI_Get_count(&status, MPI_BYTE, &bytes);
       std::string buffer(static_cast<std::size_t>(bytes), '\0');
-      check(MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagBlock, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+      check(MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagBlock, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE),
             "receiving a solved block");
       SweepBlock block = unpack(buffer, output.summary().columns());
       const std::uint64_t index = (block.rows.first_pose - plan.first) / plan.block;
@@ -286,7 +294,8 @@ RootRun lead(const SweepPlan& plan, SweepOutput& output, int ranks, bool quiet) 
       arrived(kRoot, solved->first, std::move(solved->second));
       idle = false;
     }
-    for (auto it = waiting.find(next_to_write); it != waiting.end(); it = waiting.find(next_to_write)) {
+    for (auto it = waiting.find(next_to_write); it != waiting.end();
+         it = waiting.find(next_to_write)) {
       output.write(it->second);
       waiting.erase(it);
       ++next_to_write;
@@ -308,7 +317,8 @@ RootRun lead(const SweepPlan& plan, SweepOutput& output, int ranks, bool quiet) 
 char temporary_files[2][4096];
 extern "C" void on_termination(int) {
   static const char message[] =
-      "stiffmsa: error: the MPI job was stopped before the sweep ended (a rank died: the launcher names it; or the job was cancelled); "
+      "stiffmsa: error: the MPI job was stopped before the sweep ended (a rank died: the launcher "
+      "names it; or the job was cancelled); "
       "no output file was written\n";
   (void)!::write(STDERR_FILENO, message, sizeof message - 1);
   for (const char* path : temporary_files)
@@ -335,11 +345,13 @@ int run_sweep_over_ranks(const SweepCommand& command) {
   int code = exit_success;
   try {
     if (command.view)
-      throw UsageError("--view with MPI ranks: the map holds every pose's result in one process; run the sweep "
-                       "without mpirun for it");
+      throw UsageError(
+          "--view with MPI ranks: the map holds every pose's result in one process; run the sweep "
+          "without mpirun for it");
     prepared = prepare_sweep(command);
     if (mpi.rank() == kRoot) {
-      output = std::make_unique<SweepOutput>(prepared->description, prepared->files, prepared->plan.first,
+      output = std::make_unique<SweepOutput>(prepared->description, prepared->files,
+                                             prepared->plan.first,
                                              prepared->plan.end - prepared->plan.first);
       shape = output->shape();
     } else {
@@ -355,7 +367,8 @@ int run_sweep_over_ranks(const SweepCommand& command) {
   MPI_Allreduce(&code, &worst_code, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   MPI_Bcast(&root_code, 1, MPI_INT, kRoot, MPI_COMM_WORLD);
   if (worst_code != exit_success) {
-    if (failure && (mpi.rank() == kRoot || root_code == exit_success)) std::rethrow_exception(failure);
+    if (failure && (mpi.rank() == kRoot || root_code == exit_success))
+      std::rethrow_exception(failure);
     return worst_code;
   }
 
@@ -373,13 +386,15 @@ int run_sweep_over_ranks(const SweepCommand& command) {
                                                  : nlohmann::json::parse(prepared->extra_summary);
     extra["ranks"] = mpi.size();
     const auto files = output->finish(run.threads, run.seconds, extra.dump());
-    print_sweep_summary(std::cout, prepared->description, output->summary(), run.threads, run.seconds, files,
-                        static_cast<std::size_t>(mpi.size()));
+    print_sweep_summary(std::cout, prepared->description, output->summary(), run.threads,
+                        run.seconds, files, static_cast<std::size_t>(mpi.size()));
     // What bounds the run on many ranks: every row passes through the root.
     const std::size_t poses = prepared->plan.end - prepared->plan.first;
     char line[160];
-    std::snprintf(line, sizeof line, "  rank 0 spent %.3g s of CPU receiving and writing rows (%.3g us per row)\n",
-                  run.root_cpu_seconds, poses > 0 ? 1e6 * run.root_cpu_seconds / static_cast<double>(poses) : 0.0);
+    std::snprintf(line, sizeof line,
+                  "  rank 0 spent %.3g s of CPU receiving and writing rows (%.3g us per row)\n",
+                  run.root_cpu_seconds,
+                  poses > 0 ? 1e6 * run.root_cpu_seconds / static_cast<double>(poses) : 0.0);
     std::cout << line;
     return exit_success;
   } catch (const std::exception& e) {

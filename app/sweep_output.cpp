@@ -29,7 +29,8 @@ std::string pose_text(const SweepDescription& description, const std::vector<dou
   std::string text;
   for (std::size_t k = 0; k < values.size(); ++k) {
     if (k > 0) text += ", ";
-    text += description.run.poses.parameters[k] + " = " + value_with_unit(values[k], description.run.units[k]);
+    text += description.run.poses.parameters[k] + " = " +
+            value_with_unit(values[k], description.run.units[k]);
   }
   return text;
 }
@@ -63,11 +64,12 @@ std::string vector_text(const Vec3& v) {
 // subtitles name the parameters held fixed and, on deflection maps, the loads; poses flagged
 // (large deflections) are ringed.
 std::vector<fs::path> write_plots(const SweepDescription& description, const SweepColumn& column,
-                                  std::vector<double> values, const std::vector<bool>& flagged, const fs::path& base) {
+                                  std::vector<double> values, const std::vector<bool>& flagged,
+                                  const fs::path& base) {
   const auto& grid = description.run.poses.grid;
   const auto worst = worst_of(column, values);
-  const std::string label = worst ? std::string(column.worst_is_largest ? "largest" : "smallest") + ": " +
-                                        with_unit(values[*worst], column.unit)
+  const std::string label = worst ? std::string(column.worst_is_largest ? "largest" : "smallest") +
+                                        ": " + with_unit(values[*worst], column.unit)
                                   : std::string();
   bool any_failed = false, any_rigid = false;
   for (double& value : values) {
@@ -77,16 +79,18 @@ std::vector<fs::path> write_plots(const SweepDescription& description, const Swe
       any_rigid = true;
     }
   }
-  const std::string no_value = any_rigid ? (any_failed ? "no value: failed pose, or rigid (infinite)"
-                                                       : "rigid direction (infinite stiffness)")
-                                         : "no value (failed pose)";
+  const std::string no_value = any_rigid
+                                   ? (any_failed ? "no value: failed pose, or rigid (infinite)"
+                                                 : "rigid direction (infinite stiffness)")
+                                   : "no value (failed pose)";
   const std::string title = description.run.model + ": " + column.name;
-  const bool deflection =
-      column.quantity == SweepQuantity::deflection_trans || column.quantity == SweepQuantity::deflection_rot;
+  const bool deflection = column.quantity == SweepQuantity::deflection_trans ||
+                          column.quantity == SweepQuantity::deflection_rot;
   const auto& fixed = description.run.fixed_parameters;
   std::string subtitle = fixed.empty() ? "" : "at " + parameters_text(fixed);
   if (deflection) subtitle += (subtitle.empty() ? "under " : "; under ") + description.loads;
-  const std::string flagged_label = "deflections beyond the linear method's range (large_deflection)";
+  const std::string flagged_label =
+      "deflections beyond the linear method's range (large_deflection)";
   const auto axis = [&](std::size_t k) {
     PlotAxis a{grid[k].parameter, description.run.units[k], {}};
     for (std::size_t i = 0; i < grid[k].count; ++i) a.values.push_back(grid[k].value(i));
@@ -96,12 +100,13 @@ std::vector<fs::path> write_plots(const SweepDescription& description, const Swe
   for (const char* extension : {".png", ".svg"}) {
     const fs::path file = base.string() + "." + column.name + extension;
     if (grid.size() == 1) {
-      LinePlot plot{title,    axis(0),  column.name, column.unit, values,       scale_for(values),
-                    worst,    label,    no_value,    subtitle,    flagged,      flagged_label};
+      LinePlot plot{title, axis(0), column.name, column.unit, values,  scale_for(values),
+                    worst, label,   no_value,    subtitle,    flagged, flagged_label};
       write_plot(plot, file);
     } else {
-      Heatmap plot{title,    axis(0),  axis(1),  column.name,  column.unit,  values, scale_for(values),
-                   std::nullopt, label, no_value, subtitle, flagged, flagged_label};
+      Heatmap plot{title,    axis(0),           axis(1),      column.name, column.unit,
+                   values,   scale_for(values), std::nullopt, label,       no_value,
+                   subtitle, flagged,           flagged_label};
       if (worst) plot.marked = std::pair{*worst % grid[0].count, *worst / grid[0].count};
       write_plot(plot, file);
     }
@@ -127,17 +132,21 @@ struct SweepOutput::State {
   bool any_flagged = false;
 
   State(const SweepDescription& d, SweepFiles f, std::size_t first)
-      : description(d), files(std::move(f)), first_pose(first), next_pose(first), summary(d.columns) {}
+      : description(d),
+        files(std::move(f)),
+        first_pose(first),
+        next_pose(first),
+        summary(d.columns) {}
 };
 
-SweepOutput::SweepOutput(const SweepDescription& description, SweepFiles files, std::size_t first_pose,
-                         std::size_t poses)
+SweepOutput::SweepOutput(const SweepDescription& description, SweepFiles files,
+                         std::size_t first_pose, std::size_t poses)
     : state_(std::make_unique<State>(description, std::move(files), first_pose)) {
   State& s = *state_;
   // A plot holds one number per pose of each plotted column; more than its pixels show anyway.
   if (!s.files.plotted.empty() && poses > kMaxPosesInMemory)
-    throw UsageError("--plot: the grid has " + std::to_string(poses) + " poses; plots are drawn of at most " +
-                     std::to_string(kMaxPosesInMemory));
+    throw UsageError("--plot: the grid has " + std::to_string(poses) +
+                     " poses; plots are drawn of at most " + std::to_string(kMaxPosesInMemory));
   for (std::size_t p = 0; p < s.files.plotted.size(); ++p) s.plotted.emplace_back(poses, NAN);
   if (!s.files.plotted.empty()) s.flagged.assign(poses, false);
   if (!s.files.csv.empty()) {
@@ -146,7 +155,8 @@ SweepOutput::SweepOutput(const SweepDescription& description, SweepFiles files, 
   }
   if (!s.files.hdf5.empty()) {
 #if STIFFMSA_CLI_HDF5
-    s.hdf5.emplace(s.files.hdf5, description.run.poses.parameters, description.run.units, description.columns);
+    s.hdf5.emplace(s.files.hdf5, description.run.poses.parameters, description.run.units,
+                   description.columns);
 #else
     throw UsageError("this build of stiffmsa writes no HDF5 (built without HDF5); write --csv");
 #endif
@@ -156,7 +166,8 @@ SweepOutput::SweepOutput(const SweepDescription& description, SweepFiles files, 
 SweepOutput::~SweepOutput() = default;
 
 BlockShape SweepOutput::shape() const {
-  return {&state_->description, state_->files.plotted, state_->csv.has_value(), !state_->files.hdf5.empty()};
+  return {&state_->description, state_->files.plotted, state_->csv.has_value(),
+          !state_->files.hdf5.empty()};
 }
 
 std::vector<fs::path> SweepOutput::temporary_files() const {
@@ -183,7 +194,8 @@ void SweepOutput::write(const SweepBlock& block) {
 #endif
   for (std::size_t p = 0; p < s.plotted.size(); ++p)
     for (std::size_t row = 0; row < block.rows.size(); ++row)
-      s.plotted[p][block.rows.first_pose - s.first_pose + row] = block.plotted[row * s.plotted.size() + p];
+      s.plotted[p][block.rows.first_pose - s.first_pose + row] =
+          block.plotted[row * s.plotted.size() + p];
   if (!s.flagged.empty())
     for (std::size_t row = 0; row < block.rows.size(); ++row)
       if (block.rows.large_deflections[row] != 0) {
@@ -192,7 +204,8 @@ void SweepOutput::write(const SweepBlock& block) {
       }
 }
 
-std::vector<fs::path> SweepOutput::finish(std::size_t threads, double seconds, const std::string& extra_json) {
+std::vector<fs::path> SweepOutput::finish(std::size_t threads, double seconds,
+                                          const std::string& extra_json) {
   State& s = *state_;
   SweepResult run = s.description.run;
   run.threads = threads;
@@ -221,8 +234,8 @@ std::vector<fs::path> SweepOutput::finish(std::size_t threads, double seconds, c
   written.push_back(s.files.summary);
   if (!s.any_flagged) s.flagged.clear();  // no rings and no legend entry for them
   for (std::size_t p = 0; p < s.plotted.size(); ++p) {
-    const auto plots =
-        write_plots(s.description, s.files.plotted[p], std::move(s.plotted[p]), s.flagged, s.files.plot_base);
+    const auto plots = write_plots(s.description, s.files.plotted[p], std::move(s.plotted[p]),
+                                   s.flagged, s.files.plot_base);
     written.insert(written.end(), plots.begin(), plots.end());
   }
   return written;
@@ -230,10 +243,11 @@ std::vector<fs::path> SweepOutput::finish(std::size_t threads, double seconds, c
 
 namespace {
 
-SweepBlock finish_block(const BlockShape& shape, SweepRows rows, std::vector<double> plotted, std::size_t threads,
-                        double seconds) {
-  SweepBlock block{std::move(rows), SweepSummary(shape.description->columns), {}, std::move(plotted), threads,
-                   seconds};
+SweepBlock finish_block(const BlockShape& shape, SweepRows rows, std::vector<double> plotted,
+                        std::size_t threads, double seconds) {
+  SweepBlock block{
+      std::move(rows), SweepSummary(shape.description->columns), {}, std::move(plotted), threads,
+      seconds};
   block.summary.add(block.rows);
   if (shape.csv) append_sweep_csv_rows(block.csv, block.rows);
   if (!shape.rows) {
@@ -254,8 +268,8 @@ SweepBlock make_block(const BlockShape& shape, const SweepResult& solved, std::s
   plotted.reserve(solved.results.size() * shape.plotted.size());
   for (std::size_t pose = 0; pose < solved.results.size(); ++pose)
     for (const auto& column : shape.plotted) plotted.push_back(column_value(solved, column, pose));
-  return finish_block(shape, sweep_rows(solved, shape.description->columns, first_pose), std::move(plotted),
-                      solved.threads, solved.seconds);
+  return finish_block(shape, sweep_rows(solved, shape.description->columns, first_pose),
+                      std::move(plotted), solved.threads, solved.seconds);
 }
 
 SweepBlock make_block(const BlockShape& shape, SweepRows rows) {
@@ -265,7 +279,8 @@ SweepBlock make_block(const BlockShape& shape, SweepRows rows) {
     std::size_t k = 0;
     while (k < columns.size() && columns[k].name != column.name) ++k;
     if (k == columns.size())
-      throw UsageError("--plot-column '" + column.name + "': the rows have no such column (written without --full?)");
+      throw UsageError("--plot-column '" + column.name +
+                       "': the rows have no such column (written without --full?)");
     index.push_back(k);
   }
   std::vector<double> plotted;
@@ -275,13 +290,15 @@ SweepBlock make_block(const BlockShape& shape, SweepRows rows) {
   return finish_block(shape, std::move(rows), std::move(plotted), 1, 0);
 }
 
-void print_sweep_summary(std::ostream& out, const SweepDescription& description, const SweepSummary& summary,
-                         std::size_t threads, double seconds, const std::vector<fs::path>& files, std::size_t ranks) {
+void print_sweep_summary(std::ostream& out, const SweepDescription& description,
+                         const SweepSummary& summary, std::size_t threads, double seconds,
+                         const std::vector<fs::path>& files, std::size_t ranks) {
   const std::size_t poses = summary.poses();
   out << "sweep of " << description.run.model << ": " << poses << " poses over "
       << name_list(description.run.poses.parameters);
-  const std::string workers =
-      ranks > 1 ? counted(ranks, "rank") + " of " + counted(threads, "thread") : counted(threads, "thread");
+  const std::string workers = ranks > 1
+                                  ? counted(ranks, "rank") + " of " + counted(threads, "thread")
+                                  : counted(threads, "thread");
   char rate[160];
   std::snprintf(rate, sizeof rate, " in %.3g s (%s, %.0f poses/s)\n", seconds, workers.c_str(),
                 seconds > 0 ? static_cast<double>(poses) / seconds : 0.0);
@@ -300,14 +317,17 @@ void print_sweep_summary(std::ostream& out, const SweepDescription& description,
     out << "  first pose with large deflections (" << pose_text(description, large->parameters)
         << "): " << large->message << '\n';
   if (const auto& failed = summary.first_failed())
-    out << "  first failed pose (" << pose_text(description, failed->parameters) << "): " << to_string(failed->status)
-        << ": " << failed->message << '\n';
+    out << "  first failed pose (" << pose_text(description, failed->parameters)
+        << "): " << to_string(failed->status) << ": " << failed->message << '\n';
   for (std::size_t c = 0; c < summary.columns().size(); ++c) {
     const SweepColumn& column = summary.columns()[c];
     const auto& worst = summary.worst(c);
-    if (!worst || column.quantity == SweepQuantity::compliance || column.quantity == SweepQuantity::stiffness) continue;
+    if (!worst || column.quantity == SweepQuantity::compliance ||
+        column.quantity == SweepQuantity::stiffness)
+      continue;
     out << "  " << (column.worst_is_largest ? "largest  " : "smallest ") << column.name << " = "
-        << with_unit(worst->value, column.unit) << " at " << pose_text(description, worst->parameters) << '\n';
+        << with_unit(worst->value, column.unit) << " at "
+        << pose_text(description, worst->parameters) << '\n';
   }
   out << "wrote";
   for (const auto& f : files) out << ' ' << f.string();
@@ -326,15 +346,18 @@ std::string loads_text(const Model& model) {
     if (wrench.empty()) wrench = "zero wrench";
     text += (i > 0 ? "; " : "") + wrench + " at " + load.at;
   }
-  if (model.loads.size() > shown) text += "; and " + counted(model.loads.size() - shown, "more load");
+  if (model.loads.size() > shown)
+    text += "; and " + counted(model.loads.size() - shown, "more load");
   return text.empty() ? "no loads" : text;
 }
 
-std::vector<SweepColumn> plotted_columns(const SweepResult& description, const std::vector<std::string>& names) {
+std::vector<SweepColumn> plotted_columns(const SweepResult& description,
+                                         const std::vector<std::string>& names) {
   std::vector<SweepColumn> columns;
   if (names.empty()) {
     for (const auto& column : sweep_columns(description, false))
-      if (column.quantity == SweepQuantity::k_trans_min || column.quantity == SweepQuantity::deflection_trans)
+      if (column.quantity == SweepQuantity::k_trans_min ||
+          column.quantity == SweepQuantity::deflection_trans)
         columns.push_back(column);
     return columns;
   }
@@ -343,7 +366,8 @@ std::vector<SweepColumn> plotted_columns(const SweepResult& description, const s
     if (!column) {
       std::vector<std::string> known;
       for (const auto& c : sweep_columns(description, false)) known.push_back(c.name);
-      throw UsageError("--plot-column '" + name + "': no such column; columns are " + name_list(known) +
+      throw UsageError("--plot-column '" + name + "': no such column; columns are " +
+                       name_list(known) +
                        " and the compliance and stiffness entries E.C11 … E.K66");
     }
     columns.push_back(*column);
@@ -353,12 +377,15 @@ std::vector<SweepColumn> plotted_columns(const SweepResult& description, const s
 
 void check_plot_grid(const std::vector<GridAxis>& axes, bool from_pose_file) {
   if (from_pose_file || axes.empty() || axes.size() > 2)
-    throw UsageError("--plot draws a line over a 1-D grid or a map over a 2-D grid; this sweep has " +
-                     (from_pose_file ? std::string("a list of poses") : std::to_string(axes.size()) + " grid axes"));
+    throw UsageError(
+        "--plot draws a line over a 1-D grid or a map over a 2-D grid; this sweep has " +
+        (from_pose_file ? std::string("a list of poses")
+                        : std::to_string(axes.size()) + " grid axes"));
   for (const auto& axis : axes) {
     const bool ascending = axis.start < axis.stop || (axes.size() == 1 && axis.count == 1);
     if (!ascending || (axes.size() == 2 && axis.count < 2))
-      throw UsageError("--plot: the grid of '" + axis.parameter + "' must run upwards (START < STOP)" +
+      throw UsageError("--plot: the grid of '" + axis.parameter +
+                       "' must run upwards (START < STOP)" +
                        (axes.size() == 2 ? " with at least 2 values" : "") + " for a plot");
   }
 }
@@ -379,10 +406,11 @@ void ProgressBar::update(std::size_t done, std::size_t total) {
   const int filled = static_cast<int>(fraction * width);
   std::string bar(static_cast<std::size_t>(filled), '#');
   bar.resize(width, '.');
-  std::fprintf(stderr, "\rsweep [%s] %3d%% %zu/%zu poses", bar.c_str(), static_cast<int>(fraction * 100), done,
-               total);
+  std::fprintf(stderr, "\rsweep [%s] %3d%% %zu/%zu poses", bar.c_str(),
+               static_cast<int>(fraction * 100), done, total);
   if (done > 0 && done < total)
-    std::fprintf(stderr, ", %.0f s left   ", elapsed * static_cast<double>(total - done) / static_cast<double>(done));
+    std::fprintf(stderr, ", %.0f s left   ",
+                 elapsed * static_cast<double>(total - done) / static_cast<double>(done));
   drawn_ = true;
   std::fflush(stderr);
 }

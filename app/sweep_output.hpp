@@ -55,7 +55,8 @@ struct SweepFiles {
 class SweepOutput {
  public:
   // The files are created now (as temporaries) and appear whole at finish().
-  SweepOutput(const SweepDescription& description, SweepFiles files, std::size_t first_pose, std::size_t poses);
+  SweepOutput(const SweepDescription& description, SweepFiles files, std::size_t first_pose,
+              std::size_t poses);
   SweepOutput(const SweepOutput&) = delete;
   SweepOutput& operator=(const SweepOutput&) = delete;
   ~SweepOutput();
@@ -68,7 +69,8 @@ class SweepOutput {
   void write(const SweepBlock& block);
   // Writes the summary (with `extra` keys merged in, a JSON object's text) and the plots and
   // puts every file in place; returns the files written.
-  std::vector<std::filesystem::path> finish(std::size_t threads, double seconds, const std::string& extra_json = {});
+  std::vector<std::filesystem::path> finish(std::size_t threads, double seconds,
+                                            const std::string& extra_json = {});
 
   const SweepSummary& summary() const;
 
@@ -101,13 +103,14 @@ class ProgressBar {
 
 // What the command prints at the end: poses, rate, fixed parameters, warnings, statuses, first
 // pose with large deflections, first failure, worst of each column, the files written.
-void print_sweep_summary(std::ostream& out, const SweepDescription& description, const SweepSummary& summary,
-                         std::size_t threads, double seconds, const std::vector<std::filesystem::path>& files,
-                         std::size_t ranks = 1);
+void print_sweep_summary(std::ostream& out, const SweepDescription& description,
+                         const SweepSummary& summary, std::size_t threads, double seconds,
+                         const std::vector<std::filesystem::path>& files, std::size_t ranks = 1);
 
 // The columns `--plot-column` names (default: E.k_trans_min and E.deflection_trans of every end
 // effector). Throws UsageError naming the columns there are.
-std::vector<SweepColumn> plotted_columns(const SweepResult& description, const std::vector<std::string>& names);
+std::vector<SweepColumn> plotted_columns(const SweepResult& description,
+                                         const std::vector<std::string>& names);
 
 // A plot or a view map holds a number per pose: sweeps of more poses are refused them.
 constexpr std::size_t kMaxPosesInMemory = 10'000'000;

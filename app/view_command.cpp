@@ -13,13 +13,15 @@ namespace fs = std::filesystem;
 namespace {
 
 // "x = 0.1 m" per parameter of a parametric model, at the values the page shows.
-std::vector<std::string> parameter_texts(const ModelFamily& family, const std::vector<double>& values) {
+std::vector<std::string> parameter_texts(const ModelFamily& family,
+                                         const std::vector<double>& values) {
   std::vector<std::string> texts;
   for (std::size_t k = 0; k < family.parameters().size(); ++k) {
     const Parameter& parameter = family.parameters()[k];
     char number[32];
     std::snprintf(number, sizeof number, "%.6g", values[k]);
-    texts.push_back(parameter.name + " = " + number + (parameter.unit.empty() ? "" : " " + parameter.unit));
+    texts.push_back(parameter.name + " = " + number +
+                    (parameter.unit.empty() ? "" : " " + parameter.unit));
   }
   return texts;
 }
@@ -28,19 +30,24 @@ std::vector<std::string> parameter_texts(const ModelFamily& family, const std::v
 
 CLI::App* add_view_subcommand(CLI::App& app, ViewCommand& command) {
   CLI::App* view = app.add_subcommand(
-      "view", "Write an HTML page that shows the model in 3-D with its deformed shape and ellipsoids");
+      "view",
+      "Write an HTML page that shows the model in 3-D with its deformed shape and ellipsoids");
   view->add_option("MODEL", command.model_file, "Model file (YAML or JSON)")->required();
-  view->add_option("-o,--output", command.html_file, "The page to write (default: MODEL with .html)");
+  view->add_option("-o,--output", command.html_file,
+                   "The page to write (default: MODEL with .html)");
   view->add_option("--scale", command.scale,
-                   "Magnification of the deformed shape (default: the largest displacement drawn as a tenth of "
+                   "Magnification of the deformed shape (default: the largest displacement drawn "
+                   "as a tenth of "
                    "the model); the page has a slider too")
       ->check(CLI::Validator(
           [](std::string& input) -> std::string {
             const auto value = parse_plain_number(input);
-            return value && *value > 0 ? std::string() : "expected a positive number, got '" + input + "'";
+            return value && *value > 0 ? std::string()
+                                       : "expected a positive number, got '" + input + "'";
           },
           "S > 0"));
-  view->add_option("--set", command.settings, "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
+  view->add_option("--set", command.settings,
+                   "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
   return view;
 }
 
@@ -48,9 +55,11 @@ int run_view(const ViewCommand& command) {
   fs::path html_file = command.html_file;
   if (html_file.empty()) html_file = fs::path(command.model_file).replace_extension(".html");
   if (same_file(command.model_file, html_file))
-    throw UsageError("the page '" + html_file.string() + "' is the model file; choose another name with -o");
+    throw UsageError("the page '" + html_file.string() +
+                     "' is the model file; choose another name with -o");
 
-  const ModelFamily family = load_model_family(command.model_file, command.limits, parse_settings(command.settings));
+  const ModelFamily family =
+      load_model_family(command.model_file, command.limits, parse_settings(command.settings));
   const std::vector<double> values = family.default_values();
   const Model model = family.build(values);
 

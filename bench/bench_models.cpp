@@ -57,7 +57,8 @@ std::vector<Model> industrial_poses(const Model& home, int count) {
   // where the previous one ends.
   std::vector<std::string> chain{home.links.front().from};
   for (const Link& link : home.links) {
-    if (link.from != chain.back()) throw std::runtime_error("bench: the links are not listed base to tool");
+    if (link.from != chain.back())
+      throw std::runtime_error("bench: the links are not listed base to tool");
     chain.push_back(link.to);
   }
   auto place_in_chain = [&](const std::string& point) {
@@ -66,7 +67,8 @@ std::vector<Model> industrial_poses(const Model& home, int count) {
     throw std::runtime_error("bench: joint point '" + point + "' is not on the chain");
   };
   const double amplitude[] = {0.3, 0.2, 0.2, 0.3, 0.2, 0.3};
-  if (home.joints.size() != std::size(amplitude)) throw std::runtime_error("bench: expected six joints");
+  if (home.joints.size() != std::size(amplitude))
+    throw std::runtime_error("bench: expected six joints");
 
   std::vector<Model> poses;
   for (int p = 0; p < count; ++p) {
@@ -120,7 +122,8 @@ std::vector<Model> tripteron_poses(const Model& home, int count) {
     for (const std::string leg : {"x", "y", "z"}) {
       const Vec3 rail = kinematics_of_support(home, "screw_" + leg).axis.normalized();
       const Vec3 along = shift.dot(rail) * rail;  // the carriage follows the platform on its rail
-      const Vec3 shoulder0 = position(home, "shoulder_" + leg), elbow0 = position(home, "elbow_" + leg);
+      const Vec3 shoulder0 = position(home, "shoulder_" + leg),
+                 elbow0 = position(home, "elbow_" + leg);
       const Vec3 wrist0 = position(home, "wrist_" + leg);
       const Vec3 shoulder = shoulder0 + along, wrist = wrist0 + shift;
       position(m, "slide_" + leg) += along;
@@ -152,8 +155,10 @@ VirtualJointModel virtual_joint_model(const Model& serial) {
   VirtualJointModel vjm;
   for (const auto& joint : serial.joints) {
     const auto& c = joint.connection;
-    if (c.kinematics.type != stiffmsa::JointType::revolute || !c.stiffness || c.stiffness->size() != 1)
-      throw std::runtime_error("bench: the VJM needs elastic revolute joints; '" + joint.name + "' is not one");
+    if (c.kinematics.type != stiffmsa::JointType::revolute || !c.stiffness ||
+        c.stiffness->size() != 1)
+      throw std::runtime_error("bench: the VJM needs elastic revolute joints; '" + joint.name +
+                               "' is not one");
     vjm.axes.push_back(c.kinematics.axis.normalized());
     vjm.points.push_back(position(serial, joint.at));
     vjm.stiffness.push_back((*c.stiffness)(0, 0));
@@ -229,18 +234,22 @@ Model space_frame(int nx, int ny, int storeys) {
   m.name = numbered(numbered(numbered("frame-", nx) + "x", ny) + "x", storeys);
   for (int k = 0; k <= storeys; ++k)
     for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i) m.add_point(node(i, j, k), Vec3(bay * i, bay * j, storey_height * k));
+      for (int i = 0; i <= nx; ++i)
+        m.add_point(node(i, j, k), Vec3(bay * i, bay * j, storey_height * k));
   for (int k = 1; k <= storeys; ++k) {
     for (int j = 0; j <= ny; ++j)
       for (int i = 0; i <= nx; ++i)
         m.add_beam(name("cn", i, j, k), node(i, j, k - 1), node(i, j, k), steel, column);
     for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i < nx; ++i) m.add_beam(name("xn", i, j, k), node(i, j, k), node(i + 1, j, k), steel, girder);
+      for (int i = 0; i < nx; ++i)
+        m.add_beam(name("xn", i, j, k), node(i, j, k), node(i + 1, j, k), steel, girder);
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i <= nx; ++i) m.add_beam(name("yn", i, j, k), node(i, j, k), node(i, j + 1, k), steel, girder);
+      for (int i = 0; i <= nx; ++i)
+        m.add_beam(name("yn", i, j, k), node(i, j, k), node(i, j + 1, k), steel, girder);
   }
   for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) m.add_support(name("gn", i, j, 0), node(i, j, 0), {}, Connection::rigid());
+    for (int i = 0; i <= nx; ++i)
+      m.add_support(name("gn", i, j, 0), node(i, j, 0), {}, Connection::rigid());
   const std::string corner = node(nx, ny, storeys), top_column = name("cn", nx, ny, storeys);
   m.add_load(corner, top_column, (Vec6() << 20e3, 10e3, 0, 0, 0, 0).finished());
   m.add_end_effector("roof_corner", corner, top_column);

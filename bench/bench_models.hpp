@@ -40,9 +40,9 @@ Model with_rigid_links(Model model);
 
 // Rigid links and elastic revolute joints: C = Σ J_i·k_i⁻¹·J_iᵀ, J_i = [a_i × (p_e − p_i); a_i].
 struct VirtualJointModel {
-  std::vector<Vec3> axes;       // unit joint axes a_i
-  std::vector<Vec3> points;     // joint points p_i
-  std::vector<double> stiffness;  // k_i (N·m/rad)
+  std::vector<Vec3> axes;            // unit joint axes a_i
+  std::vector<Vec3> points;          // joint points p_i
+  std::vector<double> stiffness;     // k_i (N·m/rad)
   Vec3 end_effector = Vec3::Zero();  // p_e
 };
 

@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
       once = true;
     } else if (arg == "--refinement-steps" && i + 1 < argc) {
       options.refinement_steps = std::atoi(argv[++i]);
-    } else if (const auto kind = stiffmsa::solver_kind_from_string(arg); kind && stiffmsa::solver_available(*kind)) {
+    } else if (const auto kind = stiffmsa::solver_kind_from_string(arg);
+               kind && stiffmsa::solver_available(*kind)) {
       options.solver = *kind;
     } else {
       std::cerr << "stiffmsa_chain: unknown or unavailable '" << arg << "'\n" << usage;
@@ -62,7 +63,8 @@ int main(int argc, char** argv) {
   }
 
   auto start = Clock::now();
-  const stiffmsa::Model model = from_file ? stiffmsa::load_model(source) : bench::cantilever_chain(std::stoi(source));
+  const stiffmsa::Model model =
+      from_file ? stiffmsa::load_model(source) : bench::cantilever_chain(std::stoi(source));
   const int links = static_cast<int>(model.links.size());
   const double build_model_s = seconds_since(start);
   const long model_rss_kib = status_kib("VmRSS");
@@ -73,9 +75,8 @@ int main(int argc, char** argv) {
   const long peak_kib = status_kib("VmHWM");  // before anything else is allocated
   double workspace_s = 0, first_s = 0, repeat_s = 0;
   if (!once) {
-
-  // The same again in steps: the workspace (validation, topology, pattern), the first solve
-  // with it (pattern analysis + numeric work), and a repeated solve (numeric work only).
+    // The same again in steps: the workspace (validation, topology, pattern), the first solve
+    // with it (pattern analysis + numeric work), and a repeated solve (numeric work only).
     start = Clock::now();
     stiffmsa::Workspace workspace(model);
     workspace_s = seconds_since(start);
@@ -90,14 +91,15 @@ int main(int argc, char** argv) {
   const stiffmsa::Mat6 expected = bench::cantilever_tip_compliance();
   const stiffmsa::Mat6& c = *result.end_effectors.front().compliance;
   std::printf(
-      "{\"links\": %d, \"source\": \"%s\", \"solver\": \"%s\", \"refinement_steps\": %d, \"unknowns\": %ld, \"nonzeros\": %ld, "
+      "{\"links\": %d, \"source\": \"%s\", \"solver\": \"%s\", \"refinement_steps\": %d, "
+      "\"unknowns\": %ld, \"nonzeros\": %ld, "
       "\"build_model_s\": %.6f, \"solve_s\": %.6f, \"workspace_s\": %.6f, \"first_solve_s\": %.6f, "
       "\"repeat_solve_s\": %.6f, \"model_rss_mib\": %.1f, \"peak_mib\": %.1f, \"tip_error\": %.3e, "
       "\"cyy_error\": %.3e, \"relative_residual\": %.3e, \"warnings\": %zu}\n",
-      links, from_file ? "file" : "code", stiffmsa::to_string(options.solver), options.refinement_steps, result.system.unknowns,
-      result.system.nonzeros, build_model_s,
+      links, from_file ? "file" : "code", stiffmsa::to_string(options.solver),
+      options.refinement_steps, result.system.unknowns, result.system.nonzeros, build_model_s,
       solve_s, workspace_s, first_s, repeat_s, model_rss_kib / 1024.0, peak_kib / 1024.0,
-      bench::scaled_difference(c, expected), std::abs(c(1, 1) / expected(1, 1) - 1), result.report.relative_residual,
-      result.report.warnings.size());
+      bench::scaled_difference(c, expected), std::abs(c(1, 1) / expected(1, 1) - 1),
+      result.report.relative_residual, result.report.warnings.size());
   return 0;
 }

@@ -19,10 +19,12 @@ namespace {
 using namespace stiffmsa;
 
 // Not inlined, so that callgrind can collect exactly this loop.
-[[gnu::noinline]] double run_poses(Workspace& workspace, const std::vector<Model>& poses, int rounds) {
+[[gnu::noinline]] double run_poses(Workspace& workspace, const std::vector<Model>& poses,
+                                   int rounds) {
   double sum = 0;  // used, so that no solve is optimised away
   for (int round = 0; round < rounds; ++round)
-    for (const Model& pose : poses) sum += (*solve(workspace, pose).end_effectors.front().compliance)(0, 0);
+    for (const Model& pose : poses)
+      sum += (*solve(workspace, pose).end_effectors.front().compliance)(0, 0);
   return sum;
 }
 
@@ -37,14 +39,16 @@ int main(int argc, char** argv) {
   }
   constexpr int kPoses = 16;
   const std::vector<Model> poses =
-      robot == "6axis" ? bench::industrial_poses(bench::load_example("industrial-6axis.yaml"), kPoses)
-                       : bench::tripteron_poses(bench::load_example("tripteron.yaml"), kPoses);
+      robot == "6axis"
+          ? bench::industrial_poses(bench::load_example("industrial-6axis.yaml"), kPoses)
+          : bench::tripteron_poses(bench::load_example("tripteron.yaml"), kPoses);
   Workspace workspace(poses.front());
   run_poses(workspace, poses, 1);  // warm-up
   const auto start = std::chrono::steady_clock::now();
   const double sum = run_poses(workspace, poses, rounds);
-  const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
-  std::printf("%s: %.2f us per pose over %d poses (checksum %.6g)\n", robot.c_str(), us / (kPoses * rounds),
-              kPoses * rounds, sum);
+  const double us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+  std::printf("%s: %.2f us per pose over %d poses (checksum %.6g)\n", robot.c_str(),
+              us / (kPoses * rounds), kPoses * rounds, sum);
   return 0;
 }

@@ -47,8 +47,9 @@
 // Every robot benchmark walks through 16 poses of the example (bench_models.hpp), so each
 // iteration is one pose. Counters: allocs = heap allocations per iteration; c_diff,
 // err_vs_sparse, msa_vs_vjm, tip_err = scaled entry differences of 6×6 compliances (see
-// scaled_difference) against the default solver (auto since the tuning, sparse_lu before), the public solve, the closed-form
-// VJM and the closed-form cantilever; residual = SolveReport::relative_residual.
+// scaled_difference) against the default solver (auto since the tuning, sparse_lu before), the
+// public solve, the closed-form VJM and the closed-form cantilever; residual =
+// SolveReport::relative_residual.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Cholesky>
@@ -82,7 +83,8 @@ constexpr int kRefinementSteps = SolveOptions{}.refinement_steps;
 
 std::vector<SolverKind> available_solvers() {
   std::vector<SolverKind> kinds;
-  for (SolverKind k : {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu})
+  for (SolverKind k :
+       {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu})
     if (solver_available(k)) kinds.push_back(k);
   return kinds;
 }
@@ -96,18 +98,19 @@ SolveOptions options_for(SolverKind kind, int refinement_steps = kRefinementStep
 
 // Heap allocations per iteration, from the counts before and after the timing loop.
 void count_allocations(benchmark::State& state, std::uint64_t before) {
-  state.counters["allocs"] = benchmark::Counter(static_cast<double>(bench::allocation_count() - before),
-                                                benchmark::Counter::kAvgIterations);
+  state.counters["allocs"] = benchmark::Counter(
+      static_cast<double>(bench::allocation_count() - before), benchmark::Counter::kAvgIterations);
 }
 
 // ---- one robot, prepared once --------------------------------------------------------------
 
 // Right-hand sides as the analysis builds them: the loads (and preloads), then six unit
 // wrenches at every end effector.
-MatX right_hand_sides(const Model& model, const detail::Topology& topology, const detail::Blocks& blocks,
-                      const detail::Assembler& assembler) {
+MatX right_hand_sides(const Model& model, const detail::Topology& topology,
+                      const detail::Blocks& blocks, const detail::Assembler& assembler) {
   std::vector<std::pair<int, Vec6>> loads;
-  for (std::size_t i = 0; i < model.loads.size(); ++i) loads.emplace_back(topology.load_ends[i], model.loads[i].wrench);
+  for (std::size_t i = 0; i < model.loads.size(); ++i)
+    loads.emplace_back(topology.load_ends[i], model.loads[i].wrench);
   const Index n = topology.unknowns();
   MatX b = MatX::Zero(n, 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
   b.col(0) = assembler.right_hand_side(blocks, topology, loads, true);
@@ -135,17 +138,18 @@ struct Robot {
   std::vector<Model> poses;
   detail::Topology topology;
   std::unique_ptr<detail::Assembler> assembler;
-  std::vector<detail::Blocks> blocks;   // per pose
-  std::vector<SparseMatrix> matrices;   // per pose, assembled
-  std::vector<MatX> rhs;                // per pose
-  std::vector<Mat6> compliance;         // per pose, from the public solve: the reference
-  double length = 1;                    // detail::characteristic_length
+  std::vector<detail::Blocks> blocks;     // per pose
+  std::vector<SparseMatrix> matrices;     // per pose, assembled
+  std::vector<MatX> rhs;                  // per pose
+  std::vector<Mat6> compliance;           // per pose, from the public solve: the reference
+  double length = 1;                      // detail::characteristic_length
   std::optional<detail::TreeOrder> tree;  // where `auto` takes the tree solve
 
   Robot(std::string robot_name, std::vector<Model> robot_poses)
       : name(std::move(robot_name)), poses(std::move(robot_poses)) {
     topology = detail::build_topology(poses.front());
-    assembler = std::make_unique<detail::Assembler>(detail::make_blocks(poses.front(), topology), topology.unknowns());
+    assembler = std::make_unique<detail::Assembler>(detail::make_blocks(poses.front(), topology),
+                                                    topology.unknowns());
     length = detail::characteristic_length(poses.front());
     Workspace workspace(poses.front());
     for (const Model& pose : poses) {
@@ -163,7 +167,8 @@ struct Robot {
     detail::TreeScratch scratch;
     if (auto order = detail::tree_order(topology);
         order && detail::passes_tree(blocks.front()) &&
-        detail::tree_solve(blocks.front(), topology, *order, detail::load_cases(poses.front(), topology),
+        detail::tree_solve(blocks.front(), topology, *order,
+                           detail::load_cases(poses.front(), topology),
                            1 / SolveOptions{}.warn_condition, scratch))
       tree = std::move(order);
   }
@@ -172,7 +177,8 @@ struct Robot {
 
 // ---- the public API ----------------------------------------------------------------------
 
-void public_solve(benchmark::State& state, const Robot& robot, SolverKind kind, int refinement_steps) {
+void public_solve(benchmark::State& state, const Robot& robot, SolverKind kind,
+                  int refinement_steps) {
   Workspace workspace(robot.poses.front());
   const SolveOptions options = options_for(kind, refinement_steps);
   // Accuracy, outside the timing: every pose against the default solver's compliance, and the
@@ -180,8 +186,9 @@ void public_solve(benchmark::State& state, const Robot& robot, SolverKind kind, 
   double difference = 0, residual = 0;
   for (std::size_t p = 0; p < robot.pose_count(); ++p) {
     const Result result = solve(workspace, robot.poses[p], options);
-    difference = std::max(difference, bench::scaled_difference(*result.end_effectors.front().compliance,
-                                                               robot.compliance[p]));
+    difference = std::max(
+        difference,
+        bench::scaled_difference(*result.end_effectors.front().compliance, robot.compliance[p]));
     residual = std::max(residual, result.report.relative_residual);
   }
   std::size_t p = 0;
@@ -232,15 +239,16 @@ std::vector<std::vector<double>> urdf_joint_poses(const ModelFamily& family) {
   for (int p = 0; p < kPoses; ++p) {
     std::vector<double> q = family.default_values();
     for (std::size_t k = 0; k < q.size(); ++k)
-      q[k] += amplitude[k] * std::sin(2 * 3.14159265358979323846 * p / kPoses + 1.3 * static_cast<double>(k));
+      q[k] += amplitude[k] *
+              std::sin(2 * 3.14159265358979323846 * p / kPoses + 1.3 * static_cast<double>(k));
     poses.push_back(std::move(q));
   }
   return poses;
 }
 
 void urdf_pose(benchmark::State& state, bool solve_too) {
-  const ModelFamily family =
-      parse_model_family(kUrdfJointSpace, std::string(STIFFMSA_EXAMPLES_DIR) + "/robots/joint-space.yaml");
+  const ModelFamily family = parse_model_family(
+      kUrdfJointSpace, std::string(STIFFMSA_EXAMPLES_DIR) + "/robots/joint-space.yaml");
   const auto poses = urdf_joint_poses(family);
   const Structure structure = family.structure();
   ModelFamily::ValueWriter write = family.make_writer(structure);
@@ -319,7 +327,8 @@ void stage_factorize(benchmark::State& state, const Robot& robot, SolverKind kin
   count_allocations(state, before);
 }
 
-void stage_solve(benchmark::State& state, const Robot& robot, SolverKind kind, int refinement_steps) {
+void stage_solve(benchmark::State& state, const Robot& robot, SolverKind kind,
+                 int refinement_steps) {
   detail::FactorizedSystem system(kind);
   system.factorize(robot.matrices.front(), kSingularRcond);
   double residual = 0;
@@ -386,8 +395,10 @@ void part_klu_refactor(benchmark::State& state, const Robot& robot, bool refacto
   klu_defaults(&common);
   common.tol = 1.0;
   const int n = static_cast<int>(scaled.front().rows());
-  klu_symbolic* symbolic = klu_analyze(n, scaled.front().outerIndexPtr(), scaled.front().innerIndexPtr(), &common);
-  klu_numeric* numeric = klu_factor(scaled.front().outerIndexPtr(), scaled.front().innerIndexPtr(), scaled.front().valuePtr(), symbolic, &common);
+  klu_symbolic* symbolic =
+      klu_analyze(n, scaled.front().outerIndexPtr(), scaled.front().innerIndexPtr(), &common);
+  klu_numeric* numeric = klu_factor(scaled.front().outerIndexPtr(), scaled.front().innerIndexPtr(),
+                                    scaled.front().valuePtr(), symbolic, &common);
   std::size_t p = 0;
   for (auto _ : state) {
     auto& a = scaled[p];
@@ -411,13 +422,15 @@ void part_condition_estimate(benchmark::State& state, const Robot& robot, Solver
   lu->factorize(scaled.front());
   const auto before = bench::allocation_count();
   // The library's own estimator on the bare factorisation: its share of factorize() alone.
-  for (auto _ : state) benchmark::DoNotOptimize(detail::estimate_inverse_norm1(*lu, scaled.front().rows()));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(detail::estimate_inverse_norm1(*lu, scaled.front().rows()));
   count_allocations(state, before);
 }
 
 // ---- per-pose pipelines: sparse (the library's stages) and dense (the naive baseline) -------
 
-Cartesian sparse_pose(const Robot& robot, const Model& pose, SparseMatrix& matrix, detail::FactorizedSystem& system) {
+Cartesian sparse_pose(const Robot& robot, const Model& pose, SparseMatrix& matrix,
+                      detail::FactorizedSystem& system) {
   const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
   robot.assembler->fill(blocks, matrix);
   const MatX b = right_hand_sides(pose, robot.topology, blocks, *robot.assembler);
@@ -448,12 +461,14 @@ void pipeline(benchmark::State& state, const Robot& robot, SolverKind kind) {
   count_allocations(state, before);
 }
 
-// ---- the tree solve (serial robots; the tripteron with cuts) ----------------------------------------------------------
+// ---- the tree solve (serial robots; the tripteron with cuts)
+// ----------------------------------------------------------
 
 // Into scratch.x, as the public solve does with its workspace's scratch.
 void solve_tree(const Robot& robot, const detail::TreeOrder& order, const detail::Blocks& blocks,
                 const detail::EndWrenches& external, detail::TreeScratch& scratch) {
-  if (!detail::tree_solve(blocks, robot.topology, order, external, 1 / SolveOptions{}.warn_condition, scratch))
+  if (!detail::tree_solve(blocks, robot.topology, order, external,
+                          1 / SolveOptions{}.warn_condition, scratch))
     throw std::runtime_error("bench: the tree solve declined a pose");
 }
 
@@ -462,9 +477,11 @@ Cartesian tree_pose(const Robot& robot, const detail::TreeOrder& order, const Mo
   const detail::Blocks blocks = detail::make_blocks(pose, robot.topology);
   const detail::EndWrenches external = detail::load_cases(pose, robot.topology);
   solve_tree(robot, order, blocks, external, scratch);
-  if (!(detail::check_block_by_block(blocks, robot.topology, scratch.x, external, scratch).relative_residual < 1e-14))
+  if (!(detail::check_block_by_block(blocks, robot.topology, scratch.x, external, scratch)
+            .relative_residual < 1e-14))
     throw std::runtime_error("bench: a tree solve failed its check");
-  const Mat6 c = scratch.x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
+  const Mat6 c =
+      scratch.x.block<6, 6>(detail::deflection_column(robot.topology.effector_ends.front()), 1);
   return {c, detail::cartesian_stiffness(c, robot.length, SolveOptions{}.warn_condition).stiffness};
 }
 
@@ -472,8 +489,9 @@ void tree_pipeline(benchmark::State& state, const Robot& robot, const detail::Tr
   detail::TreeScratch scratch;
   double error = 0;  // against the public solve, over every pose
   for (std::size_t p = 0; p < robot.pose_count(); ++p)
-    error = std::max(error, bench::scaled_difference(tree_pose(robot, order, robot.poses[p], scratch).compliance,
-                                                     robot.compliance[p]));
+    error = std::max(
+        error, bench::scaled_difference(tree_pose(robot, order, robot.poses[p], scratch).compliance,
+                                        robot.compliance[p]));
   std::size_t p = 0;
   const auto before = bench::allocation_count();
   for (auto _ : state) {
@@ -508,8 +526,8 @@ void stage_tree_check(benchmark::State& state, const Robot& robot, const detail:
   }
   std::size_t p = 0;
   for (auto _ : state) {
-    detail::BlockCheck check =
-        detail::check_block_by_block(robot.blocks[p], robot.topology, solutions[p], loads[p], scratch);
+    detail::BlockCheck check = detail::check_block_by_block(robot.blocks[p], robot.topology,
+                                                            solutions[p], loads[p], scratch);
     benchmark::DoNotOptimize(check);
     p = (p + 1) % robot.pose_count();
   }
@@ -519,8 +537,9 @@ void dense_lu(benchmark::State& state, const Robot& robot) {
   SparseMatrix matrix;
   double error = 0;  // against the public solve, over every pose
   for (std::size_t p = 0; p < robot.pose_count(); ++p)
-    error = std::max(error, bench::scaled_difference(dense_pose(robot, robot.poses[p], matrix).compliance,
-                                                     robot.compliance[p]));
+    error = std::max(error,
+                     bench::scaled_difference(dense_pose(robot, robot.poses[p], matrix).compliance,
+                                              robot.compliance[p]));
   std::size_t p = 0;
   for (auto _ : state) {
     Cartesian c = dense_pose(robot, robot.poses[p], matrix);
@@ -537,7 +556,8 @@ void vjm_floor(benchmark::State& state, const Robot& rigid) {
   double error = 0;  // the MSA of the same rigid-link robot against the closed form
   for (std::size_t p = 0; p < rigid.pose_count(); ++p) {
     vjm.push_back(bench::virtual_joint_model(rigid.poses[p]));
-    error = std::max(error, bench::scaled_difference(rigid.compliance[p], bench::vjm_compliance(vjm.back())));
+    error = std::max(
+        error, bench::scaled_difference(rigid.compliance[p], bench::vjm_compliance(vjm.back())));
   }
   std::size_t p = 0;
   for (auto _ : state) {
@@ -626,7 +646,8 @@ void frame_dense_ldlt(benchmark::State& state) {
   MatX f = MatX::Zero(n, 1);
   for (int end = 0; end < topology.end_count(); ++end) {
     const int node = plan.node_of_end[static_cast<std::size_t>(end)];
-    if (node >= 0 && external.any_at(end)) f.middleRows<6>(6 * node) += external.at(end).col(detail::kLoadCase);
+    if (node >= 0 && external.any_at(end))
+      f.middleRows<6>(6 * node) += external.at(end).col(detail::kLoadCase);
   }
   MatX u;
   for (auto _ : state) {
@@ -637,7 +658,8 @@ void frame_dense_ldlt(benchmark::State& state) {
         for (int b = 0; b < 2; ++b) {
           const int row = plan.node_of_end[static_cast<std::size_t>(2 * l + a)];
           const int column = plan.node_of_end[static_cast<std::size_t>(2 * l + b)];
-          if (row >= 0 && column >= 0) k.block<6, 6>(6 * row, 6 * column) += k12.block<6, 6>(6 * a, 6 * b);
+          if (row >= 0 && column >= 0)
+            k.block<6, 6>(6 * row, 6 * column) += k12.block<6, 6>(6 * a, 6 * b);
         }
     }
     u = k.ldlt().solve(f);
@@ -652,7 +674,8 @@ void frame_dense_ldlt(benchmark::State& state) {
     const auto& link = result.links[static_cast<std::size_t>(end / 2)];
     const Vec6 deflection = *(end % 2 == 0 ? link.from : link.to).deflection;
     largest = std::max(largest, deflection.cwiseAbs().maxCoeff());
-    difference = std::max(difference, (deflection - u.middleRows<6>(6 * node)).cwiseAbs().maxCoeff());
+    difference =
+        std::max(difference, (deflection - u.middleRows<6>(6 * node)).cwiseAbs().maxCoeff());
   }
   state.counters["unknowns"] = static_cast<double>(n);
   state.counters["u_diff"] = difference / largest;
@@ -775,17 +798,18 @@ int main(int argc, char** argv) {
     list.push_back(std::make_unique<Robot>("6axis", industrial_poses));
     list.push_back(std::make_unique<Robot>("6axis_rigid", rigid_poses));
     list.push_back(std::make_unique<Robot>(
-        "gough_stewart", bench::gough_stewart_poses(bench::load_example("gough-stewart-6ups.yaml"), kPoses)));
-    list.push_back(
-        std::make_unique<Robot>("tripteron", bench::tripteron_poses(bench::load_example("tripteron.yaml"), kPoses)));
+        "gough_stewart",
+        bench::gough_stewart_poses(bench::load_example("gough-stewart-6ups.yaml"), kPoses)));
+    list.push_back(std::make_unique<Robot>(
+        "tripteron", bench::tripteron_poses(bench::load_example("tripteron.yaml"), kPoses)));
     return list;
   }();
 
   for (const auto& robot : robots) {
     register_robot(*robot);
-    benchmark::AddCustomContext(robot->name, std::to_string(robot->topology.unknowns()) + " unknowns, " +
-                                                 std::to_string(robot->matrices.front().nonZeros()) +
-                                                 " stored entries");
+    benchmark::AddCustomContext(
+        robot->name, std::to_string(robot->topology.unknowns()) + " unknowns, " +
+                         std::to_string(robot->matrices.front().nonZeros()) + " stored entries");
   }
   add("urdf_6axis/pose_from_joint_angles", urdf_pose, true);
   add("urdf_6axis/build", urdf_pose, false);
@@ -795,9 +819,15 @@ int main(int argc, char** argv) {
     // N = 10, 100, ..., 100 000 from scratch; the repeated solve up to 10 000 (stiffmsa_chain
     // times it at 100 000, with the memory).
     add("chain/solve" + s, chain_solve, kind)
-        ->Unit(benchmark::kMillisecond)->ArgName("N")->RangeMultiplier(10)->Range(10, 100000);
+        ->Unit(benchmark::kMillisecond)
+        ->ArgName("N")
+        ->RangeMultiplier(10)
+        ->Range(10, 100000);
     add("chain/resolve" + s, chain_resolve, kind)
-        ->Unit(benchmark::kMillisecond)->ArgName("N")->RangeMultiplier(10)->Range(10, 10000);
+        ->Unit(benchmark::kMillisecond)
+        ->ArgName("N")
+        ->RangeMultiplier(10)
+        ->Range(10, 10000);
     add("frame/solve" + s, frame_solve, kind)->Unit(benchmark::kMillisecond);
     add("frame/resolve" + s, frame_resolve, kind)->Unit(benchmark::kMillisecond);
   }
@@ -806,7 +836,7 @@ int main(int argc, char** argv) {
   const std::pair<const char*, const Model& (*)()> klu_cases[] = {
       {"6axis", industrial_home},
       {"tripteron", tripteron_home},
-      {"chain_10000", [] () -> const Model& { return chain_model(10000); }},
+      {"chain_10000", []() -> const Model& { return chain_model(10000); }},
       {"frame", frame_model}};
   for (const auto& [name, model] : klu_cases)
     for (const char* ordering : {"amd", "colamd"})

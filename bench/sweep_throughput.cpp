@@ -48,7 +48,8 @@ long steal_ticks() {
   std::ifstream stat("/proc/stat");
   std::string cpu;
   long user, nice, system, idle, iowait, irq, softirq, steal;
-  if (stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal) return steal;
+  if (stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal)
+    return steal;
   return -1;
 }
 
@@ -78,7 +79,8 @@ const std::vector<Pair> kPairs{{"delta-ss", "delta-us"}};
 
 // Every parameter's value at each pose: the family's defaults with the swept ones replaced,
 // as the sweep hands them to its builders.
-std::vector<std::vector<double>> full_values(const stiffmsa::ModelFamily& family, const stiffmsa::PoseTable& poses) {
+std::vector<std::vector<double>> full_values(const stiffmsa::ModelFamily& family,
+                                             const stiffmsa::PoseTable& poses) {
   std::vector<std::size_t> swept;
   for (const auto& name : poses.parameters) swept.push_back(*family.find_parameter(name));
   std::vector<std::vector<double>> all(poses.size(), family.default_values());
@@ -106,7 +108,8 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--repeats" && i + 1 < argc) {
       repeats = std::max(1, std::atoi(argv[++i]));
-    } else if (const auto kind = stiffmsa::solver_kind_from_string(arg); kind && stiffmsa::solver_available(*kind)) {
+    } else if (const auto kind = stiffmsa::solver_kind_from_string(arg);
+               kind && stiffmsa::solver_available(*kind)) {
       options.solve.solver = *kind;
     } else {
       std::cerr << "stiffmsa_sweep: unknown or unavailable '" << arg << "'\n" << usage;
@@ -137,7 +140,9 @@ int main(int argc, char** argv) {
         wall[threads].push_back(seconds_since(start));
         cpu[threads].push_back(process_cpu_seconds() - cpu_before);
         steal[threads].push_back(static_cast<double>(steal_ticks() - steal_before));
-        if (result.threads != threads) std::cerr << "stiffmsa_sweep: asked for " << threads << " threads, got " << result.threads << "\n";
+        if (result.threads != threads)
+          std::cerr << "stiffmsa_sweep: asked for " << threads << " threads, got " << result.threads
+                    << "\n";
       }
 
     // Where one pose goes, on one thread: writing every member's values with one writer (what
@@ -187,17 +192,21 @@ int main(int argc, char** argv) {
     }
 
     std::ostringstream status_json;
-    for (const auto& [name, n] : statuses) status_json << (status_json.tellp() ? ", " : "") << '"' << name << "\": " << n;
+    for (const auto& [name, n] : statuses)
+      status_json << (status_json.tellp() ? ", " : "") << '"' << name << "\": " << n;
     std::printf(
-        "{\"model\": \"%s\", \"file\": \"%s\", \"solver\": \"%s\", \"grid\": \"%s=%g:%g:%zu %s=%g:%g:%zu\", "
+        "{\"model\": \"%s\", \"file\": \"%s\", \"solver\": \"%s\", \"grid\": \"%s=%g:%g:%zu "
+        "%s=%g:%g:%zu\", "
         "\"poses\": %zu, \"statuses\": {%s}, "
-        "\"wall_s_1\": %s, \"wall_s_2\": %s, \"cpu_s_1\": %s, \"cpu_s_2\": %s, \"steal_ticks_1\": %s, "
+        "\"wall_s_1\": %s, \"wall_s_2\": %s, \"cpu_s_1\": %s, \"cpu_s_2\": %s, \"steal_ticks_1\": "
+        "%s, "
         "\"steal_ticks_2\": %s, \"make_builder_s\": %.6g, \"build_s\": %s, \"solve_s\": %s}\n",
-        c.key.c_str(), c.file.c_str(), stiffmsa::to_string(options.solve.solver), c.grid[0].parameter.c_str(),
-        c.grid[0].start, c.grid[0].stop, c.grid[0].count, c.grid[1].parameter.c_str(), c.grid[1].start,
-        c.grid[1].stop, c.grid[1].count, poses.size(), status_json.str().c_str(),
-        json_list(wall[1]).c_str(), json_list(wall[2]).c_str(), json_list(cpu[1]).c_str(), json_list(cpu[2]).c_str(),
-        json_list(steal[1]).c_str(), json_list(steal[2]).c_str(), make_builder_s, json_list(build_s).c_str(),
+        c.key.c_str(), c.file.c_str(), stiffmsa::to_string(options.solve.solver),
+        c.grid[0].parameter.c_str(), c.grid[0].start, c.grid[0].stop, c.grid[0].count,
+        c.grid[1].parameter.c_str(), c.grid[1].start, c.grid[1].stop, c.grid[1].count, poses.size(),
+        status_json.str().c_str(), json_list(wall[1]).c_str(), json_list(wall[2]).c_str(),
+        json_list(cpu[1]).c_str(), json_list(cpu[2]).c_str(), json_list(steal[1]).c_str(),
+        json_list(steal[2]).c_str(), make_builder_s, json_list(build_s).c_str(),
         json_list(solve_s).c_str());
     std::fflush(stdout);
   }
@@ -223,11 +232,12 @@ int main(int argc, char** argv) {
         wall[c.key].push_back(seconds_since(start));
         cpu[c.key].push_back(process_cpu_seconds() - cpu_before);
       }
-    std::printf("{\"pair\": [\"%s\", \"%s\"], \"solver\": \"%s\", \"poses\": %zu, \"wall_s_first\": %s, "
-                "\"wall_s_second\": %s, \"cpu_s_first\": %s, \"cpu_s_second\": %s}\n",
-                pair.first.c_str(), pair.second.c_str(), stiffmsa::to_string(options.solve.solver), pose_count,
-                json_list(wall[pair.first]).c_str(), json_list(wall[pair.second]).c_str(),
-                json_list(cpu[pair.first]).c_str(), json_list(cpu[pair.second]).c_str());
+    std::printf(
+        "{\"pair\": [\"%s\", \"%s\"], \"solver\": \"%s\", \"poses\": %zu, \"wall_s_first\": %s, "
+        "\"wall_s_second\": %s, \"cpu_s_first\": %s, \"cpu_s_second\": %s}\n",
+        pair.first.c_str(), pair.second.c_str(), stiffmsa::to_string(options.solve.solver),
+        pose_count, json_list(wall[pair.first]).c_str(), json_list(wall[pair.second]).c_str(),
+        json_list(cpu[pair.first]).c_str(), json_list(cpu[pair.second]).c_str());
     std::fflush(stdout);
   }
   return 0;

@@ -1,9 +1,10 @@
 // libFuzzer target for the model loader: any bytes go to parse_model(); a model that parses is
 // checked and, when small, solved, and its result goes through what `stiffmsa solve` prints
-// (principal stiffnesses, the result JSON); the messages of rejected input are formatted. Every stiffmsa::Error (InputError, SingularModelError,
-// IoError, UsageError) is an expected outcome for hostile input. Anything else is a finding:
-// a crash, a sanitizer report, a hang or out-of-memory, or an exception that is not a
-// stiffmsa::Error (the library documents only those), which escapes and aborts the fuzzer.
+// (principal stiffnesses, the result JSON); the messages of rejected input are formatted. Every
+// stiffmsa::Error (InputError, SingularModelError, IoError, UsageError) is an expected outcome for
+// hostile input. Anything else is a finding: a crash, a sanitizer report, a hang or out-of-memory,
+// or an exception that is not a stiffmsa::Error (the library documents only those), which escapes
+// and aborts the fuzzer.
 //
 // Build and run with scripts/fuzz.sh.
 #include <cstddef>
@@ -26,8 +27,7 @@ constexpr std::size_t kMaxSolvedEntities = 50;
 
 bool small_enough_to_solve(const stiffmsa::Model& model) {
   return model.links.size() <= kMaxSolvedEntities && model.points.size() <= kMaxSolvedEntities &&
-         model.joints.size() <= kMaxSolvedEntities &&
-         model.supports.size() <= kMaxSolvedEntities &&
+         model.joints.size() <= kMaxSolvedEntities && model.supports.size() <= kMaxSolvedEntities &&
          model.loads.size() <= kMaxSolvedEntities &&
          model.end_effectors.size() <= kMaxSolvedEntities;
 }
@@ -47,7 +47,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     // A parametric file also as a family: binding its expressions, and one member away from
     // the defaults (the values that fail are the documented InputError).
-    if (text.find("parameters") == std::string_view::npos && text.find("derived") == std::string_view::npos) return 0;
+    if (text.find("parameters") == std::string_view::npos &&
+        text.find("derived") == std::string_view::npos)
+      return 0;
     const stiffmsa::ModelFamily family = stiffmsa::parse_model_family(text, "fuzz.yaml");
     if (!family.parameters().empty()) {
       std::vector<double> values = family.default_values();

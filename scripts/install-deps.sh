@@ -15,7 +15,7 @@ set -euo pipefail
 # against 12 ms); serial, so that BLAS starts no threads of its own beside the caller's.
 packages=(cmake ninja-build g++ libeigen3-dev libfyaml-dev nlohmann-json3-dev libcli11-dev
           libsuitesparse-dev libopenblas0-serial libmuparser-dev libtbb-dev libcairo2-dev pkg-config
-          libgtest-dev libgmock-dev ccache
+          libgtest-dev libgmock-dev ccache clang-format
           liburdfdom-dev liburdfdom-headers-dev libtinyxml-dev libconsole-bridge-dev)
 # libjs-three: three.js r111 (Debian 12's 111+dfsg1-3), built into the viewer's pages.
 packages+=(libjs-three)

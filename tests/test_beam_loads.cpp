@@ -20,10 +20,10 @@ using namespace stiffmsa::detail;
 
 namespace {
 
-constexpr double kClosedFormTolerance = 1e-12;  // relative, where only rounding separates them
-constexpr double kMeshTolerance = 1e-12;        // a mesh that is exact but for rounding
-constexpr double kExtrapolatedTolerance = 1e-10; // Richardson: O(h⁴) and rounding, 400 elements
-constexpr double kBucklingTolerance = 1e-6;     // the 1e-6, with enough elements
+constexpr double kClosedFormTolerance = 1e-12;    // relative, where only rounding separates them
+constexpr double kMeshTolerance = 1e-12;          // a mesh that is exact but for rounding
+constexpr double kExtrapolatedTolerance = 1e-10;  // Richardson: O(h⁴) and rounding, 400 elements
+constexpr double kBucklingTolerance = 1e-6;       // the 1e-6, with enough elements
 
 enum { u1 = 0, v1, w1, tx1, ty1, tz1, u2, v2, w2, tx2, ty2, tz2 };
 
@@ -166,7 +166,8 @@ TEST(FixedEndForces, PointForceIsPabSquaredOverLSquared) {
   const double L = kLength, P = 4200, Fx = -900;
   for (double fraction : {0.0, 0.3, 0.5, 0.85, 1.0}) {
     const double a = fraction * L, b = L - a;
-    const Vec12 f = beam_fixed_end_forces(beam(), PointLoad{Vec3(Fx, P, P), Vec3::Zero(), fraction});
+    const Vec12 f =
+        beam_fixed_end_forces(beam(), PointLoad{Vec3(Fx, P, P), Vec3::Zero(), fraction});
     Vec12 expected = Vec12::Zero();
     expected(u1) = -Fx * b / L;
     expected(u2) = -Fx * a / L;
@@ -184,7 +185,8 @@ TEST(FixedEndForces, PointMomentIsSixMabOverLCubedAndMbTwoAMinusBOverLSquared) {
   const double L = kLength, M = 730, Mx = 210;
   for (double fraction : {0.0, 0.3, 0.5, 0.85, 1.0}) {
     const double a = fraction * L, b = L - a;
-    const Vec12 f = beam_fixed_end_forces(beam(), PointLoad{Vec3::Zero(), Vec3(Mx, M, M), fraction});
+    const Vec12 f =
+        beam_fixed_end_forces(beam(), PointLoad{Vec3::Zero(), Vec3(Mx, M, M), fraction});
     Vec12 expected = Vec12::Zero();
     expected(tx1) = -Mx * b / L;
     expected(tx2) = -Mx * a / L;
@@ -323,8 +325,8 @@ TEST(InternalForces, CantileverUnderALinearLoad) {
     const Vec6 s = beam_internal_forces(L, from_end, loads, station);
     // What lies beyond x: ∫ₓᴸ q ds and ∫ₓᴸ (s − x)·q ds.
     const double shear = q1 * (L - x) + k * (L * L - x * x) / 2;
-    const double moment = q1 * (L - x) * (L - x) / 2 +
-                          k * ((L * L * L - x * x * x) / 3 - x * (L * L - x * x) / 2);
+    const double moment =
+        q1 * (L - x) * (L - x) / 2 + k * ((L * L * L - x * x * x) / 3 - x * (L * L - x * x) / 2);
     EXPECT_NEAR(s(1), shear, kClosedFormTolerance * 1300 * L) << station;
     EXPECT_NEAR(s(5), moment, kClosedFormTolerance * 1300 * L * L) << station;
     EXPECT_NEAR(s(0), 0, kClosedFormTolerance * 1300 * L);
@@ -416,7 +418,8 @@ constexpr double kEigenRoundingFloor = 1e-8;
 // Relative errors for 1, 2, 4, … 64 elements, falling by about 2^order per halving while above
 // rounding (at least 3/4 of it, from 4 elements), and within 1e-6 of `exact` from 32 elements —
 // for second order, Richardson's extrapolation (2^order·P(2n) − P(n))/(2^order − 1) of 32 and 64.
-void expect_converges(const BeamConstants& c, Ends ends, double exact, int order, const char* what) {
+void expect_converges(const BeamConstants& c, Ends ends, double exact, int order,
+                      const char* what) {
   const double halving = std::pow(2.0, order);
   double previous_error = 0, previous_load = 0;
   for (int elements = 1; elements <= 64; elements *= 2) {
@@ -446,15 +449,15 @@ void expect_converges(const BeamConstants& c, Ends ends, double exact, int order
 TEST(CriticalLoad, PinnedPinnedColumnConvergesToEulersPiSquaredEIOverLSquared) {
   const BeamConstants c = beam();
   const double pi2 = std::numbers::pi * std::numbers::pi;
-  expect_converges(c, Ends::pinned_pinned, pi2 * c.E * c.Iy / (c.length * c.length),
-                   4, "pinned-pinned");
+  expect_converges(c, Ends::pinned_pinned, pi2 * c.E * c.Iy / (c.length * c.length), 4,
+                   "pinned-pinned");
 }
 
 TEST(CriticalLoad, ClampedFreeColumnConvergesToEulersPiSquaredEIOverFourLSquared) {
   const BeamConstants c = beam();
   const double pi2 = std::numbers::pi * std::numbers::pi;
-  expect_converges(c, Ends::clamped_free, pi2 * c.E * c.Iy / (4 * c.length * c.length),
-                   4, "clamped-free");
+  expect_converges(c, Ends::clamped_free, pi2 * c.E * c.Iy / (4 * c.length * c.length), 4,
+                   "clamped-free");
 }
 
 TEST(CriticalLoad, TimoshenkoColumnConvergesToEngessersLoad) {

@@ -1,9 +1,9 @@
 // End to end: the stiffmsa program as a user runs it, its exit codes, messages and result file.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 
 #include <cmath>
 #include <filesystem>
@@ -159,7 +159,7 @@ TEST_F(Cli, BadOptionIsInvalidInput) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
   const fs::path json = folder_ / "result.json";
   const CliRun r = run("solve " + shell_quoted(model.string()) + " --no-such-option --json " +
-                    shell_quoted(json.string()));
+                       shell_quoted(json.string()));
   EXPECT_EQ(r.exit_code, exit_invalid_input);
   EXPECT_TRUE(contains(r.err, error_prefix)) << r.err;
   EXPECT_TRUE(contains(r.err, "--no-such-option")) << r.err;
@@ -182,8 +182,8 @@ TEST_F(Cli, MissingSubcommandIsInvalidInput) {
 TEST_F(Cli, InvalidModelIsInvalidInputAndWritesNoResult) {
   const fs::path model = write_model("broken.yaml", invalid_model);
   const fs::path json = folder_ / "result.json";
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " +
-                         shell_quoted(json.string()));
+  const CliRun r =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
   EXPECT_EQ(r.exit_code, exit_invalid_input);
   EXPECT_TRUE(contains(r.err, error_prefix)) << r.err;
   EXPECT_TRUE(contains(r.err, "Nowhere")) << r.err;
@@ -194,8 +194,8 @@ TEST_F(Cli, FailedRunLeavesAnEarlierResultFileAlone) {
   const fs::path model = write_model("broken.yaml", invalid_model);
   const fs::path json = folder_ / "result.json";
   std::ofstream(json) << "earlier result";
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " +
-                         shell_quoted(json.string()));
+  const CliRun r =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
   EXPECT_EQ(r.exit_code, exit_invalid_input);
   EXPECT_EQ(read_file(json), "earlier result");
 }
@@ -210,8 +210,8 @@ TEST_F(Cli, CheckRejectsAnInvalidModel) {
 TEST_F(Cli, MechanismCannotBeSolved) {
   const fs::path model = write_model("floating.yaml", unsupported_model);
   const fs::path json = folder_ / "result.json";
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " +
-                         shell_quoted(json.string()));
+  const CliRun r =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
   EXPECT_EQ(r.exit_code, exit_cannot_solve) << r.out << r.err;
   EXPECT_TRUE(contains(r.err, error_prefix)) << r.err;
   EXPECT_FALSE(fs::exists(json));
@@ -221,11 +221,13 @@ TEST_F(Cli, MechanismMessageIsASentenceThenItsCausesOnce) {
   const fs::path model = write_model("floating.yaml", unsupported_model);
   const CliRun r = run("solve " + shell_quoted(model.string()));
   EXPECT_EQ(r.exit_code, exit_cannot_solve) << r.out << r.err;
-  EXPECT_EQ(r.err, std::string(error_prefix) +
-                       "the model is a mechanism with 6 free motions and carries loads or preloads, which a "
-                       "mechanism cannot hold (only an unloaded one is solved)\n"
-                       "  the model has no support: nothing holds it, so it can move as a whole; add one under "
-                       "`supports:`\n");
+  EXPECT_EQ(
+      r.err,
+      std::string(error_prefix) +
+          "the model is a mechanism with 6 free motions and carries loads or preloads, which a "
+          "mechanism cannot hold (only an unloaded one is solved)\n"
+          "  the model has no support: nothing holds it, so it can move as a whole; add one under "
+          "`supports:`\n");
 }
 
 // A planar 3R arm of rigid links; its three elastic revolute axes are along z at O, A and B.
@@ -250,20 +252,26 @@ end_effectors:
 )";
 
 TEST_F(Cli, RigidPlanarArmGetsItsInPlaneStiffness) {
-  // K_plane = J⁻ᵀ·diag(k)·J⁻¹ on x, y, rz, J's columns [−(E − P_i)_y, (E − P_i)_x, 1] (z × (E − P_i), 1).
+  // K_plane = J⁻ᵀ·diag(k)·J⁻¹ on x, y, rz, J's columns [−(E − P_i)_y, (E − P_i)_x, 1] (z × (E −
+  // P_i), 1).
   const fs::path model = write_model("planar-3r.yaml", planar_3r_model);
   const fs::path json = folder_ / "result.json";
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
+  const CliRun r =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
-  EXPECT_TRUE(contains(r.out, "  Stiffness: unbounded (the end effector is held rigidly in some direction)\n"
-                              "  Stiffness on the 3 directions not held rigidly (reduced_stiffness)\n"))
+  EXPECT_TRUE(
+      contains(r.out,
+               "  Stiffness: unbounded (the end effector is held rigidly in some direction)\n"
+               "  Stiffness on the 3 directions not held rigidly (reduced_stiffness)\n"))
       << r.out;
   EXPECT_TRUE(contains(r.out, "                dx           dy           rz\n    Fx")) << r.out;
 
   const nlohmann::json result = nlohmann::json::parse(read_file(json));
   const auto& tip = result["end_effectors"]["tip"];
   EXPECT_TRUE(tip["stiffness"].is_null());
-  const nlohmann::json axes = {{1.0, 0.0, 0.0, 0.0, 0.0, 0.0}, {0.0, 1.0, 0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0, 0.0, 1.0}};
+  const nlohmann::json axes = {{1.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+                               {0.0, 1.0, 0.0, 0.0, 0.0, 0.0},
+                               {0.0, 0.0, 0.0, 0.0, 0.0, 1.0}};
   EXPECT_EQ(tip["reduced_stiffness"]["directions"], axes);
   const double points[3][2] = {{0, 0}, {0.4, 0.1}, {0.7, 0.35}}, k[3] = {3.0e4, 2.0e4, 1.0e4};
   double J[3][3];
@@ -274,7 +282,8 @@ TEST_F(Cli, RigidPlanarArmGetsItsInPlaneStiffness) {
   }
   // J⁻¹ by cofactors, then K = J⁻ᵀ·diag(k)·J⁻¹.
   double inverse[3][3];
-  const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+  const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                     J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
                      J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
@@ -287,7 +296,8 @@ TEST_F(Cli, RigidPlanarArmGetsItsInPlaneStiffness) {
       double expected = 0;
       for (int i = 0; i < 3; ++i) expected += inverse[i][a] * k[i] * inverse[i][b];
       largest = std::max(largest, std::abs(expected));
-      worst = std::max(worst, std::abs(tip["reduced_stiffness"]["matrix"][a][b].get<double>() - expected));
+      worst = std::max(worst,
+                       std::abs(tip["reduced_stiffness"]["matrix"][a][b].get<double>() - expected));
     }
   EXPECT_LT(worst / largest, 1e-9);
 }
@@ -303,8 +313,8 @@ TEST_F(Cli, CheckPrintsTheSystemSize) {
 TEST_F(Cli, SolvesTheCantileverAndWritesTheResultFile) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
   const fs::path json = folder_ / "result.json";
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " +
-                         shell_quoted(json.string()));
+  const CliRun r =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
   EXPECT_TRUE(contains(r.out, "cantilever")) << r.out;
   EXPECT_TRUE(contains(r.out, "EE")) << r.out;
@@ -348,8 +358,8 @@ TEST_F(Cli, SolveWithoutJsonWritesNoFile) {
 
 TEST_F(Cli, RefusesToWriteTheResultOverTheModel) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --json " +
-                         shell_quoted(model.string()));
+  const CliRun r =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(model.string()));
   EXPECT_EQ(r.exit_code, exit_invalid_input);
   EXPECT_EQ(read_file(model), cantilever_model);
 }
@@ -387,23 +397,25 @@ end_effectors:
 TEST_F(Cli, IdleMotionIsRefusedWithAHintThenAcceptedByFlagOrModelOption) {
   const fs::path model = write_model("braced.yaml", braced_arm_model);
   const fs::path json = folder_ / "result.json";
-  const CliRun refused = run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
+  const CliRun refused =
+      run("solve " + shell_quoted(model.string()) + " --json " + shell_quoted(json.string()));
   EXPECT_EQ(refused.exit_code, exit_cannot_solve) << refused.out << refused.err;
   EXPECT_TRUE(contains(refused.err, "'strut'")) << refused.err;
   EXPECT_TRUE(contains(refused.err, "idle motion")) << refused.err;
   EXPECT_TRUE(contains(refused.err, "--accept-idle-motions")) << refused.err;
   EXPECT_FALSE(fs::exists(json));
 
-  const CliRun accepted = run("solve " + shell_quoted(model.string()) + " --accept-idle-motions --json " +
-                              shell_quoted(json.string()));
+  const CliRun accepted = run("solve " + shell_quoted(model.string()) +
+                              " --accept-idle-motions --json " + shell_quoted(json.string()));
   ASSERT_EQ(accepted.exit_code, exit_success) << accepted.out << accepted.err;
   const auto result = nlohmann::json::parse(read_file(json));
   EXPECT_FALSE(result["end_effectors"]["tip"]["stiffness"].is_null());
   EXPECT_TRUE(result["link_ends"]["strut"]["to"]["deflection"].is_null());
   EXPECT_FALSE(result["link_ends"]["arm"]["to"]["deflection"].is_null());
 
-  const fs::path with_option = write_model("braced-option.yaml", std::string(braced_arm_model) +
-                                                                   "options: {accept_idle_motions: true}\n");
+  const fs::path with_option =
+      write_model("braced-option.yaml",
+                  std::string(braced_arm_model) + "options: {accept_idle_motions: true}\n");
   const CliRun by_option = run("solve " + shell_quoted(with_option.string()));
   EXPECT_EQ(by_option.exit_code, exit_success) << by_option.out << by_option.err;
 }
@@ -423,7 +435,8 @@ std::size_t line_count(const std::string& text) {
 TEST_F(Cli, SweepWritesRowsSummaryAndMaps) {
   const fs::path csv = folder_ / "map.csv";
   const CliRun r = run("sweep " + example_path("planar-3rpr-parametric.yaml") +
-                       " --grid x=0.3:0.6:4 --grid y=0.2:0.4:3 --set phi=0.1 --plot --csv " + shell_quoted(csv.string()));
+                       " --grid x=0.3:0.6:4 --grid y=0.2:0.4:3 --set phi=0.1 --plot --csv " +
+                       shell_quoted(csv.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.out << r.err;
   const std::string rows = read_file(csv);
   EXPECT_EQ(line_count(rows), 1u + 12u);
@@ -431,8 +444,9 @@ TEST_F(Cli, SweepWritesRowsSummaryAndMaps) {
   const auto summary = nlohmann::json::parse(read_file(folder_ / "map.summary.json"));
   EXPECT_EQ(summary["poses"], 12);
   EXPECT_EQ(summary["status"]["ok"], 12);
-  for (const char* plot : {"map.platform.k_trans_min.png", "map.platform.k_trans_min.svg",
-                           "map.platform.deflection_trans.png", "map.platform.deflection_trans.svg"})
+  for (const char* plot :
+       {"map.platform.k_trans_min.png", "map.platform.k_trans_min.svg",
+        "map.platform.deflection_trans.png", "map.platform.deflection_trans.svg"})
     EXPECT_GT(fs::file_size(folder_ / plot), 1000u) << plot;
   EXPECT_TRUE(contains(r.out, "12 poses over x, y")) << r.out;
   EXPECT_TRUE(contains(r.out, "smallest platform.k_trans_min")) << r.out;
@@ -441,23 +455,29 @@ TEST_F(Cli, SweepWritesRowsSummaryAndMaps) {
 
 TEST_F(Cli, SweepSetChangesTheUnsweptParameters) {
   const fs::path a = folder_ / "a.csv", b = folder_ / "b.csv";
-  ASSERT_EQ(run("sweep " + example_path("planar-3rpr-parametric.yaml") + " --grid x=0.4:0.5:2 --csv " +
-                shell_quoted(a.string())).exit_code, exit_success);
-  ASSERT_EQ(run("sweep " + example_path("planar-3rpr-parametric.yaml") + " --grid x=0.4:0.5:2 --set k_actuator=3e7 --csv " +
-                shell_quoted(b.string())).exit_code, exit_success);
+  ASSERT_EQ(run("sweep " + example_path("planar-3rpr-parametric.yaml") +
+                " --grid x=0.4:0.5:2 --csv " + shell_quoted(a.string()))
+                .exit_code,
+            exit_success);
+  ASSERT_EQ(run("sweep " + example_path("planar-3rpr-parametric.yaml") +
+                " --grid x=0.4:0.5:2 --set k_actuator=3e7 --csv " + shell_quoted(b.string()))
+                .exit_code,
+            exit_success);
   EXPECT_NE(read_file(a), read_file(b));
 }
 
 TEST_F(Cli, SweepOverAPoseFileWithFullMatrices) {
   const fs::path poses = write_model("poses.csv", "px,py\n0.3,0.25\n0.7,0.25\n");
   const fs::path csv = folder_ / "rows.csv";
-  const CliRun r = run("sweep " + example_path("tripteron-parametric.yaml") + " --poses " + shell_quoted(poses.string()) +
-                       " --full --threads 1 --csv " + shell_quoted(csv.string()));
+  const CliRun r =
+      run("sweep " + example_path("tripteron-parametric.yaml") + " --poses " +
+          shell_quoted(poses.string()) + " --full --threads 1 --csv " + shell_quoted(csv.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
   const std::string rows = read_file(csv);
   EXPECT_TRUE(contains(rows, ",platform.C11,")) << rows.substr(0, 300);
   EXPECT_TRUE(contains(rows, ",platform.K66\n")) << rows.substr(0, 900);
-  EXPECT_TRUE(contains(rows, "\n0.7,0.25,invalid,\"")) << rows;  // out of reach, and the sweep went on
+  EXPECT_TRUE(contains(rows, "\n0.7,0.25,invalid,\""))
+      << rows;  // out of reach, and the sweep went on
   EXPECT_TRUE(contains(r.out, "invalid 1")) << r.out;
 }
 
@@ -486,11 +506,12 @@ TEST_F(Cli, SweepUsageErrorsNameTheOption) {
 }
 
 TEST_F(Cli, SweepRefusesToWriteOverItsInputsBeforeSolving) {
-  const fs::path model = write_model("truss.yaml", std::string("format: stiffmsa/1\nparameters: {h: 0.5}\n") +
-                                                       "points: {a: [0, 0, 0], b: [1, h, 0]}\n"
-                                                       "links: {l: {type: rigid, from: a, to: b}}\n"
-                                                       "supports: {s: {type: rigid, at: a}}\n"
-                                                       "end_effectors: {e: {at: b}}\n");
+  const fs::path model =
+      write_model("truss.yaml", std::string("format: stiffmsa/1\nparameters: {h: 0.5}\n") +
+                                    "points: {a: [0, 0, 0], b: [1, h, 0]}\n"
+                                    "links: {l: {type: rigid, from: a, to: b}}\n"
+                                    "supports: {s: {type: rigid, at: a}}\n"
+                                    "end_effectors: {e: {at: b}}\n");
   const std::string before = read_file(model);
   const fs::path poses = write_model("poses.csv", "h\n0.1\n");
   const fs::path csv = folder_ / "rows.csv";
@@ -499,17 +520,22 @@ TEST_F(Cli, SweepRefusesToWriteOverItsInputsBeforeSolving) {
   };
   for (const Case& c : std::vector<Case>{
            {"--grid h=0:1:2 --csv " + shell_quoted(model.string()), "is the model file"},
-           {"--poses " + shell_quoted(poses.string()) + " --csv " + shell_quoted(poses.string()), "is the pose file"},
-           {"--grid h=0:1:2 --csv " + shell_quoted(csv.string()) + " --summary " + shell_quoted(csv.string()),
+           {"--poses " + shell_quoted(poses.string()) + " --csv " + shell_quoted(poses.string()),
+            "is the pose file"},
+           {"--grid h=0:1:2 --csv " + shell_quoted(csv.string()) + " --summary " +
+                shell_quoted(csv.string()),
             "would replace the CSV"},
-           {"--grid h=0:1:2 --csv " + shell_quoted((folder_ / "no-such-folder" / "x.csv").string()), "does not exist"},
+           {"--grid h=0:1:2 --csv " + shell_quoted((folder_ / "no-such-folder" / "x.csv").string()),
+            "does not exist"},
            {"--grid h=1:0:3 --plot --csv " + shell_quoted(csv.string()), "must run upwards"},
-           {"--grid h=0:1:3 --plot --plot-column e.k_nothing --csv " + shell_quoted(csv.string()), "no such column"},
+           {"--grid h=0:1:3 --plot --plot-column e.k_nothing --csv " + shell_quoted(csv.string()),
+            "no such column"},
        }) {
     const CliRun r = run("sweep " + shell_quoted(model.string()) + " " + c.arguments);
     EXPECT_EQ(r.exit_code, exit_invalid_input) << c.arguments << r.out;
     EXPECT_TRUE(contains(r.err, c.expected)) << c.arguments << ": " << r.err;
-    EXPECT_TRUE(r.out.empty()) << c.arguments << ": " << r.out;  // refused before any pose was solved
+    EXPECT_TRUE(r.out.empty()) << c.arguments << ": "
+                               << r.out;  // refused before any pose was solved
   }
   EXPECT_EQ(read_file(model), before);
   EXPECT_EQ(read_file(poses), "h\n0.1\n");
@@ -519,7 +545,8 @@ TEST_F(Cli, SweepRefusesToWriteOverItsInputsBeforeSolving) {
 TEST_F(Cli, SweepPlotsAMatrixEntryWithoutFull) {
   const fs::path csv = folder_ / "c.csv";
   const CliRun r = run("sweep " + example_path("planar-3rpr-parametric.yaml") +
-                       " --grid x=0.3:0.6:3 --plot --plot-column platform.C66 --csv " + shell_quoted(csv.string()));
+                       " --grid x=0.3:0.6:3 --plot --plot-column platform.C66 --csv " +
+                       shell_quoted(csv.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
   EXPECT_GT(fs::file_size(folder_ / "c.platform.C66.png"), 1000u);
   EXPECT_FALSE(contains(read_file(csv), "C66"));  // the rows stay the short ones
@@ -527,14 +554,16 @@ TEST_F(Cli, SweepPlotsAMatrixEntryWithoutFull) {
 
 TEST_F(Cli, SolveTakesParameterValues) {
   const fs::path json = folder_ / "r.json";
-  const CliRun r = run("solve " + example_path("tripteron-parametric.yaml") + " --set px=0.2 --set py=0.2 --json " +
-                       shell_quoted(json.string()));
+  const CliRun r = run("solve " + example_path("tripteron-parametric.yaml") +
+                       " --set px=0.2 --set py=0.2 --json " + shell_quoted(json.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
-  const CliRun unreachable = run("solve " + example_path("tripteron-parametric.yaml") + " --set px=0.9");
+  const CliRun unreachable =
+      run("solve " + example_path("tripteron-parametric.yaml") + " --set px=0.9");
   EXPECT_EQ(unreachable.exit_code, exit_invalid_input);
   EXPECT_TRUE(contains(unreachable.err, "derived.")) << unreachable.err;
   // Where the failing derived value is defined, and not again at each number that uses it.
-  EXPECT_TRUE(contains(unreachable.err, "tripteron-parametric.yaml:42:11: derived.y_side")) << unreachable.err;
+  EXPECT_TRUE(contains(unreachable.err, "tripteron-parametric.yaml:42:11: derived.y_side"))
+      << unreachable.err;
   EXPECT_FALSE(contains(unreachable.err, "points.elbow_y")) << unreachable.err;
 }
 
@@ -542,11 +571,15 @@ TEST_F(Cli, SummaryNamesTheSolverAndWhyNoConditionIsEstimated) {
   const CliRun serial = run("solve " + example_path("industrial-6axis.yaml"));
   ASSERT_EQ(serial.exit_code, exit_success) << serial.err;
   EXPECT_TRUE(contains(serial.out, "(solver tree)")) << serial.out;
-  EXPECT_TRUE(contains(serial.out, "reciprocal condition: not estimated (the tree solve factorises nothing)")) << serial.out;
+  EXPECT_TRUE(contains(serial.out,
+                       "reciprocal condition: not estimated (the tree solve factorises nothing)"))
+      << serial.out;
   const CliRun parallel = run("solve " + example_path("tripteron.yaml"));
   ASSERT_EQ(parallel.exit_code, exit_success) << parallel.err;
   EXPECT_TRUE(contains(parallel.out, "(solver tree_with_cuts)")) << parallel.out;
-  EXPECT_TRUE(contains(parallel.out, "reciprocal condition: not estimated (the tree solve with cuts factorises no sparse system)"))
+  EXPECT_TRUE(contains(
+      parallel.out,
+      "reciprocal condition: not estimated (the tree solve with cuts factorises no sparse system)"))
       << parallel.out;
   const CliRun forced = run("solve " + example_path("tripteron.yaml") + " --solver sparse_lu");
   ASSERT_EQ(forced.exit_code, exit_success) << forced.err;
@@ -567,7 +600,8 @@ TEST_F(Cli, ViewWritesOnePageBesideTheModel) {
 
 TEST_F(Cli, ViewRefusesToWriteOverTheModel) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
-  const CliRun r = run("view " + shell_quoted(model.string()) + " -o " + shell_quoted(model.string()));
+  const CliRun r =
+      run("view " + shell_quoted(model.string()) + " -o " + shell_quoted(model.string()));
   EXPECT_EQ(r.exit_code, exit_invalid_input);
   EXPECT_EQ(read_file(model), cantilever_model);
 }
@@ -575,17 +609,20 @@ TEST_F(Cli, ViewRefusesToWriteOverTheModel) {
 TEST_F(Cli, ViewOfAMechanismStillShowsTheModel) {
   const fs::path model = write_model("floating.yaml", unsupported_model);
   const fs::path page = folder_ / "floating.html";
-  const CliRun r = run("view " + shell_quoted(model.string()) + " -o " + shell_quoted(page.string()));
+  const CliRun r =
+      run("view " + shell_quoted(model.string()) + " -o " + shell_quoted(page.string()));
   EXPECT_EQ(r.exit_code, exit_cannot_solve) << r.err;
   EXPECT_TRUE(contains(read_file(page), "\"solved\":false"));
 }
 
 TEST_F(Cli, SolveWritesAParaViewFileAndRefusesAnotherExtension) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --vtk " + shell_quoted((folder_ / "c.vtu").string()));
+  const CliRun r = run("solve " + shell_quoted(model.string()) + " --vtk " +
+                       shell_quoted((folder_ / "c.vtu").string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
   EXPECT_TRUE(contains(read_file(folder_ / "c.vtu"), "<VTKFile type=\"UnstructuredGrid\""));
-  const CliRun wrong = run("solve " + shell_quoted(model.string()) + " --vtk " + shell_quoted((folder_ / "c.vtk").string()));
+  const CliRun wrong = run("solve " + shell_quoted(model.string()) + " --vtk " +
+                           shell_quoted((folder_ / "c.vtk").string()));
   EXPECT_EQ(wrong.exit_code, exit_invalid_input);
   EXPECT_TRUE(contains(wrong.err, ".vtu")) << wrong.err;
 }
@@ -603,20 +640,24 @@ TEST_F(Cli, CheckListsLinkLengthsAndJointAxes) {
 
 TEST_F(Cli, SolveRecordsTheParametersSetAndAtTheirDefaults) {
   const fs::path json = folder_ / "r.json";
-  const CliRun r = run("solve " + example_path("planar-3rpr-parametric.yaml") + " --set y=0.35 --json " +
-                       shell_quoted(json.string()));
+  const CliRun r = run("solve " + example_path("planar-3rpr-parametric.yaml") +
+                       " --set y=0.35 --json " + shell_quoted(json.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
-  EXPECT_TRUE(contains(r.out, "Parameters: x = 0.46 m, y = 0.35 m (set), phi = 0.0831 rad")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Parameters: x = 0.46 m, y = 0.35 m (set), phi = 0.0831 rad"))
+      << r.out;
   const auto result = nlohmann::json::parse(read_file(json));
   EXPECT_EQ(result["parameters"]["y"]["value"], 0.35);
   EXPECT_EQ(result["parameters"]["y"]["set"], true);
   EXPECT_EQ(result["parameters"]["x"]["value"], 0.46);
   EXPECT_EQ(result["parameters"]["x"]["set"], false);
   // Without --set, the defaults are recorded too; a model without parameters records none.
-  ASSERT_EQ(run("solve " + example_path("planar-3rpr-parametric.yaml") + " --json " + shell_quoted(json.string())).exit_code,
+  ASSERT_EQ(run("solve " + example_path("planar-3rpr-parametric.yaml") + " --json " +
+                shell_quoted(json.string()))
+                .exit_code,
             exit_success);
   EXPECT_EQ(nlohmann::json::parse(read_file(json))["parameters"]["y"]["set"], false);
-  const CliRun plain = run("solve " + example_path("cantilever.yaml") + " --json " + shell_quoted(json.string()));
+  const CliRun plain =
+      run("solve " + example_path("cantilever.yaml") + " --json " + shell_quoted(json.string()));
   ASSERT_EQ(plain.exit_code, exit_success) << plain.err;
   EXPECT_FALSE(contains(plain.out, "Parameters:")) << plain.out;
   EXPECT_TRUE(nlohmann::json::parse(read_file(json))["parameters"].empty());
@@ -628,11 +669,16 @@ TEST_F(Cli, SolveWarnsOfImplausibleValuesAndLargeDeflectionsButSucceeds) {
   const fs::path model = write_model("mpa.yaml", mpa);
   const CliRun r = run("solve " + shell_quoted(model.string()));
   EXPECT_EQ(r.exit_code, exit_success) << r.err;
-  EXPECT_TRUE(contains(r.out, "warning: " + model.string() + ":11:16: links.L1.material.E: E = 70000 Pa is below")) << r.out;
-  EXPECT_TRUE(contains(r.out, "warning: the deflections under the loads are too large for the linear method")) << r.out;
+  EXPECT_TRUE(contains(
+      r.out, "warning: " + model.string() + ":11:16: links.L1.material.E: E = 70000 Pa is below"))
+      << r.out;
+  EXPECT_TRUE(contains(
+      r.out, "warning: the deflections under the loads are too large for the linear method"))
+      << r.out;
   const CliRun checked = run("check " + shell_quoted(model.string()));
   EXPECT_EQ(checked.exit_code, exit_success);
-  EXPECT_TRUE(contains(checked.out, "warning: " + model.string() + ":11:16: links.L1.material.E")) << checked.out;
+  EXPECT_TRUE(contains(checked.out, "warning: " + model.string() + ":11:16: links.L1.material.E"))
+      << checked.out;
   const CliRun near_singular =
       run("solve " + example_path("planar-3rpr-parametric.yaml") + " --set x=0.32 --set y=0.7605");
   EXPECT_EQ(near_singular.exit_code, exit_success);
@@ -644,19 +690,24 @@ TEST_F(Cli, SolveWarnsOfImplausibleValuesAndLargeDeflectionsButSucceeds) {
 TEST_F(Cli, SolvePrintsPrincipalDirectionsAndTheStiffnessAlongADirection) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
   const fs::path json = folder_ / "r.json";
-  const CliRun r = run("solve " + shell_quoted(model.string()) + " --direction 0,3,0 --json " + shell_quoted(json.string()));
+  const CliRun r = run("solve " + shell_quoted(model.string()) + " --direction 0,3,0 --json " +
+                       shell_quoted(json.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
-  EXPECT_TRUE(contains(r.out, "Principal directions (unit vectors in global x, y, z; in the order of the values above)"))
+  EXPECT_TRUE(contains(
+      r.out,
+      "Principal directions (unit vectors in global x, y, z; in the order of the values above)"))
       << r.out;
   EXPECT_TRUE(contains(r.out, "Stiffness along ( 0.0000,  1.0000,  0.0000)")) << r.out;
   // k = 3·E·I/L³ for the rod.
-  const double bending = 3 * youngs_modulus * std::numbers::pi * std::pow(diameter, 4) / 64 / std::pow(length, 3);
+  const double bending =
+      3 * youngs_modulus * std::numbers::pi * std::pow(diameter, 4) / 64 / std::pow(length, 3);
   char expected[64];
   std::snprintf(expected, sizeof expected, "against a force along it  [N/m]:     %.5e", bending);
   EXPECT_TRUE(contains(r.out, expected)) << r.out;
   EXPECT_FALSE(contains(r.out, "-0.0000")) << r.out;
   const auto result = nlohmann::json::parse(read_file(json));
-  EXPECT_NEAR(result["end_effectors"]["EE"]["along_direction"]["translational"].get<double>(), bending, 1e-9 * bending);
+  EXPECT_NEAR(result["end_effectors"]["EE"]["along_direction"]["translational"].get<double>(),
+              bending, 1e-9 * bending);
   for (const char* bad : {"0,0", "0,0,0", "a,1,0", "1,2,3,4"}) {
     const CliRun refused = run("solve " + shell_quoted(model.string()) + " --direction " + bad);
     EXPECT_EQ(refused.exit_code, exit_invalid_input) << bad;
@@ -672,21 +723,30 @@ TEST_F(Cli, RoundOffMomentsAndASingularSystemsConditionAreExplained) {
   const CliRun legs = run("solve " + example_path("gough-stewart-6ups.yaml"));
   ASSERT_EQ(legs.exit_code, exit_success) << legs.err;
   // The legs carry forces only: their moments are round-off, not "the largest joint moment".
-  EXPECT_TRUE(contains(legs.out, "Largest joint wrench (on the first link end)\n  force:    ")) << legs.out;
-  EXPECT_TRUE(contains(legs.out, "  moment: none (every moment is zero or round-off)\n")) << legs.out;
+  EXPECT_TRUE(contains(legs.out, "Largest joint wrench (on the first link end)\n  force:    "))
+      << legs.out;
+  EXPECT_TRUE(contains(legs.out, "  moment: none (every moment is zero or round-off)\n"))
+      << legs.out;
   // Unloaded, every wrench is zero: nothing is "the largest".
   std::string unloaded = cantilever_model;
-  unloaded.erase(unloaded.find("loads:"), unloaded.find("end_effectors:") - unloaded.find("loads:"));
-  const CliRun idle_rod = run("solve " + shell_quoted(write_model("unloaded.yaml", unloaded).string()));
+  unloaded.erase(unloaded.find("loads:"),
+                 unloaded.find("end_effectors:") - unloaded.find("loads:"));
+  const CliRun idle_rod =
+      run("solve " + shell_quoted(write_model("unloaded.yaml", unloaded).string()));
   ASSERT_EQ(idle_rod.exit_code, exit_success) << idle_rod.err;
-  EXPECT_TRUE(contains(idle_rod.out, "Largest support reaction\n  force:  none (every force is zero or round-off)\n"
-                                     "  moment: none (every moment is zero or round-off)\n"))
+  EXPECT_TRUE(
+      contains(idle_rod.out,
+               "Largest support reaction\n  force:  none (every force is zero or round-off)\n"
+               "  moment: none (every moment is zero or round-off)\n"))
       << idle_rod.out;
   const fs::path braced = write_model("braced.yaml", braced_arm_model);
-  const CliRun idle = run("solve " + shell_quoted(braced.string()) + " --accept-idle-motions --solver sparse_lu");
+  const CliRun idle =
+      run("solve " + shell_quoted(braced.string()) + " --accept-idle-motions --solver sparse_lu");
   ASSERT_EQ(idle.exit_code, exit_success) << idle.err;
-  EXPECT_TRUE(contains(idle.out, "reciprocal condition: 0 (the system is singular: it was solved with its free motions "
-                                 "or redundant constraints removed)"))
+  EXPECT_TRUE(contains(
+      idle.out,
+      "reciprocal condition: 0 (the system is singular: it was solved with its free motions "
+      "or redundant constraints removed)"))
       << idle.out;
   EXPECT_FALSE(contains(idle.out, "0.00e+00")) << idle.out;
   EXPECT_FALSE(contains(idle.out, "--accept-idle-motions")) << idle.out;
@@ -701,18 +761,22 @@ TEST_F(Cli, MissingModelFileSaysWhy) {
 
 TEST_F(Cli, SweepRecordsWhatItHeldFixedAndCountsLargeDeflections) {
   const fs::path csv = folder_ / "m.csv";
-  const CliRun r = run("sweep " + example_path("planar-3rpr-parametric.yaml") +
-                       " --grid x=0.3:0.34:5 --set y=0.7605 --threads 1 --direction 1,0,0 --plot --csv " +
-                       shell_quoted(csv.string()));
+  const CliRun r =
+      run("sweep " + example_path("planar-3rpr-parametric.yaml") +
+          " --grid x=0.3:0.34:5 --set y=0.7605 --threads 1 --direction 1,0,0 --plot --csv " +
+          shell_quoted(csv.string()));
   ASSERT_EQ(r.exit_code, exit_success) << r.err;
   EXPECT_TRUE(contains(r.out, " (1 thread, ")) << r.out;
-  EXPECT_TRUE(contains(r.out, "  at y = 0.7605 m (set), phi = 0.0831 rad, r = 0.12 m, k_actuator = 1.5e+07 N/m\n")) << r.out;
+  EXPECT_TRUE(contains(
+      r.out, "  at y = 0.7605 m (set), phi = 0.0831 rad, r = 0.12 m, k_actuator = 1.5e+07 N/m\n"))
+      << r.out;
   EXPECT_TRUE(contains(r.out, "with large deflections)")) << r.out;
   EXPECT_TRUE(contains(r.out, "first pose with large deflections (x = 0.3")) << r.out;
   const std::string rows = read_file(csv);
   // Grid values as written: 0.31, not 0.31000000000000005.
   EXPECT_TRUE(contains(rows, "\n0.31,ok,")) << rows;
-  EXPECT_TRUE(contains(rows, "platform.cond_trans,platform.k_trans_dir,platform.k_rot_dir")) << rows.substr(0, 300);
+  EXPECT_TRUE(contains(rows, "platform.cond_trans,platform.k_trans_dir,platform.k_rot_dir"))
+      << rows.substr(0, 300);
   const auto summary = nlohmann::json::parse(read_file(folder_ / "m.summary.json"));
   EXPECT_EQ(summary["fixed_parameters"]["y"]["value"], 0.7605);
   EXPECT_EQ(summary["fixed_parameters"]["y"]["set"], true);

@@ -28,7 +28,8 @@ void expect_healthy(const Result& r) {
 
 // A straight cantilever along local x from O, split into `segments` beam links.
 Model cantilever(int segments, double length, const Section& section, bool shear = false) {
-  Model m = stiffmsa::testing::beam_chain(segments, [&](int i) { return Vec3(length * i / segments, 0, 0); }, kSteel, section);
+  Model m = stiffmsa::testing::beam_chain(
+      segments, [&](int i) { return Vec3(length * i / segments, 0, 0); }, kSteel, section);
   for (Link& link : m.links) std::get<BeamLink>(link.kind).shear = shear;
   return m;
 }
@@ -53,8 +54,10 @@ TEST(Cantilever, EulerBernoulliTipComplianceMatchesTextbook) {
   // The support carries the load back: reaction = −load moved to the root.
   EXPECT_LT(relative_difference(*r.supports[0].reaction, wrench(0, 0, 250, 0, -250 * L, 0)), 1e-12);
   ASSERT_TRUE(r.end_effectors[0].stiffness);
-  EXPECT_LT(relative_difference(Mat6(*r.end_effectors[0].stiffness * *r.end_effectors[0].compliance),
-                                Mat6(Mat6::Identity())), 1e-10);
+  EXPECT_LT(
+      relative_difference(Mat6(*r.end_effectors[0].stiffness * *r.end_effectors[0].compliance),
+                          Mat6(Mat6::Identity())),
+      1e-10);
 }
 
 TEST(Cantilever, TimoshenkoAddsShearFlexibility) {
@@ -63,7 +66,8 @@ TEST(Cantilever, TimoshenkoAddsShearFlexibility) {
   const Result r = solve(m);
   const double d = D - 2 * t, pi = std::numbers::pi;
   const double A = pi * (D * D - d * d) / 4, I = pi * (std::pow(D, 4) - std::pow(d, 4)) / 64;
-  const Mat6 expected = reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I, 0.5 * A, 0.5 * A);
+  const Mat6 expected =
+      reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I, 0.5 * A, 0.5 * A);
   EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-12);
 }
 
@@ -88,18 +92,21 @@ TEST(Cantilever, ChainOf10000BeamLinksKeepsFourteenDigitsWithEverySolver) {
   const double pi = std::numbers::pi, d = 0.09;
   const double A = pi * (0.01 - d * d) / 4, I = pi * (1e-4 - std::pow(d, 4)) / 64;
   const Mat6 expected = reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I);
-  for (SolverKind kind : {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu}) {
+  for (SolverKind kind :
+       {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu}) {
     if (!solver_available(kind)) continue;
     SolveOptions options;
     options.solver = kind;
     const Result r = solve(m, options);
-    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-14) << to_string(kind);
+    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-14)
+        << to_string(kind);
   }
 }
 
 // VJM: a serial chain of rigid links with elastic revolute joints, C = Σ J_i·k_i⁻¹·J_iᵀ.
 TEST(SerialChain, RigidLinksElasticJointsMatchVirtualJointModel) {
-  const std::vector<Vec3> points = {{0, 0, 0}, {0, 0, 0.4}, {0.3, 0.1, 0.7}, {0.8, -0.2, 0.9}, {1.1, 0.0, 0.6}};
+  const std::vector<Vec3> points = {
+      {0, 0, 0}, {0, 0, 0.4}, {0.3, 0.1, 0.7}, {0.8, -0.2, 0.9}, {1.1, 0.0, 0.6}};
   const std::vector<Vec3> axes = {{0, 0, 1}, {0, 1, 0.2}, {0.3, 1, 0}, {1, 0, 0.1}};
   const std::vector<double> k = {2e6, 1.5e6, 8e5, 3e5};
   Model m;
@@ -210,18 +217,20 @@ TEST(ClampedClampedBeam, MidspanComplianceMatchesTheClosedFormThroughTheCutReact
   const double L = 4.0, D = 0.08;
   const double pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64, J = 2 * I;
   Vec6 diagonal;
-  diagonal << L / (4 * kE * A), std::pow(L, 3) / (192 * kE * I), std::pow(L, 3) / (192 * kE * I), L / (4 * kG * J),
-      L / (16 * kE * I), L / (16 * kE * I);
+  diagonal << L / (4 * kE * A), std::pow(L, 3) / (192 * kE * I), std::pow(L, 3) / (192 * kE * I),
+      L / (4 * kG * J), L / (16 * kE * I), L / (16 * kE * I);
   const Mat6 expected = diagonal.asDiagonal();
   for (const int segments : {200, 10000}) {
     Model m = cantilever(segments, L, Section::circle(D));
     m.add_support("far", "P" + std::to_string(segments), {}, Connection::rigid());
     m.end_effectors.clear();
-    m.add_end_effector("mid", "P" + std::to_string(segments / 2), "L" + std::to_string(segments / 2));
+    m.add_end_effector("mid", "P" + std::to_string(segments / 2),
+                       "L" + std::to_string(segments / 2));
     const Result r = solve(m);
     EXPECT_EQ(r.report.solver, stiffmsa::SolverUsed::tree_with_cuts) << segments;
     expect_healthy(r);
-    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-12) << segments;
+    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, expected), 1e-12)
+        << segments;
   }
 }
 
@@ -246,7 +255,8 @@ TEST(Parallel, PlatformStiffnessIsTheSumOfTransportedLegStiffnesses) {
     Mat3 R;
     R << x, y, z;
     const Mat6 R6 = reference::rotate6(R);
-    const Mat6 leg_compliance = R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose();
+    const Mat6 leg_compliance =
+        R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose();
     const Mat6 carry = reference::twist_transport(tops[i] - centre);
     expected += carry.transpose() * leg_compliance.inverse() * carry;
   }
@@ -278,12 +288,14 @@ TEST(Leg, PassiveJointsLeaveStiffnessWithZeroEigenvalues) {
   EXPECT_FALSE(r.links[0].from.deflection.has_value());
   EXPECT_FALSE(r.report.notes.empty());
 
-  const double L = (knee - base).norm(), pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
+  const double L = (knee - base).norm(), pi = std::numbers::pi, A = pi * D * D / 4,
+               I = pi * std::pow(D, 4) / 64;
   const Vec3 x = (knee - base) / L, y = x.unitOrthogonal(), z = x.cross(y);
   Mat3 R;
   R << x, y, z;
   const Mat6 R6 = reference::rotate6(R);
-  const Mat6 rod = R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose();
+  const Mat6 rod =
+      R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose();
   const Mat6 carry = reference::twist_transport(tip - knee);
   const Mat6 K0 = (carry * rod * carry.transpose()).inverse();
   Eigen::Matrix<double, 6, 3> Jq;
@@ -368,7 +380,8 @@ TEST(Actuators, LockedActuatorReportsItsEffort) {
   m.add_rigid_link("column", "O", "A");
   m.add_rigid_link("arm", "A", "E");
   m.add_support("ground", "O", {}, Connection::rigid());
-  m.add_joint("motor", "A", {"column", "arm"}, Connection::actuated(Kinematics::revolute(Vec3::UnitZ())));
+  m.add_joint("motor", "A", {"column", "arm"},
+              Connection::actuated(Kinematics::revolute(Vec3::UnitZ())));
   m.add_load("E", std::nullopt, wrench(0, F, 0));
   m.add_end_effector("E", "E");
   const Result r = solve(m);
@@ -377,7 +390,8 @@ TEST(Actuators, LockedActuatorReportsItsEffort) {
   // The motor holds the arm against the moment L·F about z: it applies +L·F to the column.
   EXPECT_NEAR((*r.joints[0].effort)(0), L * F, 1e-12 * L * F);
   EXPECT_NEAR((*r.joints[0].relative_deflection)[0](0), 0.0, 1e-15);
-  EXPECT_LT(relative_difference(*r.supports[0].reaction, wrench(0, -F, 0, 0.3 * F, 0, -L * F)), 1e-12);
+  EXPECT_LT(relative_difference(*r.supports[0].reaction, wrench(0, -F, 0, 0.3 * F, 0, -L * F)),
+            1e-12);
 }
 
 // Three beams meeting at a point: the default rigid connection and an explicit rigid joint
@@ -400,8 +414,12 @@ TEST(Connections, DefaultRigidConnectionEqualsExplicitThreeEndJoint) {
   };
   const Result implicit = solve(build(false)), named = solve(build(true));
   expect_healthy(implicit);
-  EXPECT_LT(relative_difference(*named.end_effectors[0].compliance, *implicit.end_effectors[0].compliance), 1e-13);
-  EXPECT_LT(relative_difference(*named.end_effectors[0].deflection, *implicit.end_effectors[0].deflection), 1e-13);
+  EXPECT_LT(relative_difference(*named.end_effectors[0].compliance,
+                                *implicit.end_effectors[0].compliance),
+            1e-13);
+  EXPECT_LT(relative_difference(*named.end_effectors[0].deflection,
+                                *implicit.end_effectors[0].deflection),
+            1e-13);
   ASSERT_TRUE(named.joints[0].relative_deflection);
   EXPECT_EQ(named.joints[0].relative_deflection->size(), 2u);
   // Post and arms: B's compliance is the post's carried to B plus the arm's own.
@@ -412,11 +430,14 @@ TEST(Connections, DefaultRigidConnectionEqualsExplicitThreeEndJoint) {
   Mat3 post_axes, arm_axes;
   post_axes << Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY();  // columns: local x, y, z (circular)
   arm_axes << Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ();
-  const Mat6 post = reference::rotate6(post_axes) * reference::cantilever_compliance(0.5, kE, kG, A4, I4, I4, 2 * I4) *
+  const Mat6 post = reference::rotate6(post_axes) *
+                    reference::cantilever_compliance(0.5, kE, kG, A4, I4, I4, 2 * I4) *
                     reference::rotate6(post_axes).transpose();
   const Mat6 arm = reference::cantilever_compliance(0.4, kE, kG, A3, I3, I3, 2 * I3);
   const Mat6 carry = reference::twist_transport(Vec3(0.4, 0, 0));
-  EXPECT_LT(relative_difference_scaled(*implicit.end_effectors[0].compliance, carry * post * carry.transpose() + arm), 1e-11);
+  EXPECT_LT(relative_difference_scaled(*implicit.end_effectors[0].compliance,
+                                       carry * post * carry.transpose() + arm),
+            1e-11);
 }
 
 TEST(Solvers, EverySolverGivesTheSameCompliance) {
@@ -428,7 +449,9 @@ TEST(Solvers, EverySolverGivesTheSameCompliance) {
     options.solver = kind;
     const Result other = solve(m, options);
     EXPECT_STREQ(to_string(other.report.solver), to_string(kind));
-    EXPECT_LT(relative_difference_scaled(*other.end_effectors[0].compliance, *base.end_effectors[0].compliance), 1e-11);
+    EXPECT_LT(relative_difference_scaled(*other.end_effectors[0].compliance,
+                                         *base.end_effectors[0].compliance),
+              1e-11);
   }
 }
 
@@ -456,7 +479,8 @@ TEST(OverConstrained, RigidLoopOnAPostFollowsThePostAndLeavesLoopWrenchesNull) {
   const double pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
   Mat3 axes;  // the post's local x along global Z; a circular section makes y, z immaterial
   axes << Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY();
-  const Mat6 post = reference::rotate6(axes) * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) *
+  const Mat6 post = reference::rotate6(axes) *
+                    reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) *
                     reference::rotate6(axes).transpose();
   const Mat6 carry = reference::twist_transport(c - a);
   const Mat6 expected = carry * post * carry.transpose();
@@ -474,7 +498,8 @@ TEST(OverConstrained, RigidLoopOnAPostFollowsThePostAndLeavesLoopWrenchesNull) {
     EXPECT_TRUE(r.links[l].from.deflection.has_value());
   }
   bool noted = false;
-  for (const auto& note : r.report.notes) noted |= note.find("over-constrained") != std::string::npos;
+  for (const auto& note : r.report.notes)
+    noted |= note.find("over-constrained") != std::string::npos;
   EXPECT_TRUE(noted);
 }
 
@@ -507,12 +532,14 @@ TEST(OverConstrained, SwayingParallelogramLegStillGivesItsStiffness) {
   ASSERT_TRUE(r.end_effectors[0].stiffness);
   EXPECT_FALSE(r.end_effectors[0].compliance.has_value());
 
-  const double L = (tip - m_point).norm(), pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
+  const double L = (tip - m_point).norm(), pi = std::numbers::pi, A = pi * D * D / 4,
+               I = pi * std::pow(D, 4) / 64;
   const Vec3 x = (tip - m_point) / L, y = x.unitOrthogonal(), z = x.cross(y);
   Mat3 R;
   R << x, y, z;
   const Mat6 R6 = reference::rotate6(R);
-  const Mat6 Kb = (R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose()).inverse();
+  const Mat6 Kb =
+      (R6 * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) * R6.transpose()).inverse();
   const Vec6 Jq = Vec6::Unit(0);
   const Mat6 expected = Kb - Kb * Jq * (Jq.transpose() * Kb * Jq).inverse() * Jq.transpose() * Kb;
   EXPECT_LT(relative_difference(*r.end_effectors[0].stiffness, expected), 1e-9);
@@ -596,7 +623,8 @@ TEST(IllConditioning, NearMechanismIsWarnedAbout) {
   const Result beyond = solve(toggle(1e-8));
   EXPECT_FALSE(beyond.end_effectors[0].stiffness.has_value());
   bool noted = false;
-  for (const auto& note : beyond.report.notes) noted |= note.find("nearly a mechanism") != std::string::npos;
+  for (const auto& note : beyond.report.notes)
+    noted |= note.find("nearly a mechanism") != std::string::npos;
   EXPECT_TRUE(noted);
 }
 
@@ -610,7 +638,8 @@ TEST(LargeSingularModels, MechanismIsNamedAndRigidLoopIsSolved) {
     m.add_point("P0", Vec3::Zero());
     for (int i = 1; i <= segments; ++i) {
       m.add_point("P" + std::to_string(i), Vec3(0, 0, L * i / segments));
-      m.add_beam("post" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i), kSteel, Section::circle(D));
+      m.add_beam("post" + std::to_string(i), "P" + std::to_string(i - 1), "P" + std::to_string(i),
+                 kSteel, Section::circle(D));
     }
     m.add_support("ground", "P0", {}, Connection::rigid());
   };
@@ -648,10 +677,13 @@ TEST(LargeSingularModels, MechanismIsNamedAndRigidLoopIsSolved) {
     const double pi = std::numbers::pi, A = pi * D * D / 4, I = pi * std::pow(D, 4) / 64;
     Mat3 axes;
     axes << Vec3::UnitZ(), Vec3::UnitX(), Vec3::UnitY();
-    const Mat6 column = reference::rotate6(axes) * reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) *
+    const Mat6 column = reference::rotate6(axes) *
+                        reference::cantilever_compliance(L, kE, kG, A, I, I, 2 * I) *
                         reference::rotate6(axes).transpose();
     const Mat6 carry = reference::twist_transport(c - a);
-    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance, carry * column * carry.transpose()), 1e-10);
+    EXPECT_LT(relative_difference_scaled(*r.end_effectors[0].compliance,
+                                         carry * column * carry.transpose()),
+              1e-10);
     EXPECT_FALSE(r.links[static_cast<std::size_t>(segments)].from.wrench.has_value());
   }
 }

@@ -67,9 +67,9 @@ TEST(EquationWriter, WritesBlocksInPlaceOrEvaluatedTimesTheirScale) {
   for (Index j = 0; j < 6; ++j)
     for (Index i = 0; i < 6; ++i) m(i, j) = 1 + i + 10 * j;  // every entry distinct
   DenseWriter writer(12, 1);
-  writer.add_block(1, 2, m.bottomRows(4), -1.0);                 // in place: a 4×6 view, stride 6
+  writer.add_block(1, 2, m.bottomRows(4), -1.0);  // in place: a 4×6 view, stride 6
   writer.add_block(7, 8, m.topLeftCorner<3, 3>().transpose(), 2.0);  // row-major: evaluated
-  writer.add_block(10, 0, m.block<2, 2>(1, 4));                  // in place, scale 1
+  writer.add_block(10, 0, m.block<2, 2>(1, 4));                      // in place, scale 1
   MatX expected = MatX::Zero(12, 12);
   expected.block(1, 2, 4, 6) = -m.bottomRows(4);
   expected.block(7, 8, 3, 3) = 2.0 * m.topLeftCorner<3, 3>().transpose();
@@ -93,10 +93,11 @@ TEST(BeamElement, ClampedComplianceIsTheInverseOfTheTipBlockAndMatchesTextbook) 
     const BeamLink beam = sample_beam(shear);
     const BeamConstants c = beam_constants(beam, 0.8);
     const Mat6 from_stiffness = beam_local_stiffness(c).bottomRightCorner<6, 6>().inverse();
-    EXPECT_LT(reference::relative_difference_scaled(beam_local_compliance(c), from_stiffness), 1e-12);
+    EXPECT_LT(reference::relative_difference_scaled(beam_local_compliance(c), from_stiffness),
+              1e-12);
     const SectionProperties s = section_properties(beam.section);
-    const Mat6 textbook = reference::cantilever_compliance(0.8, c.E, c.G, s.A, s.Iy, s.Iz, s.J,
-                                                           shear ? *s.Asy : 0.0, shear ? *s.Asz : 0.0);
+    const Mat6 textbook = reference::cantilever_compliance(
+        0.8, c.E, c.G, s.A, s.Iy, s.Iz, s.J, shear ? *s.Asy : 0.0, shear ? *s.Asz : 0.0);
     EXPECT_LT(reference::relative_difference_scaled(beam_local_compliance(c), textbook), 1e-13);
   }
 }
@@ -129,7 +130,9 @@ TEST(BeamElement, GlobalStiffnessHasTheRigidMotionsOfItsEndsInItsNullSpace) {
 TEST(CadLink, FreeFreeStiffnessFromComplianceRoundTrips) {
   const Mat6 C = beam_global_compliance(sample_beam(false), kFrom, kTo);
   const Mat12 K = free_free_stiffness(C, kTo - kFrom);
-  EXPECT_LT(reference::relative_difference(K, beam_global_stiffness(sample_beam(false), kFrom, kTo)), 1e-10);
+  EXPECT_LT(
+      reference::relative_difference(K, beam_global_stiffness(sample_beam(false), kFrom, kTo)),
+      1e-10);
   EXPECT_LT(reference::relative_difference_scaled(*clamped_compliance(K), C), 1e-11);
   // A matrix whose clamped block is singular has no compliance.
   Mat12 bar = Mat12::Zero();
@@ -143,8 +146,10 @@ TEST(CadLink, LocalFrameComplianceIsRotatedIntoGlobalAxes) {
   link.C = beam_local_compliance(beam_constants(sample_beam(false), (kTo - kFrom).norm()));
   link.frame = LinkFrame::local;
   link.zref = sample_beam(false).zref;
-  EXPECT_LT(reference::relative_difference_scaled(compliance_link_global_compliance(link, kFrom, kTo),
-                                                  beam_global_compliance(sample_beam(false), kFrom, kTo)), 1e-13);
+  EXPECT_LT(
+      reference::relative_difference_scaled(compliance_link_global_compliance(link, kFrom, kTo),
+                                            beam_global_compliance(sample_beam(false), kFrom, kTo)),
+      1e-13);
 }
 
 // The compliance form of a flexible link holds exactly where eq. (1) holds.
@@ -158,7 +163,8 @@ TEST(LinkBlock, FlexibleEquationsAreSatisfiedByEveryStateOfEquationOne) {
   for (int trial = 0; trial < 5; ++trial) {
     const Eigen::Matrix<double, 12, 1> deflection = Eigen::Matrix<double, 12, 1>::Random() * 1e-4;
     const Eigen::Matrix<double, 12, 1> wrench = K * deflection;  // eq. (1)
-    const VecX x = unknowns({deflection.head<6>(), deflection.tail<6>()}, {wrench.head<6>(), wrench.tail<6>()});
+    const VecX x = unknowns({deflection.head<6>(), deflection.tail<6>()},
+                            {wrench.head<6>(), wrench.tail<6>()});
     EXPECT_LT((A * x).norm(), 1e-10 * wrench.norm());
   }
   // And the 12 rows are independent: the link leaves 12 of its 24 unknowns free.
@@ -191,7 +197,8 @@ TEST(LinkBlock, RigidLinkCarriesRigidMotionsAndBalancedWrenches) {
   // The wrench at i that balances W_j on a rigid body: W_i = −Dᵀ W_j (moments about each end).
   Vec6 root_wrench;
   root_wrench << -tip_wrench.head<3>(), -tip_wrench.tail<3>() - d.cross(tip_wrench.head<3>());
-  const VecX x = unknowns({rigid_motion(u, w, kFrom), rigid_motion(u, w, kTo)}, {root_wrench, tip_wrench});
+  const VecX x =
+      unknowns({rigid_motion(u, w, kFrom), rigid_motion(u, w, kTo)}, {root_wrench, tip_wrench});
   EXPECT_LT((A * x).norm(), 1e-13);
 }
 
@@ -200,7 +207,8 @@ TEST(StiffnessLinkBlock, WritesEquationOneAsPrinted) {
   const MatX A = equations_of(StiffnessLinkBlock(0, 1, K), 2);
   const Eigen::Matrix<double, 12, 1> deflection = Eigen::Matrix<double, 12, 1>::Random() * 1e-4;
   const Eigen::Matrix<double, 12, 1> wrench = K * deflection;
-  const VecX x = unknowns({deflection.head<6>(), deflection.tail<6>()}, {wrench.head<6>(), wrench.tail<6>()});
+  const VecX x =
+      unknowns({deflection.head<6>(), deflection.tail<6>()}, {wrench.head<6>(), wrench.tail<6>()});
   EXPECT_LT((A * x).norm(), 1e-12 * wrench.norm());
 }
 
@@ -212,18 +220,26 @@ TEST(FreeDirections, RowsFollowTheDocumentedOrderAndTheComplementIsOrthonormal) 
 
   // Planar with normal z: g = x (first on a tie), t1 = z × x = y, t2 = z × y = −x.
   const FreeDirections planar = free_directions(Kinematics::planar(Vec3(0, 0, 5)));
-  EXPECT_LT((planar.free().row(0).transpose() - (Vec6() << 0, 1, 0, 0, 0, 0).finished()).norm(), 1e-15);
-  EXPECT_LT((planar.free().row(1).transpose() - (Vec6() << -1, 0, 0, 0, 0, 0).finished()).norm(), 1e-15);
-  EXPECT_LT((planar.free().row(2).transpose() - (Vec6() << 0, 0, 0, 0, 0, 1).finished()).norm(), 1e-15);
+  EXPECT_LT((planar.free().row(0).transpose() - (Vec6() << 0, 1, 0, 0, 0, 0).finished()).norm(),
+            1e-15);
+  EXPECT_LT((planar.free().row(1).transpose() - (Vec6() << -1, 0, 0, 0, 0, 0).finished()).norm(),
+            1e-15);
+  EXPECT_LT((planar.free().row(2).transpose() - (Vec6() << 0, 0, 0, 0, 0, 1).finished()).norm(),
+            1e-15);
 
   for (const Kinematics& k :
-       {Kinematics::rigid(), Kinematics::revolute(Vec3(1, 2, 3)), Kinematics::prismatic(Vec3(-3, 0.5, 2)),
-        Kinematics::cylindrical(Vec3(0.2, -1, 0.7)), Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)),
+       {Kinematics::rigid(), Kinematics::revolute(Vec3(1, 2, 3)),
+        Kinematics::prismatic(Vec3(-3, 0.5, 2)), Kinematics::cylindrical(Vec3(0.2, -1, 0.7)),
+        Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)),
         Kinematics::universal(Vec3(1, 2, 0.5), Vec3(-0.3, 0.1, 2)), Kinematics::spherical(),
-        Kinematics::planar(Vec3(1, -2, 2)), Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()})}) {
+        Kinematics::planar(Vec3(1, -2, 2)),
+        Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()})}) {
     const FreeDirections d = free_directions(k);
     EXPECT_EQ(d.free().rows() + d.constrained().rows(), 6);
-    EXPECT_LT((d.constrained() * d.constrained().transpose() - MatX::Identity(d.constrained().rows(), d.constrained().rows())).norm(), 1e-14);
+    EXPECT_LT((d.constrained() * d.constrained().transpose() -
+               MatX::Identity(d.constrained().rows(), d.constrained().rows()))
+                  .norm(),
+              1e-14);
     if (d.free().rows() > 0) EXPECT_LT((d.constrained() * d.free().transpose()).norm(), 1e-14);
   }
   EXPECT_THROW(free_directions(Kinematics::revolute(Vec3::Zero())), InputError);
@@ -241,16 +257,22 @@ TEST(FreeDirections, UniversalAxesAtTinyAnglesAreToldApartWithoutCancellation) {
     const FreeDirections d = free_directions(Kinematics::universal(a, b));
     // Λ_r stays orthogonal to both axes however close they are.
     EXPECT_LT((d.constrained() * d.free().transpose()).cwiseAbs().maxCoeff(), 4e-15) << angle;
-    EXPECT_LT((d.constrained() * d.constrained().transpose() - Mat6::Identity().topLeftCorner(4, 4)).norm(), 4e-15) << angle;
+    EXPECT_LT((d.constrained() * d.constrained().transpose() - Mat6::Identity().topLeftCorner(4, 4))
+                  .norm(),
+              4e-15)
+        << angle;
   }
   EXPECT_THROW(free_directions(Kinematics::universal(a, a)), InputError);
-  EXPECT_THROW(free_directions(Kinematics::universal(a, std::cos(1e-9) * a + std::sin(1e-9) * across)), InputError);
+  EXPECT_THROW(
+      free_directions(Kinematics::universal(a, std::cos(1e-9) * a + std::sin(1e-9) * across)),
+      InputError);
   EXPECT_THROW(free_directions(Kinematics::universal(a, -a)), InputError);
 }
 
 TEST(ConstraintJoint, PassiveRevoluteLetsOnlyTheAxisTurnAndPassesNoTorqueAlongIt) {
   const Vec3 axis = Vec3(1, 1, 0).normalized();
-  const ConstraintJointBlock block({0, 1, 2}, free_directions(Kinematics::revolute(axis)), std::nullopt);
+  const ConstraintJointBlock block({0, 1, 2}, free_directions(Kinematics::revolute(axis)),
+                                   std::nullopt);
   EXPECT_EQ(block.equation_count(), 18);
   const MatX A = equations_of(block, 3);
   const Vec6 common = (Vec6() << 1e-3, 2e-3, 0, 0, 1e-3, 0).finished();
@@ -274,7 +296,8 @@ TEST(ConstraintJoint, PassiveRevoluteLetsOnlyTheAxisTurnAndPassesNoTorqueAlongIt
 
 TEST(ElasticJoint, SpringPullsTheFirstEndTowardTheSecond) {
   const double k = 3e4;
-  const ElasticJointBlock block(0, 1, free_directions(Kinematics::prismatic(Vec3::UnitX())), MatX::Constant(1, 1, k), std::nullopt);
+  const ElasticJointBlock block(0, 1, free_directions(Kinematics::prismatic(Vec3::UnitX())),
+                                MatX::Constant(1, 1, k), std::nullopt);
   const MatX A = equations_of(block, 2);
   // End 2 moved +q along x relative to end 1: the joint pushes end 1 by +k·q and end 2 by −k·q.
   const double q = 2e-4;
@@ -286,7 +309,8 @@ TEST(ElasticJoint, SpringPullsTheFirstEndTowardTheSecond) {
 
 TEST(Support, ElasticSupportResistsWithMinusKQ) {
   const double k = 800;
-  const SupportBlock block({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())), MatX::Constant(1, 1, k), std::nullopt);
+  const SupportBlock block({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())),
+                           MatX::Constant(1, 1, k), std::nullopt);
   EXPECT_EQ(block.equation_count(), 6);
   const MatX A = equations_of(block, 1);
   const Vec6 t = (Vec6() << 0, 0, 0, 0, 0, 0.01).finished();
@@ -295,13 +319,17 @@ TEST(Support, ElasticSupportResistsWithMinusKQ) {
 }
 
 TEST(Support, SeveralEndsAreJoinedRigidlyFirst) {
-  const SupportBlock block({0, 1, 2}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt);
+  const SupportBlock block({0, 1, 2}, free_directions(Kinematics::rigid()), std::nullopt,
+                           std::nullopt);
   EXPECT_EQ(block.equation_count(), 18);
   const MatX A = equations_of(block, 3);
   Eigen::FullPivLU<MatX> lu(A);
   EXPECT_EQ(lu.rank(), 18);
   // Every deflection zero, any wrenches: satisfied.
-  EXPECT_LT((A * unknowns({Vec6::Zero(), Vec6::Zero(), Vec6::Zero()}, {Vec6::Ones(), -Vec6::Ones(), Vec6::Constant(7)})).norm(), 1e-15);
+  EXPECT_LT((A * unknowns({Vec6::Zero(), Vec6::Zero(), Vec6::Zero()},
+                          {Vec6::Ones(), -Vec6::Ones(), Vec6::Constant(7)}))
+                .norm(),
+            1e-15);
 }
 
 TEST(FreeEnd, WrenchEqualsTheLoad) {
@@ -325,8 +353,11 @@ struct TreeFixture {
   // Passes in one part neither read nor write the low parts: there they start as NaN, and must
   // stay so without reaching x.
   explicit TreeFixture(int end_count, bool compensated_ = true)
-      : ends(end_count), compensated(compensated_), x(RowMajorMatX::Random(12 * end_count, kColumns)),
-        low(12 * end_count, kColumns), external(end_count, kColumns) {
+      : ends(end_count),
+        compensated(compensated_),
+        x(RowMajorMatX::Random(12 * end_count, kColumns)),
+        low(12 * end_count, kColumns),
+        external(end_count, kColumns) {
     reset_low();
   }
   void reset_low() { low.setConstant(compensated ? 0.0 : std::nan("")); }
@@ -355,18 +386,18 @@ struct TreeFixture {
     low.middleRows<6>(first_row).setConstant(std::nan(""));
   }
   // Cut unknowns: random values for each load case, which the passes must take as given.
-  void cut(Index count) {
-    cut_values = RowMajorMatX::Random(count, kColumns);
-  }
+  void cut(Index count) { cut_values = RowMajorMatX::Random(count, kColumns); }
   TreeState cut_state() {
     TreeState s = state();
     s.cut_values = &cut_values;
     return s;
   }
   // max |equations·x − rhs| over the block's rows but `skipped`, relative to the largest term.
-  double residual(const ElementBlock& block, const std::vector<int>& held, const std::vector<Index>& skipped = {}) const {
+  double residual(const ElementBlock& block, const std::vector<int>& held,
+                  const std::vector<Index>& skipped = {}) const {
     const MatX a = equations_of(block, ends);
-    if (!compensated) EXPECT_TRUE(low.array().isNaN().all()) << "a pass in one part wrote a low part";
+    if (!compensated)
+      EXPECT_TRUE(low.array().isNaN().all()) << "a pass in one part wrote a low part";
     const MatX solution = this->solution();
     MatX rhs = MatX::Zero(block.equation_count(), kColumns);
     for (Index c = 0; c < kColumns; ++c) {
@@ -375,7 +406,8 @@ struct TreeFixture {
       if (c == kLoadCase) block.add_preload(0, column);
       rhs.col(c) = column;
     }
-    const double scale = (a.cwiseAbs() * solution.cwiseAbs()).maxCoeff() + rhs.cwiseAbs().maxCoeff();
+    const double scale =
+        (a.cwiseAbs() * solution.cwiseAbs()).maxCoeff() + rhs.cwiseAbs().maxCoeff();
     MatX error = a * solution - rhs;
     for (const Index row : skipped) error.row(row).setZero();
     const double largest = error.cwiseAbs().maxCoeff();
@@ -398,7 +430,8 @@ Mat6 sample_compliance() {
 TEST(TreePasses, LinkPassesWrenchesAndDeflectionsEitherWay) {
   for (const bool compensated : {true, false}) {
     SCOPED_TRACE(compensated ? "running sums in two parts" : "running sums in one part");
-    for (const std::optional<Mat6>& compliance : {std::optional<Mat6>(sample_compliance()), std::optional<Mat6>()}) {
+    for (const std::optional<Mat6>& compliance :
+         {std::optional<Mat6>(sample_compliance()), std::optional<Mat6>()}) {
       const LinkBlock link(0, 1, kTo - kFrom, compliance);
       ASSERT_TRUE(link.passes_tree());
       for (int toward_root : {0, 1}) {
@@ -433,12 +466,14 @@ TEST(TreePasses, ElasticJointWithPreloadSolvesItsSpringEitherWay) {
         {Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)), universal_stiffness},
         {Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()}), MatX::Constant(1, 1, 5e5)}};
     for (const auto& [kinematics, stiffness] : springs) {
-      const ElasticJointBlock joint(0, 2, free_directions(kinematics), stiffness, VecX::Constant(stiffness.rows(), 7.5));
+      const ElasticJointBlock joint(0, 2, free_directions(kinematics), stiffness,
+                                    VecX::Constant(stiffness.rows(), 7.5));
       for (int toward_root : {0, 2}) {
         TreeFixture f(3, compensated);
         f.load(0);
         f.load(2);
-        EXPECT_LT(f.passed(joint, toward_root, {0, 2}), 1e-14) << to_string(kinematics.type) << ", toward end " << toward_root;
+        EXPECT_LT(f.passed(joint, toward_root, {0, 2}), 1e-14)
+            << to_string(kinematics.type) << ", toward end " << toward_root;
       }
     }
   }
@@ -449,8 +484,10 @@ TEST(TreePasses, RootSupportHoldsItsEndsRigidlyOrOnItsSpring) {
     SCOPED_TRACE(compensated ? "running sums in two parts" : "running sums in one part");
     Eigen::Matrix3d k;
     k << 5e6, 1e5, 0, 1e5, 4e6, 2e5, 0, 2e5, 6e6;
-    const SupportBlock elastic({0, 2}, free_directions(Kinematics::spherical()), MatX(k), VecX::Constant(3, -40.0));
-    const SupportBlock rigid({0, 2}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt);
+    const SupportBlock elastic({0, 2}, free_directions(Kinematics::spherical()), MatX(k),
+                               VecX::Constant(3, -40.0));
+    const SupportBlock rigid({0, 2}, free_directions(Kinematics::rigid()), std::nullopt,
+                             std::nullopt);
     for (const SupportBlock* support : {&elastic, &rigid}) {
       ASSERT_TRUE(support->passes_tree());
       TreeFixture f(3, compensated);
@@ -483,7 +520,9 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
     const std::vector<Case> cases = {
         {Kinematics::revolute(Vec3(1, 2, 3)), {0, 2}, VecX::Constant(1, 12.5)},
         {Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 1)), {0, 2, 4}, std::nullopt},
-        {Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()}), {0, 2}, VecX::Constant(1, -3.0)},
+        {Kinematics::custom({(Vec6() << 1, 0, 0, 0, 2, 0).finished()}),
+         {0, 2},
+         VecX::Constant(1, -3.0)},
         {Kinematics::spherical(), {0, 2}, VecX::Constant(3, 4.0)},
         {Kinematics::spherical(), {0, 2, 4}, VecX::Constant(3, -6.0)}};
     for (const Case& c : cases) {
@@ -521,23 +560,30 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
           if (end == toward_root) continue;
           for (Index column = 0; column < TreeFixture::kColumns; ++column) {
             VecX target = directions.free() * f.external.at(end).col(column);
-            if (column == kLoadCase && c.preload && i < 2) target += (i == 0 ? 1.0 : -1.0) * directions.gram() * *c.preload;
+            if (column == kLoadCase && c.preload && i < 2)
+              target += (i == 0 ? 1.0 : -1.0) * directions.gram() * *c.preload;
             auto w = f.x.block<6, 1>(wrench_column(end), column);
-            const VecX correction = directions.free().transpose() * (gram_inverse * (target - directions.free() * w));
+            const VecX correction =
+                directions.free().transpose() * (gram_inverse * (target - directions.free() * w));
             w += correction;
           }
         }
         auto state = f.cut_state();
         joint.pass_wrench_to_root(toward_root, state);
         joint.pass_deflection_from_root(toward_root, state);
-        EXPECT_LT(f.residual(joint, c.ends), 1e-15) << to_string(c.kinematics.type) << ", toward end " << toward_root;
+        EXPECT_LT(f.residual(joint, c.ends), 1e-15)
+            << to_string(c.kinematics.type) << ", toward end " << toward_root;
         // The free motions are the given ones: Δt_k − Δt_root = Λ_pᵀ·q_k.
         const RowMajorMatX solution = f.solution();
         Index motion = 0;
         for (int end : c.ends) {
           if (end == toward_root) continue;
-          const MatX relative = solution.middleRows<6>(deflection_column(end)) - solution.middleRows<6>(deflection_column(toward_root));
-          EXPECT_LT((relative - directions.free().transpose() * f.cut_values.middleRows(motion, p)).cwiseAbs().maxCoeff(), 1e-15);
+          const MatX relative = solution.middleRows<6>(deflection_column(end)) -
+                                solution.middleRows<6>(deflection_column(toward_root));
+          EXPECT_LT((relative - directions.free().transpose() * f.cut_values.middleRows(motion, p))
+                        .cwiseAbs()
+                        .maxCoeff(),
+                    1e-15);
           motion += p;
         }
       }
@@ -545,14 +591,17 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
     // The cut rows in the block's layout: r·(m − 1) compatibility rows, r equilibrium rows, then
     // p rows per end; those of the ends beyond the root's.
     std::vector<Index> rows;
-    ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt).add_cut_rows(0, rows);
+    ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt)
+        .add_cut_rows(0, rows);
     EXPECT_EQ(rows, std::vector<Index>{11});
     rows.clear();
-    ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt).add_cut_rows(2, rows);
+    ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt)
+        .add_cut_rows(2, rows);
     EXPECT_EQ(rows, std::vector<Index>{10});
     rows.clear();
-    const ConstraintJointBlock universal({0, 2, 4}, free_directions(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())),
-                                         std::nullopt);
+    const ConstraintJointBlock universal(
+        {0, 2, 4}, free_directions(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())),
+        std::nullopt);
     universal.add_cut_rows(2, rows);
     EXPECT_EQ(rows, (std::vector<Index>{12, 13, 16, 17}));
   }
@@ -563,12 +612,16 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
     SCOPED_TRACE(compensated ? "running sums in two parts" : "running sums in one part");
     Eigen::Matrix3d k;
     k << 5e6, 1e5, 0, 1e5, 4e6, 2e5, 0, 2e5, 6e6;
-    const SupportBlock elastic({0, 2}, free_directions(Kinematics::spherical()), MatX(k), VecX::Constant(3, -40.0));
-    const SupportBlock rigid({0, 2, 4}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt);
-    const SupportBlock passive({0, 2}, free_directions(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 0))), std::nullopt,
-                               std::nullopt);
+    const SupportBlock elastic({0, 2}, free_directions(Kinematics::spherical()), MatX(k),
+                               VecX::Constant(3, -40.0));
+    const SupportBlock rigid({0, 2, 4}, free_directions(Kinematics::rigid()), std::nullopt,
+                             std::nullopt);
+    const SupportBlock passive({0, 2},
+                               free_directions(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 1, 0))),
+                               std::nullopt, std::nullopt);
     for (const SupportBlock* support : {&elastic, &rigid, &passive}) {
-      const std::vector<int> ends = support == &rigid ? std::vector<int>{0, 2, 4} : std::vector<int>{0, 2};
+      const std::vector<int> ends =
+          support == &rigid ? std::vector<int>{0, 2, 4} : std::vector<int>{0, 2};
       for (int toward_root : ends) {
         ASSERT_EQ(support->cut_unknowns(toward_root), 6);
         std::vector<Index> rows;
@@ -587,7 +640,8 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
         // The reaction is the given one: Σ(W_k − W_ext,k) = R.
         const RowMajorMatX solution = f.solution();
         MatX reaction = MatX::Zero(6, TreeFixture::kColumns);
-        for (int end : ends) reaction += solution.middleRows<6>(wrench_column(end)) - f.external.at(end);
+        for (int end : ends)
+          reaction += solution.middleRows<6>(wrench_column(end)) - f.external.at(end);
         EXPECT_LT((reaction - f.cut_values).cwiseAbs().maxCoeff(), 1e-13);
       }
     }
@@ -597,7 +651,8 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
 TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
   for (const bool compensated : {true, false}) {
     SCOPED_TRACE(compensated ? "running sums in two parts" : "running sums in one part");
-    const SupportBlock passive({0, 2}, free_directions(Kinematics::revolute(Vec3(0, 1, 1))), std::nullopt, std::nullopt);
+    const SupportBlock passive({0, 2}, free_directions(Kinematics::revolute(Vec3(0, 1, 1))),
+                               std::nullopt, std::nullopt);
     ASSERT_EQ(passive.cut_unknowns(-1), 1);
     std::vector<Index> rows;
     passive.add_cut_rows(-1, rows);
@@ -611,10 +666,14 @@ TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
     passive.set_root_deflection(state);
     EXPECT_LT(f.residual(passive, {0, 2}, rows), 1e-15);
     const Vec6 axis = free_directions(Kinematics::revolute(Vec3(0, 1, 1))).free().transpose();
-    EXPECT_LT((f.x.middleRows<6>(deflection_column(2)) - axis * f.cut_values).cwiseAbs().maxCoeff(), 1e-15);
+    EXPECT_LT((f.x.middleRows<6>(deflection_column(2)) - axis * f.cut_values).cwiseAbs().maxCoeff(),
+              1e-15);
     // Rigid and elastic roots take none.
-    EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt).cut_unknowns(-1), 0);
-    EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())), MatX::Constant(1, 1, 5e3), std::nullopt)
+    EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt)
+                  .cut_unknowns(-1),
+              0);
+    EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())),
+                           MatX::Constant(1, 1, 5e3), std::nullopt)
                   .cut_unknowns(-1),
               0);
   }
@@ -622,5 +681,7 @@ TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
 
 TEST(TreePasses, SingularLinkMatricesAreLeftToTheFactorisingSolve) {
   EXPECT_FALSE(StiffnessLinkBlock(0, 1, Mat12::Identity()).passes_tree());
-  EXPECT_EQ(ConstraintJointBlock({0, 2}, free_directions(Kinematics::rigid()), std::nullopt).cut_unknowns(0), 0);
+  EXPECT_EQ(ConstraintJointBlock({0, 2}, free_directions(Kinematics::rigid()), std::nullopt)
+                .cut_unknowns(0),
+            0);
 }

@@ -38,10 +38,10 @@ using stiffmsa::Vec6;
 // Every comparison with a closed form: the arithmetic of both sides is exact to rounding.
 constexpr double kTolerance = 1e-9;
 
-const std::vector<std::string> kExampleFiles = {"cantilever.yaml",         "planar-2r.yaml",
-                                                "industrial-6axis.yaml",   "planar-3rpr.yaml",
-                                                "gough-stewart-6ups.yaml", "tripteron.yaml",
-                                                "delta-parametric.yaml",   "delta-us-parametric.yaml"};
+const std::vector<std::string> kExampleFiles = {
+    "cantilever.yaml",       "planar-2r.yaml",          "industrial-6axis.yaml",
+    "planar-3rpr.yaml",      "gough-stewart-6ups.yaml", "tripteron.yaml",
+    "delta-parametric.yaml", "delta-us-parametric.yaml"};
 
 Model load_example(const std::string& file_name) {
   return stiffmsa::load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file_name);
@@ -149,8 +149,7 @@ BeamProperties beam_properties(const BeamLink& beam) {
       p.J = 2 * s.t * std::pow(s.b - s.t, 2) * std::pow(s.h - s.t, 2) / (s.b + s.h - 2 * s.t);
       break;
     }
-    default:
-      throw std::invalid_argument("no reference formula for this section shape");
+    default: throw std::invalid_argument("no reference formula for this section shape");
   }
   return p;
 }
@@ -193,14 +192,9 @@ Vec6 joint_twist(const NamedConnection& joint, const Vec3& ee) {
   const Vec3 axis = joint.connection->kinematics.axis.normalized();
   Vec6 twist;
   switch (joint.connection->kinematics.type) {
-    case JointType::revolute:
-      twist << axis.cross(ee - joint.at), axis;
-      break;
-    case JointType::prismatic:
-      twist << axis, Vec3::Zero();
-      break;
-    default:
-      throw std::invalid_argument("only revolute and prismatic joints have a twist here");
+    case JointType::revolute: twist << axis.cross(ee - joint.at), axis; break;
+    case JointType::prismatic: twist << axis, Vec3::Zero(); break;
+    default: throw std::invalid_argument("only revolute and prismatic joints have a twist here");
   }
   return twist;
 }
@@ -476,8 +470,10 @@ TEST(Planar2rExample, RigidLinkVariantHasItsStiffnessOnTheDirectionsItCanMoveIn)
   const Mat6 reconstructed = T.transpose() * ee.reduced_stiffness->matrix * T;
   EXPECT_LT(reference::relative_difference(reconstructed, expected), kTolerance);
   EXPECT_EQ(result.report.notes.front(),
-            "end effector 'tool' is held rigidly in some direction (or is so nearly a mechanism that double precision "
-            "cannot tell): its stiffness is unbounded (null); reduced_stiffness gives it on the 2 directions it can "
+            "end effector 'tool' is held rigidly in some direction (or is so nearly a mechanism "
+            "that double precision "
+            "cannot tell): its stiffness is unbounded (null); reduced_stiffness gives it on the 2 "
+            "directions it can "
             "move in");
 }
 
@@ -649,7 +645,8 @@ TEST(Planar3rprExample, RigidLinkVariantHasItsInPlaneStiffnessAndPartlyDetermine
     k(i) = scalar_stiffness(*connection(model, "actuator_" + std::to_string(i + 1)).connection);
   const Eigen::Matrix3d J = rpr_jacobian(model);
   const Eigen::Matrix3d expected = J.transpose() * k.asDiagonal() * J;
-  EXPECT_LT(reference::relative_difference(Eigen::Matrix3d(ee.reduced_stiffness->matrix), expected), kTolerance);
+  EXPECT_LT(reference::relative_difference(Eigen::Matrix3d(ee.reduced_stiffness->matrix), expected),
+            kTolerance);
 
   // Each base reaction is null, but its in-plane part is the leg's force: the ground pulls a
   // leg in tension f_i by −f_i·u_i, with Jᵀ·f = [Fx, Fy, Mz] of the load. The note gives them
@@ -660,13 +657,16 @@ TEST(Planar3rprExample, RigidLinkVariantHasItsInPlaneStiffnessAndPartlyDetermine
     const std::string n = std::to_string(i + 1);
     EXPECT_FALSE(result.supports[static_cast<std::size_t>(i)].reaction);
     const std::string head = "the reaction of support 'base_" + n +
-                             "' is null, as the rigid model does not determine all of it; its determined components are Fx = ";
+                             "' is null, as the rigid model does not determine all of it; its "
+                             "determined components are Fx = ";
     std::string note;
     for (const auto& candidate : result.report.notes)
       if (candidate.starts_with(head)) note = candidate;
     ASSERT_FALSE(note.empty()) << n;
     const Vec3 u = (position(model, "P" + n) - position(model, "B" + n)).normalized();
-    const auto value_after = [&](const std::string& label) { return std::stod(note.substr(note.find(label) + label.size())); };
+    const auto value_after = [&](const std::string& label) {
+      return std::stod(note.substr(note.find(label) + label.size()));
+    };
     EXPECT_NEAR(value_after("Fx = "), -f(i) * u.x(), 1e-5 * std::abs(f(i))) << note;
     EXPECT_NEAR(value_after("Fy = "), -f(i) * u.y(), 1e-5 * std::abs(f(i))) << note;
     // A pin carries no moment about its axis: exactly 0, rounding not shown.
@@ -781,7 +781,8 @@ std::vector<Model> delta_poses(const std::string& file_name) {
   const stiffmsa::ModelFamily family =
       stiffmsa::load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file_name);
   std::vector<Model> members;
-  for (const Vec3& p : {Vec3(0, 0, -0.40), Vec3(0.15, 0.05, -0.40), Vec3(-0.12, -0.16, -0.33), Vec3(0.05, -0.1, -0.55)}) {
+  for (const Vec3& p : {Vec3(0, 0, -0.40), Vec3(0.15, 0.05, -0.40), Vec3(-0.12, -0.16, -0.33),
+                        Vec3(0.05, -0.1, -0.55)}) {
     std::vector<double> values = family.default_values();
     values[*family.find_parameter("px")] = p.x();
     values[*family.find_parameter("py")] = p.y();
@@ -876,7 +877,8 @@ TEST(DeltaExample, WithoutAcceptingIdleMotionsTheRodSpinsAreStillAnError) {
   EXPECT_THROW((void)stiffmsa::solve(workspace, model), stiffmsa::SingularModelError);
   stiffmsa::SolveOptions accepting;
   accepting.accept_idle_motions = true;
-  EXPECT_TRUE(has_note_containing(stiffmsa::solve(workspace, model, accepting), "spin freely about the line"));
+  EXPECT_TRUE(has_note_containing(stiffmsa::solve(workspace, model, accepting),
+                                  "spin freely about the line"));
   EXPECT_THROW((void)stiffmsa::solve(workspace, model), stiffmsa::SingularModelError);
 }
 
@@ -885,6 +887,7 @@ TEST(DeltaExample, ARodLoadedAtItsEndKeepsItsSpinFree) {
   // hide that, so a loaded rod's spin is left to the free-motion analysis, which refuses it.
   Model model = load_example("delta-parametric.yaml");
   const Vec3 axis = (position(model, "P1a") - position(model, "E1a")).normalized();
-  model.loads.push_back(stiffmsa::Load{"P1a", "rod_1a", wrench(0, 0, 0, axis.x(), axis.y(), axis.z()), {}});
+  model.loads.push_back(
+      stiffmsa::Load{"P1a", "rod_1a", wrench(0, 0, 0, axis.x(), axis.y(), axis.z()), {}});
   EXPECT_THROW((void)stiffmsa::solve(model), stiffmsa::SingularModelError);
 }

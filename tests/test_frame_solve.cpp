@@ -8,8 +8,8 @@
 #include <iterator>
 #include <string>
 
-#include "builders.hpp"
 #include "assembly/topology.hpp"
+#include "builders.hpp"
 #include "solve_comparison.hpp"
 #include "solver/frame_solver.hpp"
 #include "stiffmsa/config.hpp"
@@ -55,7 +55,9 @@ Model clamped_triangle() {
   return m;
 }
 
-double relative_difference(const Mat6& a, const Mat6& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
+double relative_difference(const Mat6& a, const Mat6& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+}
 
 }  // namespace
 
@@ -93,7 +95,8 @@ TEST(FrameSolve, FreeEndsAndLockedActuatorsAreNodesOfTheFrame) {
   // (ε·‖K12‖·|Δt|), which the node rows' residual shows.
   expect_same_results(frame, factorised, 1e-12, 1e-12);
   // The free end carries the load; the brake's effort is its torque about its axis.
-  EXPECT_LT((*frame.links[3].to.wrench - wrench(30, -200, 80, 0, 4, 0)).cwiseAbs().maxCoeff(), 1e-12 * 200);
+  EXPECT_LT((*frame.links[3].to.wrench - wrench(30, -200, 80, 0, 4, 0)).cwiseAbs().maxCoeff(),
+            1e-12 * 200);
   ASSERT_TRUE(frame.joints[0].effort);
   EXPECT_GT(std::abs((*frame.joints[0].effort)(0)), 1.0);
 }
@@ -145,7 +148,8 @@ TEST(FrameSolve, BeamsSideBySideAddTheirStiffnesses) {
   const Vec3 at = loaded.points[1].position;
   Vec6 held;
   held << -load.head<3>(), -(load.tail<3>() + at.cross(load.head<3>()));
-  EXPECT_LT((*r.supports[0].reaction - held).cwiseAbs().maxCoeff(), 1e-11 * held.cwiseAbs().maxCoeff());
+  EXPECT_LT((*r.supports[0].reaction - held).cwiseAbs().maxCoeff(),
+            1e-11 * held.cwiseAbs().maxCoeff());
 }
 
 TEST(FrameSolve, PlanCoversOnlyFramesOfFlexibleLinksAndWelds) {
@@ -169,15 +173,18 @@ TEST(FrameSolve, PlanCoversOnlyFramesOfFlexibleLinksAndWelds) {
   rigid_link.links.back().kind = RigidLink{};
   EXPECT_FALSE(is_frame(rigid_link));
   Model hinged = m;  // every end at a roof corner pinned about y
-  hinged.add_joint("hinge", "n0_0_2", {"cn0_0_2", "xn0_0_2", "yn0_0_2"}, Connection::passive(Kinematics::revolute(Vec3::UnitY())));
+  hinged.add_joint("hinge", "n0_0_2", {"cn0_0_2", "xn0_0_2", "yn0_0_2"},
+                   Connection::passive(Kinematics::revolute(Vec3::UnitY())));
   EXPECT_FALSE(is_frame(hinged));
   Model elastic_support = m;
-  elastic_support.supports.front().connection = Connection::elastic(Kinematics::spherical(), MatX(1e8 * Eigen::Matrix3d::Identity()));
+  elastic_support.supports.front().connection =
+      Connection::elastic(Kinematics::spherical(), MatX(1e8 * Eigen::Matrix3d::Identity()));
   EXPECT_FALSE(is_frame(elastic_support));
   // The triangle: welded at M, a frame; spliced there by a spring, none.
   EXPECT_TRUE(is_frame(clamped_triangle()));
   Model spliced = clamped_triangle();
-  spliced.add_joint("splice", "M", {"a", "b"}, Connection::elastic(Kinematics::revolute(Vec3::UnitZ()), 1e5));
+  spliced.add_joint("splice", "M", {"a", "b"},
+                    Connection::elastic(Kinematics::revolute(Vec3::UnitZ()), 1e5));
   EXPECT_FALSE(is_frame(spliced));
   Model locked = m;  // a locked actuator is held rigidly: still a weld
   locked.add_joint("brake", "n0_0_2", {"cn0_0_2", "xn0_0_2", "yn0_0_2"},
@@ -196,9 +203,10 @@ Model hairpin(int beams) {
     const std::string a = "A" + std::to_string(i), b = "B" + std::to_string(i);
     m.add_point(a, Vec3(length * i / beams, 0, 0));
     m.add_point(b, Vec3(length * i / beams, 0.3, 0));
-    m.add_beam("a" + std::to_string(i), "A" + std::to_string(i - 1), a, kFrameSteel, Section::circle(0.02));
-    m.add_beam("b" + std::to_string(i), i == 1 ? std::string("A0") : "B" + std::to_string(i - 1), b, kFrameSteel,
+    m.add_beam("a" + std::to_string(i), "A" + std::to_string(i - 1), a, kFrameSteel,
                Section::circle(0.02));
+    m.add_beam("b" + std::to_string(i), i == 1 ? std::string("A0") : "B" + std::to_string(i - 1), b,
+               kFrameSteel, Section::circle(0.02));
   }
   const std::string tip = "A" + std::to_string(beams);
   m.add_beam("tip_bar", tip, "B" + std::to_string(beams), kFrameSteel, Section::circle(0.02));
@@ -240,7 +248,9 @@ TEST(FrameSolve, DeclinesACondensationThatWouldLoseDigits) {
   EXPECT_LT(forced->reciprocal_condition, detail::kFrameLeastRcond);
   EXPECT_GT(forced->reciprocal_condition, 0.0);
   const Result r = solve(m);
-  EXPECT_TRUE(r.report.solver == stiffmsa::SolverUsed::klu || r.report.solver == stiffmsa::SolverUsed::sparse_lu) << to_string(r.report.solver);
+  EXPECT_TRUE(r.report.solver == stiffmsa::SolverUsed::klu ||
+              r.report.solver == stiffmsa::SolverUsed::sparse_lu)
+      << to_string(r.report.solver);
   EXPECT_LT(r.report.relative_residual, 1e-15);
   // Any K below the bar is declined, however well-conditioned: the building's is ~2e-5.
   const Model frame = building(2, 1, 2);
@@ -276,12 +286,14 @@ TEST(FrameSolve, PosesOfAWorkspaceMatchOneShotSolves) {
 // other. The runtime would keep its team's threads alive after the solve: none may appear.
 TEST(FrameSolve, FactorisesOnTheCallingThreadAlone) {
   if (!STIFFMSA_HAVE_OPENMP_RUNTIME) GTEST_SKIP() << "built without libgomp's API (CMakeLists.txt)";
-  if (!std::filesystem::is_directory("/proc/self/task")) GTEST_SKIP() << "threads are counted in /proc/self/task";
+  if (!std::filesystem::is_directory("/proc/self/task"))
+    GTEST_SKIP() << "threads are counted in /proc/self/task";
   const auto threads = [] {
     const std::filesystem::directory_iterator tasks("/proc/self/task");
     return std::distance(begin(tasks), end(tasks));
   };
-  const Model m = building(5, 5, 10);  // 960 beams: supernodes above CHOLMOD's 1 024-entry threshold
+  const Model m =
+      building(5, 5, 10);  // 960 beams: supernodes above CHOLMOD's 1 024-entry threshold
   const auto before = threads();
   const Result result = solve(m);
   ASSERT_EQ(result.report.solver, stiffmsa::SolverUsed::frame);

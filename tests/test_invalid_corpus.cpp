@@ -11,10 +11,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cctype>
-#include <cstdio>
 #include <chrono>
+#include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -122,11 +122,13 @@ CliRun run_cli(const std::vector<std::string>& arguments, const fs::path& folder
 ::testing::AssertionResult refused(const CliRun& run) {
   if (run.timed_out) return ::testing::AssertionFailure() << "the program did not finish";
   if (run.signal != 0)
-    return ::testing::AssertionFailure() << "the program was killed by signal " << run.signal
-                                         << "\n" << run.err;
+    return ::testing::AssertionFailure()
+           << "the program was killed by signal " << run.signal << "\n"
+           << run.err;
   if (run.exit_code != exit_invalid_input)
-    return ::testing::AssertionFailure() << "exit code " << run.exit_code << ", expected "
-                                         << exit_invalid_input << "\n" << run.err << run.out;
+    return ::testing::AssertionFailure()
+           << "exit code " << run.exit_code << ", expected " << exit_invalid_input << "\n"
+           << run.err << run.out;
   if (!run.out.empty()) return ::testing::AssertionFailure() << "printed:\n" << run.out;
   return ::testing::AssertionSuccess();
 }
@@ -269,8 +271,8 @@ TEST_P(InvalidCorpus, IsRefusedByTheCommandWithEachExpectedMessage) {
     const bool found = std::any_of(lines.begin(), lines.end(), [&](const std::string& line) {
       return line.rfind(start, 0) == 0 && has_every_word(line, e.words);
     });
-    EXPECT_TRUE(found) << "no message starting '" << start << "' for " << described(e)
-                       << " in:\n" << run.err;
+    EXPECT_TRUE(found) << "no message starting '" << start << "' for " << described(e) << " in:\n"
+                       << run.err;
   }
 }
 
@@ -289,10 +291,11 @@ TEST_P(InvalidCorpus, IsRefusedByTheLibraryWithEachExpectedDiagnostic) {
   for (const auto& d : diagnostics) listing += "  " + d.to_string() + "\n";
   EXPECT_EQ(diagnostics.size(), expectations.size()) << listing;
   for (const auto& e : expectations) {
-    const bool found = std::any_of(diagnostics.begin(), diagnostics.end(), [&](const Diagnostic& d) {
-      return d.location.file == path && d.key_path == e.key_path && d.location.line == e.line &&
-             d.location.column == e.column && has_every_word(d.message, e.words);
-    });
+    const bool found =
+        std::any_of(diagnostics.begin(), diagnostics.end(), [&](const Diagnostic& d) {
+          return d.location.file == path && d.key_path == e.key_path && d.location.line == e.line &&
+                 d.location.column == e.column && has_every_word(d.message, e.words);
+        });
     EXPECT_TRUE(found) << "no diagnostic " << described(e) << " in:\n" << listing;
   }
 }
@@ -378,8 +381,9 @@ TEST_F(Limits, HugeFileIsRefusedBeforeItIsRead) {
   const auto took = std::chrono::steady_clock::now() - start;
   EXPECT_TRUE(refused(run));
   EXPECT_FALSE(fs::exists(result));
-  EXPECT_TRUE(contains(run.err, "the model file is 70000000 bytes (66.8 MiB), above the limit of "
-                                "67108864 bytes (64.0 MiB)"))
+  EXPECT_TRUE(contains(run.err,
+                       "the model file is 70000000 bytes (66.8 MiB), above the limit of "
+                       "67108864 bytes (64.0 MiB)"))
       << run.err;
   EXPECT_TRUE(contains(run.err, "--max-file-size")) << run.err;
   EXPECT_LT(took, std::chrono::seconds(10));
@@ -397,7 +401,8 @@ TEST_F(Limits, EndlessInputIsReadOnlyUpToTheLimit) {
   } catch (const InputError& e) {
     ASSERT_EQ(e.diagnostics().size(), 1u);
     EXPECT_EQ(e.diagnostics()[0].location.file, "/dev/zero");
-    EXPECT_TRUE(contains(e.diagnostics()[0].message, "larger than the limit of 1048576 bytes (1.0 MiB)"))
+    EXPECT_TRUE(
+        contains(e.diagnostics()[0].message, "larger than the limit of 1048576 bytes (1.0 MiB)"))
         << e.what();
   }
 }
@@ -435,8 +440,8 @@ TEST_F(Limits, DeepBlockNestingIsRefused) {
   // Line n + 2 is a key indented n levels: line 66 (column 129) is level 65.
   std::string indented = "format: stiffmsa/1\nx-note:\n";
   for (int level = 1; level < 5000; ++level)
-    indented += std::string(2 * static_cast<std::size_t>(level), ' ') + "k" +
-                std::to_string(level) + ":\n";
+    indented +=
+        std::string(2 * static_cast<std::size_t>(level), ' ') + "k" + std::to_string(level) + ":\n";
   const Diagnostic d = refusal_of(indented, LoadLimits{});
   EXPECT_EQ(d.location.line, 66);
   EXPECT_EQ(d.location.column, 129);
@@ -458,8 +463,8 @@ TEST_F(Limits, DeepBlockNestingIsRefused) {
 TEST_F(Limits, QuotedTextCommentsAndBlockScalarsDoNotNest) {
   const std::string brackets(500, '[');
   const std::string text = std::string(cantilever_model) + "x-quoted: \"" + brackets +
-                           "\"\nx-single: '" + brackets + "'\nx-text: |\n  " + brackets +
-                           "\n  " + brackets + "\n# " + brackets + "\n";
+                           "\"\nx-single: '" + brackets + "'\nx-text: |\n  " + brackets + "\n  " +
+                           brackets + "\n# " + brackets + "\n";
   EXPECT_EQ(parse_model(text, "notes.yaml").name, "cantilever");
 }
 
@@ -489,8 +494,8 @@ TEST_F(Limits, TooManyEntitiesAreRefusedAndTheOptionRaisesTheLimit) {
   const fs::path model = write("rod.yaml", cantilever_model);
   const fs::path result = folder_ / "result.json";
 
-  const CliRun run = run_cli(
-      {"solve", model.string(), "--max-entities", "1", "--json", result.string()}, folder_);
+  const CliRun run =
+      run_cli({"solve", model.string(), "--max-entities", "1", "--json", result.string()}, folder_);
   EXPECT_TRUE(refused(run));
   EXPECT_FALSE(fs::exists(result));
   const auto lines = lines_of(run.err);
@@ -519,11 +524,11 @@ TEST_F(Limits, TooManyEntitiesAreRefusedAndTheOptionRaisesTheLimit) {
 
 TEST_F(Limits, BadLimitOptionsAreRefused) {
   const fs::path model = write("rod.yaml", cantilever_model);
-  for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
-           {"--max-file-size", "0"},
-           {"--max-file-size", "lots"},
-           {"--max-depth", "0"},
-           {"--max-entities", "-5"}}) {
+  for (const auto& [option, value] :
+       std::vector<std::pair<std::string, std::string>>{{"--max-file-size", "0"},
+                                                        {"--max-file-size", "lots"},
+                                                        {"--max-depth", "0"},
+                                                        {"--max-entities", "-5"}}) {
     const CliRun run = run_cli({"check", model.string(), option, value}, folder_);
     EXPECT_TRUE(refused(run)) << option << " " << value;
     EXPECT_TRUE(contains(run.err, option)) << run.err;
@@ -579,9 +584,9 @@ TEST(ModelOptions, AcceptIdleMotionsIsReadFromTheFile) {
   EXPECT_FALSE(parse_model(model, "rod.yaml").options.accept_idle_motions);
   EXPECT_TRUE(parse_model(model + "options: {accept_idle_motions: true}\n", "rod.yaml")
                   .options.accept_idle_motions);
-  EXPECT_FALSE(parse_model(model + "options:\n  accept_idle_motions: false\n  x-why: a note\n",
-                           "rod.yaml")
-                   .options.accept_idle_motions);
+  EXPECT_FALSE(
+      parse_model(model + "options:\n  accept_idle_motions: false\n  x-why: a note\n", "rod.yaml")
+          .options.accept_idle_motions);
   EXPECT_FALSE(parse_model(model + "options:\n", "rod.yaml").options.accept_idle_motions);
 }
 
@@ -593,7 +598,8 @@ TEST(ModelOptions, OptionsMustBeAMapping) {
     ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
     EXPECT_EQ(e.diagnostics()[0].key_path, "options");
     // The line after the rod's, where `options:` was appended.
-    const auto rod_lines = std::count(cantilever_model, cantilever_model + std::strlen(cantilever_model), '\n');
+    const auto rod_lines =
+        std::count(cantilever_model, cantilever_model + std::strlen(cantilever_model), '\n');
     EXPECT_EQ(e.diagnostics()[0].location.line, rod_lines + 1);
     EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected a mapping")) << e.what();
   }

@@ -26,7 +26,8 @@ Model spatial_arm() {
   m.add_point("E", Vec3(1.0, 0.15, 0.3));
   Link& column = m.link(m.add_beam("column", "O", "A", kAluminium, Section::rect(0.08, 0.12)));
   std::get<BeamLink>(column.kind).zref = Vec3(1, 0.2, 0);
-  Link& upper = m.link(m.add_beam("upper", "A", "B", kAluminium, Section::rect_tube(0.06, 0.1, 0.005)));
+  Link& upper =
+      m.link(m.add_beam("upper", "A", "B", kAluminium, Section::rect_tube(0.06, 0.1, 0.005)));
   std::get<BeamLink>(upper.kind).zref = Vec3(0, 0.3, 1);
   std::get<BeamLink>(upper.kind).shear = true;
   Link& fore = m.link(m.add_beam("fore", "B", "C", kAluminium, Section::tube(0.05, 0.004)));
@@ -51,7 +52,8 @@ Model transformed(Model m, const Mat3& R, const Vec3& p) {
   const Mat6 R6 = reference::rotate6(R);
   for (auto& point : m.points) point.position = R * point.position + p;
   for (auto& link : m.links)
-    if (auto* beam = std::get_if<BeamLink>(&link.kind); beam && beam->zref) beam->zref = R * *beam->zref;
+    if (auto* beam = std::get_if<BeamLink>(&link.kind); beam && beam->zref)
+      beam->zref = R * *beam->zref;
   auto turn = [&](Kinematics& k) {
     k.axis = R * k.axis;
     k.axis_b = R * k.axis_b;
@@ -76,15 +78,21 @@ TEST(Invariance, TurnedAndMovedModelGivesTurnedResults) {
   const Mat6 R6 = reference::rotate6(R);
   for (std::size_t e = 0; e < a.end_effectors.size(); ++e) {
     const Mat6 turned_back = R6.transpose() * *b.end_effectors[e].compliance * R6;
-    EXPECT_LT(reference::relative_difference_scaled(turned_back, *a.end_effectors[e].compliance), 1e-10);
+    EXPECT_LT(reference::relative_difference_scaled(turned_back, *a.end_effectors[e].compliance),
+              1e-10);
     const Vec6 deflection_back = R6.transpose() * *b.end_effectors[e].deflection;
-    EXPECT_LT(reference::relative_difference(deflection_back, *a.end_effectors[e].deflection), 1e-10);
+    EXPECT_LT(reference::relative_difference(deflection_back, *a.end_effectors[e].deflection),
+              1e-10);
   }
   // Joint deflections are along the joints' own directions: unchanged.
   for (std::size_t j = 0; j < a.joints.size(); ++j)
-    EXPECT_LT(reference::relative_difference((*b.joints[j].relative_deflection)[0], (*a.joints[j].relative_deflection)[0]), 1e-10);
+    EXPECT_LT(reference::relative_difference((*b.joints[j].relative_deflection)[0],
+                                             (*a.joints[j].relative_deflection)[0]),
+              1e-10);
   // The support reaction turns with the model (moment about the moved point).
-  EXPECT_LT(reference::relative_difference(Vec6(R6.transpose() * *b.supports[0].reaction), *a.supports[0].reaction), 1e-10);
+  EXPECT_LT(reference::relative_difference(Vec6(R6.transpose() * *b.supports[0].reaction),
+                                           *a.supports[0].reaction),
+            1e-10);
 }
 
 TEST(Invariance, BeamMatrixAndComplianceLinksAgree) {
@@ -94,7 +102,8 @@ TEST(Invariance, BeamMatrixAndComplianceLinksAgree) {
   // The same link three ways; the matrices are written from textbook formulas in local axes.
   const SectionProperties s = section_properties(section);
   const double L = (to - from).norm(), G = shear_modulus(kAluminium);
-  const Mat6 local_compliance = reference::cantilever_compliance(L, kAluminium.E, G, s.A, s.Iy, s.Iz, s.J);
+  const Mat6 local_compliance =
+      reference::cantilever_compliance(L, kAluminium.E, G, s.A, s.Iy, s.Iz, s.J);
   const Mat6 K = local_compliance.inverse();
   Mat6 D = Mat6::Identity();  // transports a rigid motion from `from` to `to` along local x
   D.block<3, 3>(0, 3) = -reference::cross_matrix(Vec3(L, 0, 0));
@@ -124,8 +133,13 @@ TEST(Invariance, BeamMatrixAndComplianceLinksAgree) {
   };
   const Result beam = solve(build(0)), matrix = solve(build(1)), compliance = solve(build(2));
   for (const Result* other : {&matrix, &compliance}) {
-    EXPECT_LT(reference::relative_difference_scaled(*other->end_effectors[0].compliance, *beam.end_effectors[0].compliance), 1e-10);
-    EXPECT_LT(reference::relative_difference(*other->links[0].to.wrench, *beam.links[0].to.wrench), 1e-10);
-    EXPECT_LT(reference::relative_difference(*other->end_effectors[0].deflection, *beam.end_effectors[0].deflection), 1e-10);
+    EXPECT_LT(reference::relative_difference_scaled(*other->end_effectors[0].compliance,
+                                                    *beam.end_effectors[0].compliance),
+              1e-10);
+    EXPECT_LT(reference::relative_difference(*other->links[0].to.wrench, *beam.links[0].to.wrench),
+              1e-10);
+    EXPECT_LT(reference::relative_difference(*other->end_effectors[0].deflection,
+                                             *beam.end_effectors[0].deflection),
+              1e-10);
   }
 }

@@ -13,6 +13,7 @@
 
 namespace {
 
+using reference::relative_difference;
 using stiffmsa::Mat6;
 using stiffmsa::MatX;
 using stiffmsa::Model;
@@ -20,7 +21,6 @@ using stiffmsa::Result;
 using stiffmsa::SingularModelError;
 using stiffmsa::Vec3;
 using stiffmsa::Vec6;
-using reference::relative_difference;
 
 std::size_t occurrences(const std::string& text, const std::string& part) {
   std::size_t count = 0;
@@ -65,7 +65,8 @@ joints:
   tip:     {type: revolute, at: P, links: [rod_1, rod_2], axis: [0, 0, 1]}
 supports:
   motor1: {type: revolute, at: A1, axis: [0, 0, 1], actuated: true, stiffness: 2.0e4}
-  motor2: {type: revolute, at: A2, axis: [0, 0, 1])" + motor2 + R"(}
+  motor2: {type: revolute, at: A2, axis: [0, 0, 1])" +
+         motor2 + R"(}
 loads:
   - {at: P, link: rod_1, wrench: [10, -20, 0, 0, 0, 0]}
 end_effectors:
@@ -79,18 +80,22 @@ TEST(MechanismCulprits, FiveBarWithAPassiveMotorNamesTheMotor) {
   const std::string text = error.what();
   // The first line is a sentence; what() carries the details after it.
   EXPECT_EQ(text.substr(0, text.find('\n')),
-            "the model is a mechanism with 1 free motion and carries loads or preloads, which a mechanism cannot "
+            "the model is a mechanism with 1 free motion and carries loads or preloads, which a "
+            "mechanism cannot "
             "hold (only an unloaded one is solved)")
       << text;
   EXPECT_EQ(error.summary(), text.substr(0, text.find('\n')));
   ASSERT_EQ(error.details().size(), 2u) << text;
   EXPECT_EQ(error.details()[0],
-            "free motion 1: passive support 'motor2' (revolute at A2) and passive joints 'elbow_1' (revolute at B1), "
-            "'elbow_2' (revolute at B2), 'tip' (revolute at P) let it happen; it moves links 'crank_2', 'rod_1', "
+            "free motion 1: passive support 'motor2' (revolute at A2) and passive joints 'elbow_1' "
+            "(revolute at B1), "
+            "'elbow_2' (revolute at B2), 'tip' (revolute at P) let it happen; it moves links "
+            "'crank_2', 'rod_1', "
             "'rod_2' and end effector 'tool'")
       << text;
   EXPECT_EQ(error.details()[1],
-            "to stop a free motion, give a joint or support that lets it happen a `stiffness:` (elastic) or "
+            "to stop a free motion, give a joint or support that lets it happen a `stiffness:` "
+            "(elastic) or "
             "`actuated: true` (a motor, locked where it stands)");
   EXPECT_NE(text.find("\n  free motion 1: passive support 'motor2'"), std::string::npos) << text;
   // motor1 is elastic: it resists, and is no culprit; its crank stays.
@@ -98,7 +103,8 @@ TEST(MechanismCulprits, FiveBarWithAPassiveMotorNamesTheMotor) {
   EXPECT_EQ(text.find("crank_1"), std::string::npos) << text;
 
   // The fix the message suggests solves the model.
-  const Result fixed = stiffmsa::solve(stiffmsa::parse_model(five_bar(", actuated: true, stiffness: 2.0e4"), "five-bar.yaml"));
+  const Result fixed = stiffmsa::solve(
+      stiffmsa::parse_model(five_bar(", actuated: true, stiffness: 2.0e4"), "five-bar.yaml"));
   EXPECT_TRUE(fixed.end_effectors[0].deflection);
 }
 
@@ -130,9 +136,11 @@ joints:
   elbow_joint:    {type: revolute, at: elbow, links: [upper_arm, forearm], axis: [0, 1, 0], actuated: true, stiffness: 2.0e5}
   wrist_1_joint:  {type: revolute, at: wrist_1, links: [forearm, wrist_link_1], axis: [0, 1, 0], actuated: true, stiffness: 5.0e4}
   wrist_2_joint:  {type: revolute, at: wrist_2, links: [wrist_link_1, wrist_link_2], axis: [0, 0, 1], actuated: true, stiffness: 5.0e4}
-  wrist_3_joint:  {type: revolute, at: wrist_3, links: [wrist_link_2, flange], axis: [0, 1, 0])" + wrist_3 + R"(}
+  wrist_3_joint:  {type: revolute, at: wrist_3, links: [wrist_link_2, flange], axis: [0, 1, 0])" +
+         wrist_3 + R"(}
 supports:
-  base_joint: {type: revolute, at: floor, axis: [0, 0, 1])" + base + R"(}
+  base_joint: {type: revolute, at: floor, axis: [0, 0, 1])" +
+         base + R"(}
 loads:
   - {at: tcp, wrench: [20, 0, -50, 0, 0, 0]}
 end_effectors:
@@ -143,13 +151,17 @@ end_effectors:
 constexpr const char* kElastic = ", actuated: true, stiffness: 5.0e4";
 
 TEST(MechanismCulprits, ArmWithAPassiveBaseJointNamesTheSupport) {
-  const SingularModelError error = refusal(stiffmsa::parse_model(ur5_like("", kElastic), "ur5.yaml"));
+  const SingularModelError error =
+      refusal(stiffmsa::parse_model(ur5_like("", kElastic), "ur5.yaml"));
   ASSERT_EQ(error.details().size(), 2u) << error.what();
   EXPECT_EQ(error.details()[0],
-            "free motion 1: passive support 'base_joint' (revolute at floor) lets it happen; it moves links "
-            "'base_link', 'upper_arm', 'forearm', 'wrist_link_1', 'wrist_link_2', 'flange' and end effector 'tool'")
+            "free motion 1: passive support 'base_joint' (revolute at floor) lets it happen; it "
+            "moves links "
+            "'base_link', 'upper_arm', 'forearm', 'wrist_link_1', 'wrist_link_2', 'flange' and end "
+            "effector 'tool'")
       << error.what();
-  EXPECT_TRUE(std::string(error.what()).starts_with("the model is a mechanism with 1 free motion and carries loads"));
+  EXPECT_TRUE(std::string(error.what())
+                  .starts_with("the model is a mechanism with 1 free motion and carries loads"));
 }
 
 TEST(MechanismCulprits, IndependentFreeMotionsAreToldApart) {
@@ -159,11 +171,13 @@ TEST(MechanismCulprits, IndependentFreeMotionsAreToldApart) {
   const std::string text = error.what();
   EXPECT_TRUE(text.starts_with("the model is a mechanism with 2 free motions")) << text;
   ASSERT_EQ(error.details().size(), 3u) << text;
-  EXPECT_TRUE(error.details()[0].starts_with("free motion 1: passive support 'base_joint' (revolute at floor) lets it happen;"))
+  EXPECT_TRUE(error.details()[0].starts_with(
+      "free motion 1: passive support 'base_joint' (revolute at floor) lets it happen;"))
       << text;
   EXPECT_EQ(error.details()[0].find("wrist_3_joint"), std::string::npos) << text;
   EXPECT_EQ(error.details()[1],
-            "free motion 2: passive joint 'wrist_3_joint' (revolute at wrist_3) lets it happen; it moves link "
+            "free motion 2: passive joint 'wrist_3_joint' (revolute at wrist_3) lets it happen; it "
+            "moves link "
             "'flange' and end effector 'tool'")
       << text;
 }
@@ -178,7 +192,8 @@ TEST(MechanismCulprits, MotionsOfOneJointShareOneLine) {
   const SingularModelError error = refusal(model);
   ASSERT_EQ(error.details().size(), 2u) << error.what();
   EXPECT_EQ(error.details()[0],
-            "free motions 1, 2 and 3: passive joint 'wrist_3_joint' (spherical at wrist_3) lets them happen; they "
+            "free motions 1, 2 and 3: passive joint 'wrist_3_joint' (spherical at wrist_3) lets "
+            "them happen; they "
             "move link 'flange' and end effector 'tool'")
       << error.what();
 }
@@ -191,23 +206,29 @@ TEST(MechanismCulprits, MotionThatNoEndEffectorStopsIsRefusedUnloaded) {
   model.end_effectors[0].at = "wrist_2";
   model.end_effectors[0].link = "wrist_link_1";
   const SingularModelError error = refusal(model);
-  EXPECT_EQ(error.summary(), "the model is a mechanism with 1 free motion, and no end effector stops it");
+  EXPECT_EQ(error.summary(),
+            "the model is a mechanism with 1 free motion, and no end effector stops it");
   ASSERT_EQ(error.details().size(), 2u) << error.what();
   EXPECT_EQ(error.details()[0],
-            "free motion 1: passive joint 'wrist_3_joint' (revolute at wrist_3) lets it happen; it moves link "
-            "'flange'; it moves no end effector (an idle motion: accept it with `options: {accept_idle_motions: "
+            "free motion 1: passive joint 'wrist_3_joint' (revolute at wrist_3) lets it happen; it "
+            "moves link "
+            "'flange'; it moves no end effector (an idle motion: accept it with `options: "
+            "{accept_idle_motions: "
             "true}` in the model or SolveOptions::accept_idle_motions)")
       << error.what();
 
   auto& wrist = model.joints.back().connection;
   wrist.kinematics = stiffmsa::Kinematics::spherical();
   const SingularModelError three = refusal(model);
-  EXPECT_EQ(three.summary(), "the model is a mechanism with 3 free motions, and no end effector stops them");
+  EXPECT_EQ(three.summary(),
+            "the model is a mechanism with 3 free motions, and no end effector stops them");
   ASSERT_EQ(three.details().size(), 2u) << three.what();
-  EXPECT_EQ(three.details()[0],
-            "free motions 1, 2 and 3: passive joint 'wrist_3_joint' (spherical at wrist_3) lets them happen; they "
-            "move link 'flange'; they move no end effector (idle motions: accept them with `options: "
-            "{accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)")
+  EXPECT_EQ(
+      three.details()[0],
+      "free motions 1, 2 and 3: passive joint 'wrist_3_joint' (spherical at wrist_3) lets them "
+      "happen; they "
+      "move link 'flange'; they move no end effector (idle motions: accept them with `options: "
+      "{accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)")
       << three.what();
 }
 
@@ -236,12 +257,15 @@ end_effectors:
 )";
 
 TEST(MechanismCulprits, LinkConnectedToNothingIsSaidOnce) {
-  const SingularModelError error = refusal(stiffmsa::parse_model(kDetachedForearm, "detached.yaml"));
+  const SingularModelError error =
+      refusal(stiffmsa::parse_model(kDetachedForearm, "detached.yaml"));
   const std::string text = error.what();
-  EXPECT_TRUE(text.starts_with("the model is a mechanism with 6 free motions and carries loads")) << text;
+  EXPECT_TRUE(text.starts_with("the model is a mechanism with 6 free motions and carries loads"))
+      << text;
   ASSERT_EQ(error.details().size(), 1u) << text;
   EXPECT_EQ(error.details()[0],
-            "link 'forearm' is connected to nothing at its start: its point 'elbow_b' stands where point 'elbow' "
+            "link 'forearm' is connected to nothing at its start: its point 'elbow_b' stands where "
+            "point 'elbow' "
             "is, but points are told apart by name, not by coordinates");
   EXPECT_EQ(occurrences(text, "forearm"), 1u) << text;
 }
@@ -255,19 +279,21 @@ points:
   E: [1, 0, 0]
 links:
   L1: {type: beam, from: O, to: E, material: {E: 2.1e11, nu: 0.3}, section: {shape: circle, D: 0.05}}
-)" + loads + R"(end_effectors:
+)" + loads +
+         R"(end_effectors:
   EE: {at: E, link: L1}
 )";
 }
 
 TEST(MechanismCulprits, ModelWithoutSupportIsSaidOnce) {
-  const SingularModelError error =
-      refusal(stiffmsa::parse_model(unsupported_rod("loads:\n  - {at: E, wrench: [0, -100, 0, 0, 0, 0]}\n"), "f.yaml"));
+  const SingularModelError error = refusal(stiffmsa::parse_model(
+      unsupported_rod("loads:\n  - {at: E, wrench: [0, -100, 0, 0, 0, 0]}\n"), "f.yaml"));
   const std::string text = error.what();
   EXPECT_TRUE(text.starts_with("the model is a mechanism with 6 free motions")) << text;
   ASSERT_EQ(error.details().size(), 1u) << text;
   EXPECT_EQ(error.details()[0],
-            "the model has no support: nothing holds it, so it can move as a whole; add one under `supports:`");
+            "the model has no support: nothing holds it, so it can move as a whole; add one under "
+            "`supports:`");
 }
 
 TEST(MechanismCulprits, UnloadedModelWithoutSupportWarnsThatItsStiffnessIsZero) {
@@ -276,8 +302,10 @@ TEST(MechanismCulprits, UnloadedModelWithoutSupportWarnsThatItsStiffnessIsZero) 
   EXPECT_EQ(*result.end_effectors[0].stiffness, Mat6::Zero());
   ASSERT_EQ(result.report.warnings.size(), 1u);
   EXPECT_EQ(result.report.warnings[0],
-            "the model has no support: nothing holds it, so the stiffness of its end effectors is zero (it measures "
-            "only what holds the end effector against the rest of the model); add a support under `supports:`");
+            "the model has no support: nothing holds it, so the stiffness of its end effectors is "
+            "zero (it measures "
+            "only what holds the end effector against the rest of the model); add a support under "
+            "`supports:`");
   // A supported model gets no such warning.
   Model held = stiffmsa::parse_model(unsupported_rod(""), "f.yaml");
   held.add_support("clamp", "O", {}, {});
@@ -286,23 +314,27 @@ TEST(MechanismCulprits, UnloadedModelWithoutSupportWarnsThatItsStiffnessIsZero) 
 
 TEST(MechanismCulprits, PartThatNoSupportReachesIsNamedOnce) {
   // A stray link between points of its own, beside a supported rod.
-  Model model = stiffmsa::parse_model(unsupported_rod("loads:\n  - {at: E, wrench: [0, -100, 0, 0, 0, 0]}\n"), "f.yaml");
+  Model model = stiffmsa::parse_model(
+      unsupported_rod("loads:\n  - {at: E, wrench: [0, -100, 0, 0, 0, 0]}\n"), "f.yaml");
   model.add_support("clamp", "O", {}, {});
   model.add_point("S1", Vec3(0, 1, 0));
   model.add_point("S2", Vec3(0, 2, 0));
   model.add_rigid_link("stray", "S1", "S2");
   const SingularModelError error = refusal(model);
   EXPECT_EQ(error.summary(),
-            "the model is a mechanism with 6 free motions and carries loads or preloads, which a mechanism cannot "
+            "the model is a mechanism with 6 free motions and carries loads or preloads, which a "
+            "mechanism cannot "
             "hold (only an unloaded one is solved)");
   ASSERT_EQ(error.details().size(), 1u) << error.what();
   EXPECT_EQ(error.details()[0],
-            "link 'stray' is held by no support: no joint, support or shared point joins it to a supported part, so "
+            "link 'stray' is held by no support: no joint, support or shared point joins it to a "
+            "supported part, so "
             "it can move as a whole");
   model.add_point("S3", Vec3(0, 3, 0));
   model.add_rigid_link("stray_2", "S2", "S3");
   EXPECT_EQ(refusal(model).details()[0],
-            "links 'stray', 'stray_2' are held by no support: no joint, support or shared point joins them to a "
+            "links 'stray', 'stray_2' are held by no support: no joint, support or shared point "
+            "joins them to a "
             "supported part, so they can move as a whole");
 }
 

@@ -502,7 +502,8 @@ TEST(ModelDefects, ApiSpringsMustMatchTheFreeDirections) {
   m.add_point("B", Vec3(2, 0, 0));
   m.add_rigid_link("L1", "O", "A");
   m.add_rigid_link("L2", "A", "B");
-  const Connection sized = Connection::elastic(Kinematics::spherical(), MatX::Identity(2, 2)).preloaded(VecX::Ones(4));
+  const Connection sized =
+      Connection::elastic(Kinematics::spherical(), MatX::Identity(2, 2)).preloaded(VecX::Ones(4));
   m.add_joint("J", "A", {"L1", "L2"}, sized);
   // Past the factories, which take a stiffness for a rigid connection as they are told.
   const Connection rigid = Connection::elastic(Kinematics::rigid(), MatX::Identity(1, 1));
@@ -669,8 +670,10 @@ TEST(ModelDefects, RepeatsAreFoundInLongListsToo) {
   for (int i = 0; i < 20; ++i)
     m.add_end_effector(i == 17 ? "E3" : "E" + std::to_string(i), "P" + std::to_string(i));
   const auto defects = find_defects(m);
-  EXPECT_TRUE(has_defect(defects, "supports.base.links[20]", {"link 'L7' is listed twice"})) << listing(defects);
-  EXPECT_TRUE(has_defect(defects, "end_effectors.E3", {"another end effector is named 'E3'"})) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "supports.base.links[20]", {"link 'L7' is listed twice"}))
+      << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "end_effectors.E3", {"another end effector is named 'E3'"}))
+      << listing(defects);
   EXPECT_EQ(defects.size(), 2u) << listing(defects);
 }
 
@@ -826,9 +829,11 @@ supports: {S: {type: rigid, at: O}}
 
 TEST(NameTable, FindsTheFirstBearerOfEveryNameAndGrowsPastItsReservation) {
   std::vector<std::string> names;
-  for (int i = 0; i < 1000; ++i) names.push_back("n" + std::to_string(i % 700));  // the last 300 repeat
-  stiffmsa::detail::NameTable table(10);  // reserved for far fewer names: it must grow
-  for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(table.add(names[i]), static_cast<int>(i % 700));
+  for (int i = 0; i < 1000; ++i)
+    names.push_back("n" + std::to_string(i % 700));  // the last 300 repeat
+  stiffmsa::detail::NameTable table(10);             // reserved for far fewer names: it must grow
+  for (std::size_t i = 0; i < names.size(); ++i)
+    EXPECT_EQ(table.add(names[i]), static_cast<int>(i % 700));
   for (int i = 0; i < 700; ++i) EXPECT_EQ(table.find("n" + std::to_string(i)), i);
   EXPECT_EQ(table.find("n700"), -1);
   EXPECT_EQ(table.find(""), -1);

@@ -67,7 +67,9 @@ std::optional<E> thrown(F&& action) {
   return std::nullopt;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 // The cantilever text with one line replaced.
 std::string with(const std::string& from, const std::string& to) {
@@ -78,7 +80,8 @@ std::string with(const std::string& from, const std::string& to) {
 }
 
 // The member for `values` as one writer writes it, a sweep's thread writing its poses in turn.
-Model written(const Structure& structure, ModelFamily::ValueWriter& write, const std::vector<double>& values) {
+Model written(const Structure& structure, ModelFamily::ValueWriter& write,
+              const std::vector<double>& values) {
   std::vector<double> slots(structure.value_count());
   std::vector<Diagnostic> warnings;
   write(values, slots, warnings);
@@ -119,7 +122,8 @@ TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
     EXPECT_EQ(m.loads[0].wrench(1), -250.0);
     const Result r = solve(m);
     const double E = 2.1e11, I = M_PI * std::pow(0.03, 4) / 64;
-    const double expected = -250 * std::pow(length, 3) / (3 * E * I);  // Euler–Bernoulli tip deflection
+    const double expected =
+        -250 * std::pow(length, 3) / (3 * E * I);  // Euler–Bernoulli tip deflection
     EXPECT_NEAR((*r.end_effectors[0].deflection)(1), expected, 1e-9 * std::abs(expected)) << length;
   }
 }
@@ -138,19 +142,25 @@ TEST(ParametricFile, WriterLeavesNoNumberOfAnEarlierMember) {
 TEST(ParametricFile, SettingsReplaceTheDefaultsTheFamilyIsCheckedAt) {
   const std::string invalid_defaults = with("  D: 0.02", "  D: -0.02");
   EXPECT_THROW(parse_model_family(invalid_defaults, "p.yaml"), InputError);
-  const ModelFamily family = parse_model_family(invalid_defaults, "p.yaml", {}, {{"D", 0.03}, {"F", 7}});
+  const ModelFamily family =
+      parse_model_family(invalid_defaults, "p.yaml", {}, {{"D", 0.03}, {"F", 7}});
   EXPECT_EQ(family.default_values(), (std::vector<double>{0.5, 0.03, 7}));
   EXPECT_EQ(family.build(family.default_values()).loads[0].wrench(1), -7.0);
   const auto negative_root = thrown<InputError>([&] {
-    parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml", {}, {{"L", 0.05}});
+    parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml", {},
+                       {{"L", 0.05}});
   });
   ASSERT_TRUE(negative_root) << "accepted a negative square root";
   // the values checked, not the file's
   EXPECT_TRUE(contains(negative_root->what(), "for L = 0.05")) << negative_root->what();
-  const auto misspelt = thrown<UsageError>([&] { parse_model_family(kCantilever, "p.yaml", {}, {{"LL", 1}}); });
+  const auto misspelt = thrown<UsageError>([&] {
+    parse_model_family(kCantilever, "p.yaml", {}, {{"LL", 1}});
+  });
   ASSERT_TRUE(misspelt) << "accepted a setting of no parameter";
-  EXPECT_TRUE(contains(misspelt->what(), "no parameter 'LL'; did you mean 'L'")) << misspelt->what();
-  EXPECT_THROW(load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml", {}, {{"x", 1}}),
+  EXPECT_TRUE(contains(misspelt->what(), "no parameter 'LL'; did you mean 'L'"))
+      << misspelt->what();
+  EXPECT_THROW(load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml", {},
+                                 {{"x", 1}}),
                UsageError);
 }
 
@@ -164,15 +174,18 @@ TEST(ParametricFile, WithDefaultsChangesWhatUnsweptParametersKeep) {
 }
 
 TEST(ParametricFile, ExpressionsUseMuparserFunctionsAndConstants) {
-  const Model m = parse_model(with("middle: [half, 0, 0]", "middle: [\"sqrt(L^2 - 0.3^2)\", \"sin(_pi/6)\", \"L > 0.4 ? 1 : 2\"]"),
-                              "p.yaml");
+  const Model m =
+      parse_model(with("middle: [half, 0, 0]",
+                       "middle: [\"sqrt(L^2 - 0.3^2)\", \"sin(_pi/6)\", \"L > 0.4 ? 1 : 2\"]"),
+                  "p.yaml");
   EXPECT_NEAR(m.points[1].position(0), 0.4, 1e-15);
   EXPECT_NEAR(m.points[1].position(1), 0.5, 2e-16);
   EXPECT_EQ(m.points[1].position(2), 1.0);
 }
 
 TEST(ParametricFile, PiAndEHaveEveryDigit) {
-  const Model m = parse_model(with("middle: [half, 0, 0]", "middle: [_pi, _e, \"cos(_pi/3)\"]"), "p.yaml");
+  const Model m =
+      parse_model(with("middle: [half, 0, 0]", "middle: [_pi, _e, \"cos(_pi/3)\"]"), "p.yaml");
   EXPECT_EQ(m.points[1].position(0), M_PI);
   EXPECT_EQ(m.points[1].position(1), M_E);
   EXPECT_NEAR(m.points[1].position(2), 0.5, 2e-16);
@@ -204,7 +217,8 @@ TEST(ParametricFile, NotANumberNamesTheParameterValues) {
 }
 
 TEST(ParametricFile, DivisionByZeroIsNotAFiniteNumber) {
-  const std::string e = first_error(with("section: {shape: circle, D: \"D\"}", "section: {shape: circle, D: \"D / (L - 0.5)\"}"));
+  const std::string e = first_error(
+      with("section: {shape: circle, D: \"D\"}", "section: {shape: circle, D: \"D / (L - 0.5)\"}"));
   EXPECT_TRUE(contains(e, "links.outer.section.D")) << e;
   EXPECT_TRUE(contains(e, "not a finite number")) << e;
 }
@@ -215,7 +229,8 @@ TEST(ParametricFile, SeveralValuesInOneNumberAreRefused) {
 }
 
 TEST(ParametricFile, DerivedValuesAreComputedInFileOrder) {
-  const std::string e = first_error(with("  half: \"L / 2\"", "  half: \"quarter * 2\"\n  quarter: \"L / 4\""));
+  const std::string e =
+      first_error(with("  half: \"L / 2\"", "  half: \"quarter * 2\"\n  quarter: \"L / 4\""));
   EXPECT_TRUE(contains(e, "derived.half")) << e;
   EXPECT_TRUE(contains(e, "'quarter', which is derived later")) << e;
   const std::string self = first_error(with("  half: \"L / 2\"", "  half: \"half + 1\""));
@@ -230,14 +245,16 @@ TEST(ParametricFile, DerivedNameMayNotRepeatAParameter) {
 TEST(ParametricFile, BadParameterNamesAreRefused) {
   EXPECT_TRUE(contains(first_error(with("  F: 100", "  F: 100\n  2x: 1")), "starts with a letter"));
   EXPECT_TRUE(contains(first_error(with("  F: 100", "  F: 100\n  sin: 1")), "it is a function"));
-  EXPECT_TRUE(contains(first_error(with("  F: 100", "  F: 100\n  _pi: 1")), "starts with a letter"));
+  EXPECT_TRUE(
+      contains(first_error(with("  F: 100", "  F: 100\n  _pi: 1")), "starts with a letter"));
 }
 
 TEST(ParametricFile, ParameterDefaultsAreNumbers) {
   const std::string e = first_error(with("  F: 100", "  F: \"2*L\""));
   EXPECT_TRUE(contains(e, "parameters.F")) << e;
   EXPECT_TRUE(contains(first_error(with("  F: 100", "  F: {unit: N}")), "missing key 'default'"));
-  EXPECT_TRUE(contains(first_error(with("  F: 100", "  F: {default: 1, units: N}")), "did you mean 'unit'"));
+  EXPECT_TRUE(contains(first_error(with("  F: 100", "  F: {default: 1, units: N}")),
+                       "did you mean 'unit'"));
 }
 
 TEST(ParametricFile, WithoutParametersAnExpressionIsStillAnError) {
@@ -259,10 +276,12 @@ end_effectors:
 }
 
 TEST(ParametricFile, FileWithoutParametersIsAFamilyOfOne) {
-  const ModelFamily family = load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml");
+  const ModelFamily family =
+      load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml");
   EXPECT_TRUE(family.parameters().empty());
   const Model m = family.build({});
-  EXPECT_EQ(m.name, load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml").name);
+  EXPECT_EQ(m.name,
+            load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml").name);
 }
 
 TEST(ParametricFile, InvalidMemberThrowsWithTheKey) {
@@ -274,7 +293,8 @@ TEST(ParametricFile, InvalidMemberThrowsWithTheKey) {
 }
 
 TEST(ParametricFile, MessagesOfAMemberGiveTheLineOfTheKey) {
-  const ModelFamily family = parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml");
+  const ModelFamily family =
+      parse_model_family(with("half: \"L / 2\"", "half: \"sqrt(L - 0.1)\""), "p.yaml");
   const auto e = thrown<InputError>([&] { family.build(std::vector<double>{0.05, 0.02, 100}); });
   ASSERT_TRUE(e) << "accepted the square root of a negative number";
   const Diagnostic& d = e->diagnostics().front();
@@ -320,12 +340,14 @@ TEST(Expressions, ManyDistinctExpressionsStayCorrectBeyondTheKeptParsers) {
 
 // The file with its parameters' defaults replaced by `values`: read by the loader from scratch,
 // it is the member a builder must make without reading the file again.
-std::string with_defaults(const std::string& text, const ModelFamily& family, const std::vector<double>& values) {
+std::string with_defaults(const std::string& text, const ModelFamily& family,
+                          const std::vector<double>& values) {
   std::istringstream in(text);
   std::string out, line;
   bool in_parameters = false;
   while (std::getline(in, line)) {
-    if (!line.empty() && line[0] != ' ' && line[0] != '#') in_parameters = line.starts_with("parameters:");
+    if (!line.empty() && line[0] != ' ' && line[0] != '#')
+      in_parameters = line.starts_with("parameters:");
     for (std::size_t k = 0; in_parameters && k < values.size(); ++k) {
       const std::string key = "  " + family.parameters()[k].name + ":";
       if (line.starts_with(key)) {
@@ -357,8 +379,9 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
   };
   // The last holds a real number in the range of the probe values: its writers read the file
   // for each member instead of evaluating the bound expressions, with the same result.
-  for (const std::string& text : {std::string(kCantilever), read_text("planar-3rpr-parametric.yaml"),
-                                  read_text("tripteron-parametric.yaml"), with("E: 2.1e11", "E: 2.1e301")}) {
+  for (const std::string& text :
+       {std::string(kCantilever), read_text("planar-3rpr-parametric.yaml"),
+        read_text("tripteron-parametric.yaml"), with("E: 2.1e11", "E: 2.1e301")}) {
     const ModelFamily family = parse_model_family(text, "p.yaml");
     const Structure structure = family.structure();
     auto write = family.make_writer(structure);
@@ -369,8 +392,10 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
       const Model read = parse_model(with_defaults(text, family, values), "p.yaml");
       EXPECT_EQ(numbers_of(member), numbers_of(read)) << family.name() << " pose " << pose;
       ASSERT_EQ(member.points.size(), read.points.size());
-      for (std::size_t i = 0; i < member.points.size(); ++i) EXPECT_EQ(member.points[i].name, read.points[i].name);
-      EXPECT_EQ(numbers_of(member).size(), numbers_of(family.build(family.default_values())).size());
+      for (std::size_t i = 0; i < member.points.size(); ++i)
+        EXPECT_EQ(member.points[i].name, read.points[i].name);
+      EXPECT_EQ(numbers_of(member).size(),
+                numbers_of(family.build(family.default_values())).size());
     }
   }
 }
@@ -387,7 +412,8 @@ TEST(ParametricFile, AWriterWritesEveryValueOfAMember) {
     for (std::size_t i = 0; i < member.links.size(); ++i) {
       EXPECT_EQ(member.links[i].name, expected.links[i].name);
       EXPECT_EQ(member.links[i].from, expected.links[i].from);
-      EXPECT_EQ(member.links[i].origin.of("section").line, expected.links[i].origin.of("section").line);
+      EXPECT_EQ(member.links[i].origin.of("section").line,
+                expected.links[i].origin.of("section").line);
     }
     EXPECT_EQ(member.loads.size(), expected.loads.size());
   };
@@ -397,18 +423,24 @@ TEST(ParametricFile, AWriterWritesEveryValueOfAMember) {
   expect_member(written(structure, write, short_one), expected_short);
   // Zero-length links: the values are written, and their checks refuse them.
   const std::vector<double> zero{0.0, 0.02, 100};
-  EXPECT_FALSE(structure.find_value_defects(structure.values_of(written(structure, write, zero))).empty());
+  EXPECT_FALSE(
+      structure.find_value_defects(structure.values_of(written(structure, write, zero))).empty());
   EXPECT_THROW(family.build(zero), InputError);
   expect_member(written(structure, write, long_one), expected_long);
 }
 
 TEST(ParametricFile, ExpressionFailureOfAMemberNamesItsKey) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
-  const auto negative = thrown<InputError>([&] { family.build(std::vector<double>{0.5, -0.02, 100}); });
+  const auto negative = thrown<InputError>([&] {
+    family.build(std::vector<double>{0.5, -0.02, 100});
+  });
   ASSERT_TRUE(negative) << "accepted a negative diameter";
   EXPECT_TRUE(contains(negative->diagnostics().front().key_path, "section.D")) << negative->what();
-  const ModelFamily divided = parse_model_family(with("tip: [L, \"0\", 0]", "tip: [L, \"1 / (F - 50)\", 0]"), "p.yaml");
-  const auto by_zero = thrown<InputError>([&] { divided.build(std::vector<double>{0.5, 0.02, 50}); });
+  const ModelFamily divided =
+      parse_model_family(with("tip: [L, \"0\", 0]", "tip: [L, \"1 / (F - 50)\", 0]"), "p.yaml");
+  const auto by_zero = thrown<InputError>([&] {
+    divided.build(std::vector<double>{0.5, 0.02, 50});
+  });
   ASSERT_TRUE(by_zero) << "accepted a division by zero";
   const Diagnostic& d = by_zero->diagnostics().front();
   EXPECT_EQ(d.key_path, "points.tip[1]");

@@ -24,18 +24,23 @@ using namespace stiffmsa;
 
 constexpr double kTolerance = 1e-9;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 bool any_contains(const std::vector<std::string>& texts, const std::string& part) {
-  return std::any_of(texts.begin(), texts.end(), [&](const std::string& t) { return contains(t, part); });
+  return std::any_of(texts.begin(), texts.end(),
+                     [&](const std::string& t) { return contains(t, part); });
 }
 
 // A steel rod of 1 m along x, clamped at O; `material`, `section` and the tip load as given.
-std::string cantilever(const std::string& material, const std::string& section, const std::string& wrench,
-                       const std::string& tip = "[1, 0, 0]") {
+std::string cantilever(const std::string& material, const std::string& section,
+                       const std::string& wrench, const std::string& tip = "[1, 0, 0]") {
   return "format: stiffmsa/1\nname: rod\npoints:\n  O: [0, 0, 0]\n  E: " + tip +
          "\nlinks:\n  L1:\n    type: beam\n    from: O\n    to: E\n    material: " + material +
-         "\n    section: " + section + "\nsupports:\n  S1: {type: rigid, at: O, link: L1}\nloads:\n  - {at: E, link: L1, wrench: " +
+         "\n    section: " + section +
+         "\nsupports:\n  S1: {type: rigid, at: O, link: L1}\nloads:\n  - {at: E, link: L1, "
+         "wrench: " +
          wrench + "}\nend_effectors:\n  EE: {at: E, link: L1}\n";
 }
 
@@ -51,7 +56,8 @@ std::string number(double value) { return shortest_text(value); }
 std::vector<std::string> plausibility_warnings(const Result& result) {
   std::vector<std::string> found;
   for (const auto& w : result.report.warnings)
-    if (contains(w, "engineering materials") || contains(w, "millimetres") || contains(w, "linear method"))
+    if (contains(w, "engineering materials") || contains(w, "millimetres") ||
+        contains(w, "linear method"))
       found.push_back(w);
   return found;
 }
@@ -74,7 +80,8 @@ TEST(Plausibility, EveryExampleAtItsDefaultsHasNoWarning) {
     const Model model = family.build(family.default_values());
     EXPECT_TRUE(find_implausible_values(model).empty()) << file;
     const Result result = solve(model);
-    EXPECT_TRUE(plausibility_warnings(result).empty()) << file << ": " << result.report.warnings.front();
+    EXPECT_TRUE(plausibility_warnings(result).empty())
+        << file << ": " << result.report.warnings.front();
     EXPECT_TRUE(result.report.large_deflection.empty()) << file;
   }
 }
@@ -82,31 +89,39 @@ TEST(Plausibility, EveryExampleAtItsDefaultsHasNoWarning) {
 // ---- moduli, sizes and sections ---------------------------------------------------------------
 
 TEST(Plausibility, AModulusInMegapascalsIsNamedWithItsKeyAndLikelyCause) {
-  const Model model = parse_model(cantilever("{E: 70000, nu: 0.3}", rod_section, "[0, -100, 0, 0, 0, 0]"), "mpa.yaml");
+  const Model model = parse_model(
+      cantilever("{E: 70000, nu: 0.3}", rod_section, "[0, -100, 0, 0, 0, 0]"), "mpa.yaml");
   const auto found = find_implausible_values(model);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].key_path, "links.L1.material.E");
   EXPECT_EQ(found[0].location.file, "mpa.yaml");
   EXPECT_GT(found[0].location.line, 0);
   EXPECT_EQ(found[0].message,
-            "E = 70000 Pa is below the moduli of engineering materials (1e8 to 1e12 Pa): was it given in MPa or N/mm²? "
+            "E = 70000 Pa is below the moduli of engineering materials (1e8 to 1e12 Pa): was it "
+            "given in MPa or N/mm²? "
             "stiffmsa reads pascals (steel: E = 2.1e11 Pa)");
   // A warning, never an error: the model solves, and the 174-metre kind of deflection is named too.
   const Result result = solve(model);
   ASSERT_TRUE(result.end_effectors[0].stiffness);
   EXPECT_TRUE(any_contains(result.report.warnings, "links.L1.material.E: E = 70000 Pa"));
-  EXPECT_TRUE(contains(result.report.large_deflection, "link end 'L1.to' turns")) << result.report.large_deflection;
+  EXPECT_TRUE(contains(result.report.large_deflection, "link end 'L1.to' turns"))
+      << result.report.large_deflection;
 }
 
 TEST(Plausibility, ModuliAboveTheRangeAndShearModuliAreCheckedToo) {
-  const auto high = find_implausible_values(parse_model(cantilever("{E: 2.1e14, nu: 0.3}", rod_section, "[0, 0, 0, 0, 0, 0]"), "m.yaml"));
+  const auto high = find_implausible_values(
+      parse_model(cantilever("{E: 2.1e14, nu: 0.3}", rod_section, "[0, 0, 0, 0, 0, 0]"), "m.yaml"));
   ASSERT_EQ(high.size(), 1u);
   EXPECT_TRUE(contains(high[0].message, "E = 2.1e+14 Pa is above the moduli")) << high[0].message;
-  const auto shear = find_implausible_values(parse_model(cantilever("{E: 2.1e11, G: 80000}", rod_section, "[0, 0, 0, 0, 0, 0]"), "m.yaml"));
+  const auto shear = find_implausible_values(parse_model(
+      cantilever("{E: 2.1e11, G: 80000}", rod_section, "[0, 0, 0, 0, 0, 0]"), "m.yaml"));
   ASSERT_EQ(shear.size(), 1u);
   EXPECT_EQ(shear[0].key_path, "links.L1.material.G");
   // The ends of the range are plausible.
-  EXPECT_TRUE(find_implausible_values(parse_model(cantilever("{E: 1e12, G: 1e8}", rod_section, "[0, 0, 0, 0, 0, 0]"), "m.yaml")).empty());
+  EXPECT_TRUE(
+      find_implausible_values(
+          parse_model(cantilever("{E: 1e12, G: 1e8}", rod_section, "[0, 0, 0, 0, 0, 0]"), "m.yaml"))
+          .empty());
 }
 
 TEST(Plausibility, CoordinatesInMillimetresAreNamed) {
@@ -115,29 +130,38 @@ TEST(Plausibility, CoordinatesInMillimetresAreNamed) {
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].key_path, "points");
   EXPECT_EQ(found[0].message,
-            "the model is 1200 m across (the diagonal of its points' box): were the coordinates given in millimetres? "
+            "the model is 1200 m across (the diagonal of its points' box): were the coordinates "
+            "given in millimetres? "
             "stiffmsa reads metres");
   // 100 m is still a (large) structure.
-  EXPECT_TRUE(find_implausible_values(parse_model(cantilever(steel, rod_section, "[0, 0, 0, 0, 0, 0]", "[100, 0, 0]"), "m.yaml")).empty());
+  EXPECT_TRUE(find_implausible_values(
+                  parse_model(cantilever(steel, rod_section, "[0, 0, 0, 0, 0, 0]", "[100, 0, 0]"),
+                              "m.yaml"))
+                  .empty());
 }
 
 TEST(Plausibility, SectionsInMillimetresAreNamed) {
-  const auto circle = find_implausible_values(
-      parse_model(cantilever(steel, "{shape: tube, D: 60, t: 4}", "[0, 0, 0, 0, 0, 0]"), "mm.yaml"));
+  const auto circle = find_implausible_values(parse_model(
+      cantilever(steel, "{shape: tube, D: 60, t: 4}", "[0, 0, 0, 0, 0, 0]"), "mm.yaml"));
   ASSERT_EQ(circle.size(), 1u);  // the wall is not an outer size
   EXPECT_EQ(circle[0].key_path, "links.L1.section.D");
   EXPECT_EQ(circle[0].message,
-            "D = 60 m gives a section as wide as the link is long (1 m): was it given in millimetres? stiffmsa reads metres");
+            "D = 60 m gives a section as wide as the link is long (1 m): was it given in "
+            "millimetres? stiffmsa reads metres");
   const auto generic = find_implausible_values(
-      parse_model(cantilever(steel, "{shape: generic, A: 1963, Iy: 3e5, Iz: 3e5, J: 6e5}", "[0, 0, 0, 0, 0, 0]"), "mm.yaml"));
+      parse_model(cantilever(steel, "{shape: generic, A: 1963, Iy: 3e5, Iz: 3e5, J: 6e5}",
+                             "[0, 0, 0, 0, 0, 0]"),
+                  "mm.yaml"));
   ASSERT_EQ(generic.size(), 1u);
   EXPECT_EQ(generic[0].key_path, "links.L1.section.A");
-  EXPECT_TRUE(contains(generic[0].message, "A = 1963 m² gives a section about 44.3")) << generic[0].message;
+  EXPECT_TRUE(contains(generic[0].message, "A = 1963 m² gives a section about 44.3"))
+      << generic[0].message;
   // A short piece of a finely divided beam is as wide as it is long, in metres all the same.
-  EXPECT_TRUE(find_implausible_values(parse_model(cantilever(steel, "{shape: circle, D: 0.08}", "[0, 0, 0, 0, 0, 0]",
-                                                             "[0.0004, 0, 0]"),
-                                                   "m.yaml"))
-                  .empty());
+  EXPECT_TRUE(
+      find_implausible_values(parse_model(cantilever(steel, "{shape: circle, D: 0.08}",
+                                                     "[0, 0, 0, 0, 0, 0]", "[0.0004, 0, 0]"),
+                                          "m.yaml"))
+          .empty());
 }
 
 TEST(Plausibility, AValueSharedByManyLinksIsOneWarningThatCountsThem) {
@@ -163,14 +187,16 @@ supports:
 }
 
 TEST(Plausibility, ASweepReportsTheWarningsOfItsModelOnce) {
-  const std::string text = "parameters: {tip: {default: 1, unit: m}}\n" +
-                           cantilever("{E: 70000, nu: 0.3}", rod_section, "[0, -1e-6, 0, 0, 0, 0]", "[tip, 0, 0]");
+  const std::string text =
+      "parameters: {tip: {default: 1, unit: m}}\n" +
+      cantilever("{E: 70000, nu: 0.3}", rod_section, "[0, -1e-6, 0, 0, 0, 0]", "[tip, 0, 0]");
   const ModelFamily family = parse_model_family(text, "swept.yaml");
   SweepOptions options;
   options.threads = 1;
   const SweepResult s = sweep(family, grid_poses({{"tip", 1, 2, 3}}), options);
   ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_TRUE(contains(s.warnings[0], "links.L1.material.E: E = 70000 Pa is below")) << s.warnings[0];
+  EXPECT_TRUE(contains(s.warnings[0], "links.L1.material.E: E = 70000 Pa is below"))
+      << s.warnings[0];
   const auto summary = nlohmann::json::parse(sweep_summary_to_json(s, false, ""));
   ASSERT_EQ(summary["warnings"].size(), 1u);
   EXPECT_EQ(summary["warnings"][0], s.warnings[0]);
@@ -191,17 +217,22 @@ std::string transverse_force_turning_by(double rotation) {
 
 TEST(Plausibility, ATipTurningBeyondTheLinearRangeIsWarnedJustAboveTheThresholdOnly) {
   const double threshold = detail::kLargestLinearRotation;
-  const Result above = solve(parse_model(cantilever(steel, rod_section, transverse_force_turning_by(1.2 * threshold)), "r.yaml"));
-  EXPECT_NEAR(above.end_effectors[0].deflection->tail<3>().norm(), 1.2 * threshold, kTolerance * threshold);
-  EXPECT_TRUE(contains(above.report.large_deflection, "link end 'L1.to' turns 0.06 rad (more than 0.05 rad)"))
+  const Result above = solve(parse_model(
+      cantilever(steel, rod_section, transverse_force_turning_by(1.2 * threshold)), "r.yaml"));
+  EXPECT_NEAR(above.end_effectors[0].deflection->tail<3>().norm(), 1.2 * threshold,
+              kTolerance * threshold);
+  EXPECT_TRUE(contains(above.report.large_deflection,
+                       "link end 'L1.to' turns 0.06 rad (more than 0.05 rad)"))
       << above.report.large_deflection;
   // The tip moves 2/3 of θ·L = 0.04 m, above 3 % of the rod's 1 m too.
-  EXPECT_TRUE(contains(above.report.large_deflection, "link end 'L1.to' moves 0.04 m (more than 3 % of the model's size, 1 m)"))
+  EXPECT_TRUE(contains(above.report.large_deflection,
+                       "link end 'L1.to' moves 0.04 m (more than 3 % of the model's size, 1 m)"))
       << above.report.large_deflection;
   EXPECT_TRUE(any_contains(above.report.warnings, above.report.large_deflection));
 
   // θ = 0.04 rad moves the tip 0.0267 m: below both thresholds.
-  const Result below = solve(parse_model(cantilever(steel, rod_section, transverse_force_turning_by(0.8 * threshold)), "r.yaml"));
+  const Result below = solve(parse_model(
+      cantilever(steel, rod_section, transverse_force_turning_by(0.8 * threshold)), "r.yaml"));
   EXPECT_TRUE(below.report.large_deflection.empty()) << below.report.large_deflection;
   EXPECT_TRUE(plausibility_warnings(below).empty());
 }
@@ -212,23 +243,29 @@ TEST(Plausibility, ATipMovingBeyondAFewPercentOfTheModelIsWarnedWithoutARotation
   const auto axial = [&](double stretch) {
     return "[" + number(stretch * youngs_modulus * area / length) + ", 0, 0, 0, 0, 0]";
   };
-  const Result above = solve(parse_model(cantilever(steel, rod_section, axial(1.1 * fraction * length)), "a.yaml"));
-  EXPECT_NEAR(above.end_effectors[0].deflection->x(), 1.1 * fraction * length, kTolerance * fraction);
-  EXPECT_TRUE(contains(above.report.large_deflection, "link end 'L1.to' moves 0.033 m")) << above.report.large_deflection;
+  const Result above =
+      solve(parse_model(cantilever(steel, rod_section, axial(1.1 * fraction * length)), "a.yaml"));
+  EXPECT_NEAR(above.end_effectors[0].deflection->x(), 1.1 * fraction * length,
+              kTolerance * fraction);
+  EXPECT_TRUE(contains(above.report.large_deflection, "link end 'L1.to' moves 0.033 m"))
+      << above.report.large_deflection;
   EXPECT_FALSE(contains(above.report.large_deflection, "turns"));
-  const Result below = solve(parse_model(cantilever(steel, rod_section, axial(0.9 * fraction * length)), "a.yaml"));
+  const Result below =
+      solve(parse_model(cantilever(steel, rod_section, axial(0.9 * fraction * length)), "a.yaml"));
   EXPECT_TRUE(below.report.large_deflection.empty()) << below.report.large_deflection;
 }
 
 ModelFamily three_rpr(const ParameterSettings& settings = {}) {
-  return load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml", {}, settings);
+  return load_model_family(
+      std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml", {}, settings);
 }
 
 TEST(Plausibility, TheThreeRprNearItsSingularityIsWarned) {
   const ModelFamily family = three_rpr({{"x", 0.32}, {"y", 0.7605}});
   const Result result = solve(family.build(family.default_values()));
   EXPECT_GT(result.end_effectors[0].deflection->tail<3>().norm(), 1.0);
-  EXPECT_TRUE(contains(result.report.large_deflection, "link end 'platform_1.from' turns")) << result.report.large_deflection;
+  EXPECT_TRUE(contains(result.report.large_deflection, "link end 'platform_1.from' turns"))
+      << result.report.large_deflection;
   EXPECT_TRUE(contains(result.report.large_deflection, "near a singularity"));
 }
 
@@ -243,7 +280,8 @@ TEST(Plausibility, ASweepKeepsTheNumbersOfALargeDeflectionPoseAndCountsIt) {
   ASSERT_EQ(s.results.size(), 2u);
   EXPECT_EQ(s.results[0].status, PoseStatus::ok);
   EXPECT_TRUE(s.results[0].large_deflection);
-  EXPECT_TRUE(contains(s.results[0].message, "too large for the linear method")) << s.results[0].message;
+  EXPECT_TRUE(contains(s.results[0].message, "too large for the linear method"))
+      << s.results[0].message;
   ASSERT_EQ(s.results[0].end_effectors.size(), 1u);
   EXPECT_GT(s.results[0].end_effectors[0].deflection_rotation, 1.0);
   EXPECT_FALSE(s.results[1].large_deflection);
@@ -268,7 +306,8 @@ Mat6 rotated_compliance(const Mat3& rotation, const Vec3& c, const Vec3& r) {
 TEST(PrincipalStiffness, DirectionsAreTheEigenvectorsInTheOrderOfTheValues) {
   const Mat3 rotation = Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();
   const Vec3 c(1e-6, 4e-6, 2e-6);  // stiffness 1e6, 2.5e5, 5e5
-  const PrincipalStiffness p = principal_stiffness(rotated_compliance(rotation, c, Vec3(1e-3, 1e-3, 0)));
+  const PrincipalStiffness p =
+      principal_stiffness(rotated_compliance(rotation, c, Vec3(1e-3, 1e-3, 0)));
   EXPECT_NEAR(p.translational(0), 2.5e5, kTolerance * 2.5e5);
   EXPECT_NEAR(p.translational(1), 5e5, kTolerance * 5e5);
   EXPECT_NEAR(p.translational(2), 1e6, kTolerance * 1e6);
@@ -296,11 +335,14 @@ TEST(PrincipalStiffness, StiffnessAlongADirectionIsTheInverseOfItsCompliance) {
   EXPECT_NEAR((along.direction - unit).norm(), 0, kTolerance);
   const double expected = 1 / unit.dot(compliance.topLeftCorner<3, 3>() * unit);
   EXPECT_NEAR(along.translational, expected, kTolerance * expected);
-  EXPECT_NEAR(along.rotational, 1 / (unit(0) * unit(0) * 1e-3 + unit(1) * unit(1) * 2e-3), kTolerance * 1e3);
+  EXPECT_NEAR(along.rotational, 1 / (unit(0) * unit(0) * 1e-3 + unit(1) * unit(1) * 2e-3),
+              kTolerance * 1e3);
   // Along a principal direction, the principal value.
-  EXPECT_NEAR(directional_stiffness(compliance, rotation.col(1)).translational, 2.5e5, kTolerance * 2.5e5);
+  EXPECT_NEAR(directional_stiffness(compliance, rotation.col(1)).translational, 2.5e5,
+              kTolerance * 2.5e5);
   // About z the rotation is held rigidly.
-  EXPECT_EQ(directional_stiffness(compliance, Vec3(0, 0, 5)).rotational, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(directional_stiffness(compliance, Vec3(0, 0, 5)).rotational,
+            std::numeric_limits<double>::infinity());
   EXPECT_THROW(directional_stiffness(compliance, Vec3::Zero()), UsageError);
 }
 
@@ -308,7 +350,8 @@ TEST(PrincipalStiffness, ASolveWithADirectionReportsItAndTheResultFileHoldsItAll
   // The cantilever: against a transverse force along y, k = 3·E·I / L³.
   SolveOptions options;
   options.direction = Vec3(0, 2, 0);
-  const Result result = solve(parse_model(cantilever(steel, rod_section, "[0, -100, 0, 0, 0, 0]"), "c.yaml"), options);
+  const Result result = solve(
+      parse_model(cantilever(steel, rod_section, "[0, -100, 0, 0, 0, 0]"), "c.yaml"), options);
   const auto& along = result.end_effectors[0].along_direction;
   ASSERT_TRUE(along);
   const double bending = 3 * youngs_modulus * second_moment / std::pow(length, 3);
@@ -344,7 +387,8 @@ TEST(PrincipalStiffness, ASweepWritesTheConditionAndTheDirectionalColumns) {
   ASSERT_TRUE(cond && along);
   for (std::size_t pose = 0; pose < 3; ++pose) {
     const auto& m = s.results[pose].end_effectors[0];
-    EXPECT_EQ(column_value(s, *cond, pose), m.principal.translational(2) / m.principal.translational(0));
+    EXPECT_EQ(column_value(s, *cond, pose),
+              m.principal.translational(2) / m.principal.translational(0));
     std::vector<double> values = family.default_values();
     values[*family.find_parameter("x")] = s.poses.pose(pose)[0];
     const Result alone = solve(family.build(values), options.solve);
@@ -352,12 +396,14 @@ TEST(PrincipalStiffness, ASweepWritesTheConditionAndTheDirectionalColumns) {
     EXPECT_GE(column_value(s, *along, pose), m.principal.translational(0) * (1 - kTolerance));
     EXPECT_LE(column_value(s, *along, pose), m.principal.translational(2) * (1 + kTolerance));
   }
-  EXPECT_TRUE(contains(sweep_to_csv(s, false), ",platform.cond_trans,platform.k_trans_dir,platform.k_rot_dir\n"));
+  EXPECT_TRUE(contains(sweep_to_csv(s, false),
+                       ",platform.cond_trans,platform.k_trans_dir,platform.k_rot_dir\n"));
   const auto summary = nlohmann::json::parse(sweep_summary_to_json(s, false, ""));
   EXPECT_NEAR(summary["direction"][1].get<double>(), 0.8, kTolerance);
   // Without a direction, no directional columns.
   options.solve.direction.reset();
-  EXPECT_FALSE(find_sweep_column(sweep(family, grid_poses({{"x", 0.3, 0.4, 2}}), options), "platform.k_trans_dir"));
+  EXPECT_FALSE(find_sweep_column(sweep(family, grid_poses({{"x", 0.3, 0.4, 2}}), options),
+                                 "platform.k_trans_dir"));
 }
 
 // ---- what a result records of its parameters --------------------------------------------------
@@ -379,11 +425,13 @@ TEST(RecordedParameters, SettingsAndDefaultsAreTold) {
   EXPECT_EQ(member.parameters[0].value, 0.41);
   EXPECT_EQ(member.parameters[1].value, 0.65);
   EXPECT_TRUE(member.parameters[1].set);
-  const Model loaded = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml");
+  const Model loaded =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml");
   ASSERT_EQ(loaded.parameters.size(), values.size());
   EXPECT_EQ(loaded.parameters[1].value, 0.33);
   EXPECT_FALSE(loaded.parameters[1].set);
-  EXPECT_TRUE(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml").parameters.empty());
+  EXPECT_TRUE(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml")
+                  .parameters.empty());
 
   Result result = solve(family.build(family.default_values()));
   result.parameters = values;
@@ -454,14 +502,16 @@ supports:
     FAIL() << "the preload's length is a defect";
   } catch (const InputError& e) {
     ASSERT_FALSE(e.diagnostics().empty());
-    EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected 1 number ")) << e.diagnostics()[0].message;
+    EXPECT_TRUE(contains(e.diagnostics()[0].message, "expected 1 number "))
+        << e.diagnostics()[0].message;
   }
   try {
     parse_pose_table("x\n0.1, 0.2\n", "poses.csv");
     FAIL() << "two values under one name is a defect";
   } catch (const InputError& e) {
     ASSERT_FALSE(e.diagnostics().empty());
-    EXPECT_EQ(e.diagnostics()[0].message, "expected 1 value (one per parameter of the header), got 2");
+    EXPECT_EQ(e.diagnostics()[0].message,
+              "expected 1 value (one per parameter of the header), got 2");
   }
   try {
     three_rpr().build(std::vector<double>{0.3});

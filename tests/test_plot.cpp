@@ -558,7 +558,9 @@ TEST_F(Plot, FlaggedCellsHaveARingThatLeavesTheirColourVisibleAndALegend) {
   const auto low = flagged.solid_region(low_end, 10);
   ASSERT_TRUE(low);
   for (int dx = -8; dx <= 8; ++dx)
-    EXPECT_TRUE(near(flagged.at(static_cast<int>(low->centre_x()) + dx, static_cast<int>(low->centre_y())), low_end));
+    EXPECT_TRUE(
+        near(flagged.at(static_cast<int>(low->centre_x()) + dx, static_cast<int>(low->centre_y())),
+             low_end));
   // A legend line under the plot, which the plain map does not have.
   const auto plain_low = plain.solid_region(low_end);
   ASSERT_TRUE(plain_low);
@@ -585,6 +587,7 @@ TEST_F(Plot, LinePlotRingsItsFlaggedPoints) {
   EXPECT_LT(ring->centre_y(), two.height() / 2.0);
   bool any_black = false;
   for (int y = ring->top; y <= ring->bottom; ++y)
-    for (int x = ring->left; x <= ring->right; ++x) any_black = any_black || near(two.at(x, y), black, 60);
+    for (int x = ring->left; x <= ring->right; ++x)
+      any_black = any_black || near(two.at(x, y), black, 60);
   EXPECT_TRUE(any_black);
 }

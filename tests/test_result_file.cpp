@@ -124,8 +124,9 @@ Json parsed_sample() { return Json::parse(stiffmsa::result_to_json(sample_result
 
 TEST(ResultJson, TopLevelKeysInContractOrder) {
   const Json j = parsed_sample();
-  EXPECT_EQ(keys_of(j), (std::vector<std::string>{"format", "model", "parameters", "system", "end_effectors",
-                                                  "link_ends", "joints", "supports", "report"}));
+  EXPECT_EQ(keys_of(j),
+            (std::vector<std::string>{"format", "model", "parameters", "system", "end_effectors",
+                                      "link_ends", "joints", "supports", "report"}));
   EXPECT_EQ(j["format"], "stiffmsa-result/1");
   EXPECT_EQ(j["model"], "sample-robot");
   EXPECT_EQ(keys_of(j["system"]), (std::vector<std::string>{"unknowns", "equations", "nonzeros"}));
@@ -189,8 +190,7 @@ TEST(ResultJson, JointsTwoEndsFlatMoreEndsListOfLists) {
 
   const Json& two_ends = j["joints"]["J2"];
   EXPECT_EQ(keys_of(two_ends), (std::vector<std::string>{"relative_deflection", "wrench"}));
-  EXPECT_EQ(two_ends["relative_deflection"].get<std::vector<double>>(),
-            std::vector<double>{0.25});
+  EXPECT_EQ(two_ends["relative_deflection"].get<std::vector<double>>(), std::vector<double>{0.25});
   EXPECT_EQ(two_ends["wrench"].get<std::vector<double>>(), as_vector(vec6(-3)));
 
   const Json& three_ends = j["joints"]["J1"];

@@ -7,22 +7,23 @@
 
 #include <Eigen/QR>
 
-#include "builders.hpp"
 #include "analysis/cartesian.hpp"
+#include "builders.hpp"
 #include "solve_comparison.hpp"
 #include "solver/sparse_solver.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
 using namespace stiffmsa;
-using stiffmsa::testing::building;
 using detail::SparseMatrix;
+using stiffmsa::testing::building;
 
 namespace {
 
 const Material kSteel{2.1e11, 0.3, std::nullopt};
 
 Model chain(int segments) {
-  return stiffmsa::testing::beam_chain(segments, [](int i) { return Vec3(0.01 * i, 0, 0); }, kSteel, Section::circle(0.05));
+  return stiffmsa::testing::beam_chain(
+      segments, [](int i) { return Vec3(0.01 * i, 0, 0); }, kSteel, Section::circle(0.05));
 }
 
 bool is_power_of_two(double f) {
@@ -41,7 +42,8 @@ TEST(Equilibration, PowersOfTwoBringEveryRowAndColumnToAMaximumNearOne) {
   for (int i = 0; i < n; ++i) {
     entries.emplace_back(i, i, std::pow(10.0, decade(random)));
     for (int k = 0; k < 3; ++k)
-      entries.emplace_back(i, static_cast<int>(random() % n), sign(random) * std::pow(10.0, decade(random)));
+      entries.emplace_back(i, static_cast<int>(random() % n),
+                           sign(random) * std::pow(10.0, decade(random)));
   }
   SparseMatrix a(n, n);
   a.setFromTriplets(entries.begin(), entries.end());
@@ -69,7 +71,8 @@ TEST(AutomaticSolver, TakesTheTreeSolveForAChainOrAParallelRobotAndTheFrameSolve
   EXPECT_EQ(solve(chain(50)).report.solver, stiffmsa::SolverUsed::tree);
   // Its legs meet at the platform: a tree cut at the reactions of supports screw_y and screw_z
   // and at its nine passive hinges.
-  EXPECT_EQ(solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")).report.solver,
+  EXPECT_EQ(solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml"))
+                .report.solver,
             stiffmsa::SolverUsed::tree_with_cuts);
   // Loops through its girders, every link a beam, every connection a weld (test_frame_solve.cpp).
   EXPECT_EQ(solve(building(3, 3, 4)).report.solver, stiffmsa::SolverUsed::frame);
@@ -83,7 +86,9 @@ TEST(AutomaticSolver, TakesTheTreeSolveForAChainOrAParallelRobotAndTheFrameSolve
   SolveOptions options;
   options.solver = SolverKind::klu;
   const Result by_klu = solve(stiffened, options);
-  EXPECT_LT((*frame.end_effectors[0].compliance - *by_klu.end_effectors[0].compliance).cwiseAbs().maxCoeff(),
+  EXPECT_LT((*frame.end_effectors[0].compliance - *by_klu.end_effectors[0].compliance)
+                .cwiseAbs()
+                .maxCoeff(),
             1e-12 * frame.end_effectors[0].compliance->cwiseAbs().maxCoeff());
 }
 
@@ -220,10 +225,12 @@ TEST(CartesianStiffness, TheCholeskyBoundAndTheEigenvaluesGiveTheSameInverse) {
   EXPECT_LT((*bounded.stiffness * compliance - Mat6::Identity()).cwiseAbs().maxCoeff(), 1e-12);
 
   // A threshold below the bound takes the eigenvalues: the exact spread, the same inverse.
-  const detail::CartesianStiffness exact = detail::cartesian_stiffness(compliance, length, spread * 1.5);
+  const detail::CartesianStiffness exact =
+      detail::cartesian_stiffness(compliance, length, spread * 1.5);
   ASSERT_TRUE(exact.stiffness);
   EXPECT_NEAR(exact.spread / spread, 1.0, 1e-9);
-  EXPECT_LT((*exact.stiffness - *bounded.stiffness).cwiseAbs().maxCoeff(), 1e-12 * bounded.stiffness->cwiseAbs().maxCoeff());
+  EXPECT_LT((*exact.stiffness - *bounded.stiffness).cwiseAbs().maxCoeff(),
+            1e-12 * bounded.stiffness->cwiseAbs().maxCoeff());
 
   // A compliance unsymmetric at 1e-9 (a CAD stiffness matrix given to ten digits): K inverts C
   // itself on the bound path too.
@@ -235,12 +242,14 @@ TEST(CartesianStiffness, TheCholeskyBoundAndTheEigenvaluesGiveTheSameInverse) {
 
   // A direction held rigidly: no stiffness, an infinite or huge spread, whatever the threshold.
   values(0) = 0;
-  const detail::CartesianStiffness rigid = detail::cartesian_stiffness(compliance_of(values), length, 1e12);
+  const detail::CartesianStiffness rigid =
+      detail::cartesian_stiffness(compliance_of(values), length, 1e12);
   EXPECT_FALSE(rigid.stiffness);
   EXPECT_GT(rigid.spread, 1e14);
   // A spread of 1e15 is rounding level, rigid, even where the warning's threshold is above it.
   values(0) = 4e-22;
-  const detail::CartesianStiffness beyond = detail::cartesian_stiffness(compliance_of(values), length, 1e16);
+  const detail::CartesianStiffness beyond =
+      detail::cartesian_stiffness(compliance_of(values), length, 1e16);
   EXPECT_FALSE(beyond.stiffness);
   EXPECT_GT(beyond.spread, 1e14);
 }

@@ -22,15 +22,19 @@ Model arm(double elbow_x, double joint_stiffness) {
   m.add_rigid_link("fore", "B", "E");
   m.add_support("base", "O", {}, Connection::rigid());
   m.add_joint("shoulder", "A", {"column", "upper"},
-              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, joint_stiffness)));
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()),
+                                  MatX::Constant(1, 1, joint_stiffness)));
   m.add_joint("elbow", "B", {"upper", "fore"},
-              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), MatX::Constant(1, 1, 0.5 * joint_stiffness)));
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()),
+                                  MatX::Constant(1, 1, 0.5 * joint_stiffness)));
   m.add_load("E", std::nullopt, (Vec6() << 0, 0, -200, 0, 0, 0).finished());
   m.add_end_effector("tool", "E");
   return m;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 }  // namespace
 
@@ -93,7 +97,8 @@ TEST(Structure, ValuesAreCheckedAtTheirKeys) {
   EXPECT_EQ(defect_of("links.upper.material.E", -1), "links.upper.material.E");
   EXPECT_EQ(defect_of("joints.elbow.stiffness[0][0]", -5), "joints.elbow.stiffness");
   std::vector<double> zero_axis = structure.default_values();
-  for (int i = 0; i < 3; ++i) zero_axis[*structure.find_slot("joints.shoulder.axis[" + std::to_string(i) + "]")] = 0;
+  for (int i = 0; i < 3; ++i)
+    zero_axis[*structure.find_slot("joints.shoulder.axis[" + std::to_string(i) + "]")] = 0;
   const auto axis_defects = structure.find_value_defects(zero_axis);
   ASSERT_FALSE(axis_defects.empty());
   EXPECT_EQ(axis_defects.front().key_path, "joints.shoulder.axis");
@@ -104,10 +109,12 @@ TEST(Structure, ValuesAreCheckedAtTheirKeys) {
   const auto length_defects = structure.find_value_defects(short_beam);
   ASSERT_FALSE(length_defects.empty());
   EXPECT_EQ(length_defects.front().key_path, "links.upper");
-  EXPECT_TRUE(contains(length_defects.front().message, "zero length")) << length_defects.front().message;
+  EXPECT_TRUE(contains(length_defects.front().message, "zero length"))
+      << length_defects.front().message;
   // A failed pose leaves nothing behind for the next.
   const Result after = solve(workspace, structure.default_values());
-  EXPECT_EQ(*after.end_effectors[0].compliance, *solve(structure.model()).end_effectors[0].compliance);
+  EXPECT_EQ(*after.end_effectors[0].compliance,
+            *solve(structure.model()).end_effectors[0].compliance);
 }
 
 TEST(Structure, AModelOfAnotherStructureIsRefused) {
@@ -151,7 +158,8 @@ TEST(Structure, SolvePosesMeasuresEachValueSet) {
   ASSERT_EQ(results.size(), 4u);
   for (std::size_t i = 0; i < posed.size(); ++i) {
     ASSERT_EQ(results[i].status, PoseStatus::ok) << results[i].message;
-    EXPECT_EQ(*results[i].end_effectors[0].compliance, *solve(posed[i]).end_effectors[0].compliance);
+    EXPECT_EQ(*results[i].end_effectors[0].compliance,
+              *solve(posed[i]).end_effectors[0].compliance);
   }
   EXPECT_EQ(results[3].status, PoseStatus::invalid);
   EXPECT_TRUE(contains(results[3].message, "links.column.material.E")) << results[3].message;
@@ -162,7 +170,8 @@ TEST(Structure, AFamilyOfAPlainFunction) {
   const ModelFamily family("arm", {{"x", 0.3, "m", {}}, {"k", 1e5, "N m/rad", {}}},
                            [](std::span<const double> p) { return arm(p[0], p[1]); });
   const Structure structure = family.structure();
-  EXPECT_EQ(structure.values_of(family.build(std::vector<double>{0.4, 2e5})), structure.values_of(arm(0.4, 2e5)));
+  EXPECT_EQ(structure.values_of(family.build(std::vector<double>{0.4, 2e5})),
+            structure.values_of(arm(0.4, 2e5)));
   const SweepResult s = sweep(family, grid_poses({{"x", 0.2, 0.6, 3}}));
   ASSERT_EQ(s.results.size(), 3u);
   for (const PoseResult& r : s.results) EXPECT_EQ(r.status, PoseStatus::ok) << r.message;

@@ -16,9 +16,13 @@
 namespace stiffmsa {
 namespace {
 
-std::string example(const std::string& name) { return std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + name; }
+std::string example(const std::string& name) {
+  return std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + name;
+}
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 const ModelFamily& three_rpr() {
   static const ModelFamily family = load_model_family(example("planar-3rpr-parametric.yaml"));
@@ -94,23 +98,27 @@ struct Independent {
   Mat6 compliance;
   Mat6 one_shot_compliance;
 };
-Independent solve_alone(const ModelFamily& family, const std::vector<std::string>& swept, std::span<const double> pose) {
+Independent solve_alone(const ModelFamily& family, const std::vector<std::string>& swept,
+                        std::span<const double> pose) {
   std::vector<double> values = family.default_values();
   for (std::size_t k = 0; k < swept.size(); ++k) values[*family.find_parameter(swept[k])] = pose[k];
   Workspace workspace(family.build(family.default_values()));
   const Result r = solve(workspace, family.build(values));
   const auto& e = r.end_effectors.front();
-  return {principal_stiffness(*e.compliance), e.deflection->head<3>().norm(), e.deflection->tail<3>().norm(),
-          *e.compliance, *solve(family.build(values)).end_effectors.front().compliance};
+  return {principal_stiffness(*e.compliance), e.deflection->head<3>().norm(),
+          e.deflection->tail<3>().norm(), *e.compliance,
+          *solve(family.build(values)).end_effectors.front().compliance};
 }
 
 TEST(Grid, FirstAxisVariesFastestAndEndsAreExact) {
   const PoseTable t = grid_poses({{"x", -0.2, 0.1, 4}, {"y", 1, 2, 2}});
   ASSERT_EQ(t.size(), 8u);
   EXPECT_EQ(t.parameters, (std::vector<std::string>{"x", "y"}));
-  const std::vector<double> expected{-0.2, 1, -0.1, 1, 0, 1, 0.1, 1, -0.2, 2, -0.1, 2, 0, 2, 0.1, 2};
+  const std::vector<double> expected{-0.2, 1, -0.1, 1, 0, 1, 0.1, 1,
+                                     -0.2, 2, -0.1, 2, 0, 2, 0.1, 2};
   ASSERT_EQ(t.values.size(), expected.size());
-  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(t.values[i], expected[i], 1e-15) << i;
+  for (std::size_t i = 0; i < expected.size(); ++i)
+    EXPECT_NEAR(t.values[i], expected[i], 1e-15) << i;
   EXPECT_EQ(t.pose(3)[0], 0.1);  // the stop exactly as written
   EXPECT_EQ(grid_poses({{"x", 7, 9, 1}}).values, std::vector<double>{7});
 }
@@ -123,7 +131,8 @@ TEST(Grid, RefusesEmptyRepeatedAndHugeGrids) {
 }
 
 TEST(Sweep, EveryRowEqualsAnIndependentSolve) {
-  const PoseTable poses = grid_poses({{"x", 0.3, 0.6, 4}, {"y", 0.2, 0.45, 3}, {"phi", 0.0, 0.3, 2}});
+  const PoseTable poses =
+      grid_poses({{"x", 0.3, 0.6, 4}, {"y", 0.2, 0.45, 3}, {"phi", 0.0, 0.3, 2}});
   SweepOptions options;
   options.keep_matrices = true;
   const SweepResult s = sweep(three_rpr(), poses, options);
@@ -156,13 +165,15 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
   backward.grid.clear();
   const std::size_t n = forward.size(), k = forward.parameters.size();
   for (std::size_t i = 0; i < n; ++i)
-    std::copy_n(forward.values.begin() + static_cast<long>((n - 1 - i) * k), k, backward.values.begin() + static_cast<long>(i * k));
+    std::copy_n(forward.values.begin() + static_cast<long>((n - 1 - i) * k), k,
+                backward.values.begin() + static_cast<long>(i * k));
   // A parallel robot (factorised by every solver) and a serial arm (a tree solve under auto).
-  for (const ModelFamily& family :
-       {load_model_family(example("tripteron-parametric.yaml")), parse_model_family(kSerialArm, "arm.yaml")}) {
+  for (const ModelFamily& family : {load_model_family(example("tripteron-parametric.yaml")),
+                                    parse_model_family(kSerialArm, "arm.yaml")}) {
     SCOPED_TRACE(family.name());
     if (family.name() == "serial-arm" && GetParam() == SolverKind::automatic)
-      EXPECT_EQ(solve(family.build(family.default_values())).report.solver, stiffmsa::SolverUsed::tree);
+      EXPECT_EQ(solve(family.build(family.default_values())).report.solver,
+                stiffmsa::SolverUsed::tree);
     SweepOptions one, two;
     one.threads = 1;
     two.threads = 2;
@@ -183,7 +194,9 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
         EXPECT_EQ(other->message, ra.message) << i;
         if (ra.status != PoseStatus::ok) continue;
         EXPECT_EQ(*other->end_effectors[0].compliance, *ra.end_effectors[0].compliance) << i;
-        EXPECT_EQ(other->end_effectors[0].deflection_translation, ra.end_effectors[0].deflection_translation) << i;
+        EXPECT_EQ(other->end_effectors[0].deflection_translation,
+                  ra.end_effectors[0].deflection_translation)
+            << i;
       }
       ok += ra.status == PoseStatus::ok ? 1 : 0;
     }
@@ -193,7 +206,8 @@ TEST_P(SweepWithEverySolver, ResultDoesNotDependOnThreadsOrPoseOrder) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, SweepWithEverySolver,
-                         ::testing::Values(SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu),
+                         ::testing::Values(SolverKind::automatic, SolverKind::sparse_lu,
+                                           SolverKind::umfpack, SolverKind::klu),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
 TEST(Sweep, AFunctionThatThrowsFailsOnlyItsPose) {
@@ -222,7 +236,8 @@ TEST(Sweep, UnreachablePosesAreInvalidAndTheSweepGoesOn) {
 TEST(Sweep, AMechanismPoseIsAFreeMotion) {
   const ModelFamily family = parse_model_family(kTwoBarTruss, "truss.yaml");
   for (double load : {0.0, 10.0}) {
-    SweepResult s = sweep(family.with_defaults(std::vector<double>{0.5, load}), grid_poses({{"h", -0.5, 0.5, 3}}));
+    SweepResult s = sweep(family.with_defaults(std::vector<double>{0.5, load}),
+                          grid_poses({{"h", -0.5, 0.5, 3}}));
     EXPECT_EQ(s.results[0].status, PoseStatus::ok) << s.results[0].message;
     EXPECT_EQ(s.results[1].status, PoseStatus::free_motion) << load;
     EXPECT_FALSE(s.results[1].message.empty());
@@ -328,9 +343,11 @@ TEST(ExampleMaps, ThreeRprIsSoftestWhereItsLegLinesMeet) {
   }
   ASSERT_FALSE(std::isnan(singular_phi)) << "no singular orientation in the swept range";
   const double step = (phi.stop - phi.start) / static_cast<double>(phi.count - 1);
-  EXPECT_LE(std::abs(phi.value(softest) - singular_phi), step) << phi.value(softest) << " vs " << singular_phi;
+  EXPECT_LE(std::abs(phi.value(softest) - singular_phi), step)
+      << phi.value(softest) << " vs " << singular_phi;
   std::vector<double> sorted = k_rot;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                   sorted.end());
   EXPECT_LT(k_rot[softest], 1e-3 * sorted[sorted.size() / 2]);  // decades below the typical pose
 }
 
@@ -364,21 +381,24 @@ TEST(SweepCsv, HeaderRowsAndValuesReadBackExactly) {
   const auto lines = split(sweep_to_csv(s, false), '\n');
   ASSERT_EQ(lines.size(), 5u);  // header, 3 rows, and the empty text after the last newline
   EXPECT_EQ(lines[0],
-            "px,status,message,platform.k_trans_min,platform.k_trans_max,platform.k_rot_min,platform.k_rot_max,"
+            "px,status,message,platform.k_trans_min,platform.k_trans_max,platform.k_rot_min,"
+            "platform.k_rot_max,"
             "platform.deflection_trans,platform.deflection_rot,platform.cond_trans");
   const auto row = split(lines[1], ',');
   ASSERT_EQ(row.size(), 10u);
   EXPECT_EQ(row[0], "0.3");
   EXPECT_EQ(row[1], "ok");
   const auto columns = sweep_columns(s, false);
-  for (std::size_t c = 0; c < columns.size(); ++c) EXPECT_EQ(std::stod(row[3 + c]), column_value(s, columns[c], 0)) << c;
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    EXPECT_EQ(std::stod(row[3 + c]), column_value(s, columns[c], 0)) << c;
   // The invalid row: its message is quoted (it has commas) and its values are empty.
   EXPECT_TRUE(contains(lines[2], "0.5,invalid,\"")) << lines[2];
   EXPECT_TRUE(lines[2].ends_with(",,,,,,,")) << lines[2];
 }
 
 TEST(SweepCsv, FullAddsTheMatricesWithUnits) {
-  const SweepResult s = sweep(three_rpr(), grid_poses({{"x", 0.4, 0.5, 2}}), SweepOptions{.keep_matrices = true});
+  const SweepResult s =
+      sweep(three_rpr(), grid_poses({{"x", 0.4, 0.5, 2}}), SweepOptions{.keep_matrices = true});
   const auto columns = sweep_columns(s, true);
   ASSERT_EQ(columns.size(), 7u + 72u);
   EXPECT_EQ(columns[7].name, "platform.C11");
@@ -412,7 +432,8 @@ TEST(SweepSummary, NamesTheWorstPosePerColumn) {
   EXPECT_EQ(worst["pose"], softest);
   EXPECT_EQ(worst["csv_line"], softest + 2);
   EXPECT_EQ(worst["criterion"], "smallest");
-  EXPECT_EQ(worst["value"].get<double>(), s.results[softest].end_effectors[0].principal.translational(0));
+  EXPECT_EQ(worst["value"].get<double>(),
+            s.results[softest].end_effectors[0].principal.translational(0));
   EXPECT_EQ(worst["parameters"]["x"].get<double>(), s.poses.pose(softest)[0]);
   EXPECT_EQ(summary["worst"]["platform.deflection_trans"]["criterion"], "largest");
 }

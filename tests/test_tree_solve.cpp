@@ -10,8 +10,8 @@
 #include <set>
 #include <string>
 
-#include "builders.hpp"
 #include "assembly/topology.hpp"
+#include "builders.hpp"
 #include "solve_comparison.hpp"
 #include "solver/tree_solver.hpp"
 #include "stiffmsa/stiffmsa.hpp"
@@ -38,7 +38,9 @@ Model branched_arm() {
   m.add_point("stub", Vec3(0.1, -0.3, 0.65));
   m.add_beam("column", "base", "hub", kSteel, Section::tube(0.12, 0.008));
   m.add_beam("upper_a", "hub", "elbow_a", kSteel, Section::rect_tube(0.08, 0.1, 0.005));
-  std::get<BeamLink>(m.link(m.add_beam("fore_a", "elbow_a", "tip_a", kSteel, Section::circle(0.04))).kind).shear = true;
+  std::get<BeamLink>(
+      m.link(m.add_beam("fore_a", "elbow_a", "tip_a", kSteel, Section::circle(0.04))).kind)
+      .shear = true;
   m.add_rigid_link("upper_b", "hub", "elbow_b");
   Mat6 c = Mat6::Identity() * 2e-7;
   c(0, 4) = c(4, 0) = 3e-8;
@@ -47,14 +49,17 @@ Model branched_arm() {
 
   MatX hip_k(3, 3);
   hip_k << 8e6, 2e5, 0, 2e5, 6e6, 1e5, 0, 1e5, 9e6;
-  const Connection hip = Connection::elastic(Kinematics::spherical(), hip_k).preloaded(VecX::Constant(3, 15.0));
+  const Connection hip =
+      Connection::elastic(Kinematics::spherical(), hip_k).preloaded(VecX::Constant(3, 15.0));
   m.add_support("ground", "base", {}, hip);
   m.add_joint("hub", "hub", {"column", "upper_a", "upper_b", "bracket"}, Connection::rigid());
-  const Connection elbow_a = Connection::elastic(Kinematics::revolute(Vec3(0, 1, 0.2)), 4e4).preloaded(-3.0);
+  const Connection elbow_a =
+      Connection::elastic(Kinematics::revolute(Vec3(0, 1, 0.2)), 4e4).preloaded(-3.0);
   m.add_joint("elbow_a", "elbow_a", {"upper_a", "fore_a"}, elbow_a);
   MatX wrist_k(2, 2);
   wrist_k << 2e4, 5e2, 5e2, 3e4;
-  const Connection elbow_b = Connection::elastic(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 0.6, 0.8)), wrist_k);
+  const Connection elbow_b =
+      Connection::elastic(Kinematics::universal(Vec3(1, 0, 0), Vec3(0, 0.6, 0.8)), wrist_k);
   m.add_joint("elbow_b", "elbow_b", {"fore_b", "upper_b"}, elbow_b);  // end 1 is the outer link
   m.add_load("tip_a", std::nullopt, stiffmsa::testing::wrench(10, -40, -120, 2, 0, 1));
   m.add_load("tip_b", std::nullopt, stiffmsa::testing::wrench(-5, 20, -60, 0, 3, 0));
@@ -68,8 +73,8 @@ Model branched_arm() {
 
 TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
   std::set<std::string> solved_on_tree, cut;
-  for (const char* file : {"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml", "planar-3rpr.yaml",
-                           "gough-stewart-6ups.yaml", "tripteron.yaml"}) {
+  for (const char* file : {"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml",
+                           "planar-3rpr.yaml", "gough-stewart-6ups.yaml", "tripteron.yaml"}) {
     const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
     const Result automatic = solve(m);
     if (automatic.report.solver == stiffmsa::SolverUsed::tree) solved_on_tree.insert(file);
@@ -85,19 +90,23 @@ TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
   // hinges; 21 for the tripteron: the reactions of supports screw_y and screw_z, nine passive
   // hinges). The Gough–Stewart platform would have
   // 50, beyond kMostCutUnknowns: factorised.
-  EXPECT_EQ(solved_on_tree, (std::set<std::string>{"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml"}));
+  EXPECT_EQ(solved_on_tree,
+            (std::set<std::string>{"cantilever.yaml", "planar-2r.yaml", "industrial-6axis.yaml"}));
   EXPECT_EQ(cut, (std::set<std::string>{"planar-3rpr.yaml", "tripteron.yaml"}));
-  for (const auto& [file, cut_unknowns] : {std::pair<const char*, detail::Index>{"planar-3rpr.yaml", 16},
-                                           std::pair<const char*, detail::Index>{"tripteron.yaml", 21}}) {
+  for (const auto& [file, cut_unknowns] :
+       {std::pair<const char*, detail::Index>{"planar-3rpr.yaml", 16},
+        std::pair<const char*, detail::Index>{"tripteron.yaml", 21}}) {
     const Model m = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
     const detail::Topology topology = detail::build_topology(m);
     detail::TreeScratch scratch;
-    const auto solved_cuts = detail::tree_solve(detail::make_blocks(m, topology), topology, *detail::tree_order(topology),
+    const auto solved_cuts = detail::tree_solve(detail::make_blocks(m, topology), topology,
+                                                *detail::tree_order(topology),
                                                 detail::load_cases(m, topology), 1e-12, scratch);
     ASSERT_TRUE(solved_cuts) << file;
     EXPECT_EQ(*solved_cuts, cut_unknowns) << file;
   }
-  const Model gough_stewart = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/gough-stewart-6ups.yaml");
+  const Model gough_stewart =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/gough-stewart-6ups.yaml");
   const detail::Topology topology = detail::build_topology(gough_stewart);
   const auto order = detail::tree_order(topology);
   ASSERT_TRUE(order);
@@ -107,15 +116,20 @@ TEST(TreeSolve, ExamplesThatAreTreesMatchTheFactorisedSolve) {
   EXPECT_FALSE(detail::tree_solve(blocks, topology, *order, external, 1e-12, scratch));
   // Allowed more, the cut solve gives its answer: a passive root support (universal), five
   // others cut at their reactions and six ball joints at their free motions.
-  const auto solved_cuts = detail::tree_solve(blocks, topology, *order, external, 1e-12, scratch, 64);
+  const auto solved_cuts =
+      detail::tree_solve(blocks, topology, *order, external, 1e-12, scratch, 64);
   ASSERT_TRUE(solved_cuts);
   EXPECT_EQ(*solved_cuts, 2 + 5 * 6 + 6 * 3);
-  EXPECT_LT(detail::check_block_by_block(blocks, topology, scratch.x, external, scratch).relative_residual, 1e-15);
+  EXPECT_LT(detail::check_block_by_block(blocks, topology, scratch.x, external, scratch)
+                .relative_residual,
+            1e-15);
   SolveOptions factorising;
   factorising.solver = factorising_solver();
   const Mat6 factorised = *solve(gough_stewart, factorising).end_effectors[0].compliance;
-  const Mat6 compliance = scratch.x.block<6, 6>(detail::deflection_column(topology.effector_ends[0]), 1);
-  EXPECT_LT((compliance - factorised).cwiseAbs().maxCoeff(), 1e-13 * factorised.cwiseAbs().maxCoeff());
+  const Mat6 compliance =
+      scratch.x.block<6, 6>(detail::deflection_column(topology.effector_ends[0]), 1);
+  EXPECT_LT((compliance - factorised).cwiseAbs().maxCoeff(),
+            1e-13 * factorised.cwiseAbs().maxCoeff());
 }
 
 TEST(TreeSolve, BranchedArmWithEveryKindOfTreeElementMatchesTheFactorisedSolve) {
@@ -140,7 +154,9 @@ Model propped_beam(int supports) {
   for (int i = 0; i <= 2 * (supports - 1); ++i) {
     const std::string point = "P" + std::to_string(i);
     m.add_point(point, Vec3(0.25 * i, 0.05 * (i % 3), 0));
-    if (i > 0) m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), point, kSteel, Section::tube(0.06, 0.004));
+    if (i > 0)
+      m.add_beam("L" + std::to_string(i), "P" + std::to_string(i - 1), point, kSteel,
+                 Section::tube(0.06, 0.004));
     if (i % 2 == 0) m.add_support("S" + std::to_string(i / 2), point, {}, Connection::rigid());
   }
   m.add_load("P1", "L1", stiffmsa::testing::wrench(0, 30, -400, 5, 0, 0));
@@ -164,28 +180,34 @@ TEST(TreeSolve, AScratchKeptBetweenSolvesChangesNoDigit) {
     detail::TreeOrder order = *detail::tree_order(topology);
     detail::Blocks blocks = detail::make_blocks(m, topology);
     detail::EndWrenches external = detail::load_cases(m, topology);
-    return Case{std::move(m), std::move(topology), std::move(order), std::move(blocks), std::move(external)};
+    return Case{std::move(m), std::move(topology), std::move(order), std::move(blocks),
+                std::move(external)};
   };
   Model one_effector = branched_arm();
   one_effector.end_effectors.pop_back();
   std::vector<Case> cases;
-  cases.push_back(make_case(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")));  // cut
-  cases.push_back(make_case(branched_arm()));  // no cut, 13 columns
-  cases.push_back(make_case(one_effector));    // no cut, 7 columns
+  cases.push_back(
+      make_case(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron.yaml")));  // cut
+  cases.push_back(make_case(branched_arm()));   // no cut, 13 columns
+  cases.push_back(make_case(one_effector));     // no cut, 7 columns
   cases.push_back(make_case(propped_beam(3)));  // cut
   detail::TreeScratch kept;
   for (int round = 0; round < 2; ++round)
     for (const Case& c : cases) {
       detail::TreeScratch fresh;
-      const auto fresh_cuts = detail::tree_solve(c.blocks, c.topology, c.order, c.external, 1e-12, fresh);
-      const auto kept_cuts = detail::tree_solve(c.blocks, c.topology, c.order, c.external, 1e-12, kept);
+      const auto fresh_cuts =
+          detail::tree_solve(c.blocks, c.topology, c.order, c.external, 1e-12, fresh);
+      const auto kept_cuts =
+          detail::tree_solve(c.blocks, c.topology, c.order, c.external, 1e-12, kept);
       ASSERT_TRUE(fresh_cuts && kept_cuts) << c.model.name;
       EXPECT_EQ(*kept_cuts, *fresh_cuts);
       ASSERT_EQ(kept.x.rows(), fresh.x.rows());
       ASSERT_EQ(kept.x.cols(), fresh.x.cols());
       EXPECT_TRUE((kept.x.array() == fresh.x.array()).all()) << c.model.name << " round " << round;
-      const detail::BlockCheck fresh_check = detail::check_block_by_block(c.blocks, c.topology, fresh.x, c.external, fresh);
-      const detail::BlockCheck kept_check = detail::check_block_by_block(c.blocks, c.topology, kept.x, c.external, kept);
+      const detail::BlockCheck fresh_check =
+          detail::check_block_by_block(c.blocks, c.topology, fresh.x, c.external, fresh);
+      const detail::BlockCheck kept_check =
+          detail::check_block_by_block(c.blocks, c.topology, kept.x, c.external, kept);
       EXPECT_EQ(kept_check.relative_residual, fresh_check.relative_residual);
       EXPECT_EQ(kept_check.nonzeros, fresh_check.nonzeros);
       EXPECT_EQ(kept_check.pattern, fresh_check.pattern);
@@ -228,7 +250,8 @@ TEST(TreeSolve, CutsLoopsThroughTheGroundAndFreeMotionsThere) {
   EXPECT_EQ(on_most.report.solver, stiffmsa::SolverUsed::tree_with_cuts);
   expect_same_results(on_most, solve(most, factorising), 1e-13);
   // Beyond kMostCutUnknowns, the sparse factorisation is the cheaper.
-  EXPECT_NE(solve(propped_beam(2 + detail::kMostCutUnknowns / 6)).report.solver, stiffmsa::SolverUsed::tree_with_cuts);
+  EXPECT_NE(solve(propped_beam(2 + detail::kMostCutUnknowns / 6)).report.solver,
+            stiffmsa::SolverUsed::tree_with_cuts);
 }
 
 TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
@@ -270,10 +293,12 @@ TEST(TreeSolve, LeavesOtherLoopsAndMechanismsToTheFactorisingSolve) {
 // Running sums are carried in two parts on trees at least kCompensatedFromDepth links deep, in
 // one part on shallower ones (a robot's few links), and both agree where both are exact enough.
 TEST(TreeSolve, RunningSumsInTwoPartsOnlyOnDeepTrees) {
-  Model chain = stiffmsa::testing::beam_chain(40, [](int i) { return Vec3(0.05 * i, 0.01 * (i % 2), 0); }, kSteel,
-                                    Section::tube(0.06, 0.004));
+  Model chain = stiffmsa::testing::beam_chain(
+      40, [](int i) { return Vec3(0.05 * i, 0.01 * (i % 2), 0); }, kSteel,
+      Section::tube(0.06, 0.004));
   chain.add_load("P40", std::nullopt, stiffmsa::testing::wrench(10, -200, 50, 3, 0, -1));
-  const Model robot = load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
+  const Model robot =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml");
   struct Case {
     const Model& model;
     int depth;
@@ -286,15 +311,16 @@ TEST(TreeSolve, RunningSumsInTwoPartsOnlyOnDeepTrees) {
     const detail::EndWrenches external = detail::load_cases(c.model, topology);
     auto solved = [&](int compensated_from_depth) {
       detail::TreeScratch scratch;
-      EXPECT_TRUE(detail::tree_solve(blocks, topology, order, external, 1e-12, scratch, detail::kMostCutUnknowns,
-                                     compensated_from_depth));
+      EXPECT_TRUE(detail::tree_solve(blocks, topology, order, external, 1e-12, scratch,
+                                     detail::kMostCutUnknowns, compensated_from_depth));
       return scratch.x;
     };
     const detail::RowMajorMatX by_default = solved(detail::kCompensatedFromDepth);
     const detail::RowMajorMatX two_parts = solved(0);
     const detail::RowMajorMatX one_part = solved(std::numeric_limits<int>::max());
     const bool deep = c.depth >= detail::kCompensatedFromDepth;
-    EXPECT_TRUE((by_default.array() == (deep ? two_parts : one_part).array()).all()) << c.model.name;
+    EXPECT_TRUE((by_default.array() == (deep ? two_parts : one_part).array()).all())
+        << c.model.name;
     // Deflections and wrenches apart, each against its own largest value in the load case.
     for (detail::Index column = 0; column < by_default.cols(); ++column)
       for (const detail::Index part : {detail::Index{0}, detail::Index{6}}) {
@@ -304,8 +330,8 @@ TEST(TreeSolve, RunningSumsInTwoPartsOnlyOnDeepTrees) {
             largest = std::max(largest, std::abs(two_parts(i, column)));
             difference = std::max(difference, std::abs(one_part(i, column) - two_parts(i, column)));
           }
-        EXPECT_LT(difference, 1e-14 * largest)
-            << c.model.name << ", load case " << column << (part == 0 ? ", deflections" : ", wrenches");
+        EXPECT_LT(difference, 1e-14 * largest) << c.model.name << ", load case " << column
+                                               << (part == 0 ? ", deflections" : ", wrenches");
       }
   }
 }
@@ -316,14 +342,17 @@ TEST(TreeSolve, TheOrderVisitsEveryGroupAfterTheOneTowardTheSupport) {
   const auto order = detail::tree_order(topology);
   ASSERT_TRUE(order);
   ASSERT_EQ(order->groups.size(), topology.groups.size());
-  EXPECT_EQ(topology.groups[static_cast<std::size_t>(order->root)].kind, detail::ConnectionGroup::Kind::support);
+  EXPECT_EQ(topology.groups[static_cast<std::size_t>(order->root)].kind,
+            detail::ConnectionGroup::Kind::support);
   std::vector<int> position(topology.groups.size(), -1);
-  for (std::size_t k = 0; k < order->groups.size(); ++k) position[static_cast<std::size_t>(order->groups[k])] = static_cast<int>(k);
+  for (std::size_t k = 0; k < order->groups.size(); ++k)
+    position[static_cast<std::size_t>(order->groups[k])] = static_cast<int>(k);
   for (std::size_t k = 1; k < order->groups.size(); ++k) {
     const int toward_root = order->toward_root[k];
     EXPECT_EQ(topology.group_of_end[static_cast<std::size_t>(toward_root)], order->groups[k]);
     // The link's other end is in a group visited before.
-    EXPECT_LT(position[static_cast<std::size_t>(topology.group_of_end[static_cast<std::size_t>(toward_root ^ 1)])],
+    EXPECT_LT(position[static_cast<std::size_t>(
+                  topology.group_of_end[static_cast<std::size_t>(toward_root ^ 1)])],
               static_cast<int>(k));
   }
 }
@@ -369,7 +398,8 @@ TEST_P(BlockCheck, SeesAWrongOrNonFiniteSolution) {
   ASSERT_TRUE(cut_unknowns);
   ASSERT_EQ(*cut_unknowns, 0);
   detail::RowMajorMatX x = scratch.x;
-  const detail::BlockCheck right = detail::check_block_by_block(blocks, topology, x, external, scratch);
+  const detail::BlockCheck right =
+      detail::check_block_by_block(blocks, topology, x, external, scratch);
   EXPECT_LT(right.relative_residual, 1e-15);
   // One deflection off by a hundredth of the largest unknown: above the default limit of the
   // relative residual, so the solve would be redone by factorising. (The ratio is normwise:
@@ -384,20 +414,29 @@ TEST_P(BlockCheck, SeesAWrongOrNonFiniteSolution) {
   for (const double bad : {std::nan(""), inf, -inf}) {
     detail::RowMajorMatX wrong = x;
     wrong(row, external.columns() - 1) = bad;
-    EXPECT_EQ(detail::check_block_by_block(blocks, topology, wrong, external, scratch).relative_residual, INFINITY) << bad;
+    EXPECT_EQ(
+        detail::check_block_by_block(blocks, topology, wrong, external, scratch).relative_residual,
+        INFINITY)
+        << bad;
   }
   // So does a coefficient or a right-hand side that is not finite.
   Model nan_spring = m;
   nan_spring.joints[1].connection.stiffness = MatX::Constant(1, 1, std::nan(""));
-  EXPECT_EQ(detail::check_block_by_block(detail::make_blocks(nan_spring, topology), topology, x, external, scratch).relative_residual,
+  EXPECT_EQ(detail::check_block_by_block(detail::make_blocks(nan_spring, topology), topology, x,
+                                         external, scratch)
+                .relative_residual,
             INFINITY);
   Model nan_preload = m;
   nan_preload.joints[1].connection.preload = VecX::Constant(1, std::nan(""));
-  EXPECT_EQ(detail::check_block_by_block(detail::make_blocks(nan_preload, topology), topology, x, external, scratch).relative_residual,
+  EXPECT_EQ(detail::check_block_by_block(detail::make_blocks(nan_preload, topology), topology, x,
+                                         external, scratch)
+                .relative_residual,
             INFINITY);
   Model inf_load = m;
   inf_load.loads[2].wrench(2) = -INFINITY;
-  EXPECT_EQ(detail::check_block_by_block(blocks, topology, x, detail::load_cases(inf_load, topology), scratch).relative_residual,
+  EXPECT_EQ(detail::check_block_by_block(blocks, topology, x,
+                                         detail::load_cases(inf_load, topology), scratch)
+                .relative_residual,
             INFINITY);
   // The fingerprint follows the positions written, not the numbers.
   EXPECT_EQ(right.pattern, detail::pattern_fingerprint(blocks));
@@ -409,5 +448,6 @@ TEST_P(BlockCheck, SeesAWrongOrNonFiniteSolution) {
   EXPECT_NE(detail::pattern_fingerprint(detail::make_blocks(rigid_elbow, topology)), right.pattern);
 }
 
-INSTANTIATE_TEST_SUITE_P(EndEffectors, BlockCheck, ::testing::Values(1, 2),
-                         [](const auto& info) { return std::to_string(info.param) + "_end_effectors"; });
+INSTANTIATE_TEST_SUITE_P(EndEffectors, BlockCheck, ::testing::Values(1, 2), [](const auto& info) {
+  return std::to_string(info.param) + "_end_effectors";
+});

@@ -5,10 +5,10 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <iterator>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <random>
 #include <sstream>
 #include <string>
@@ -37,7 +37,7 @@ struct TableJoint {
   Vec3 rpy;
   Vec3 axis;
   double stiffness = 0;
-  double mass = 0;  // of the child link
+  double mass = 0;          // of the child link
   Vec3 com = Vec3::Zero();  // in the child's frame
 };
 
@@ -71,7 +71,8 @@ std::string chain_urdf(const std::vector<TableJoint>& table, double base_mass = 
   u.precision(17);
   u << "<?xml version=\"1.0\"?>\n<robot name=\"chain\">\n";
   u << "  <link name=\"base\"><inertial><mass value=\"" << base_mass
-    << "\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\n";
+    << "\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" "
+       "izz=\"1\"/></inertial></link>\n";
   for (std::size_t i = 0; i < table.size(); ++i) {
     const TableJoint& j = table[i];
     u << "  <link name=\"link_" << i + 1 << "\">";
@@ -80,7 +81,8 @@ std::string chain_urdf(const std::vector<TableJoint>& table, double base_mass = 
         << "\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>";
     u << "</link>\n";
     u << "  <joint name=\"" << j.name << "\" type=\"" << kind_name(j.kind) << "\">\n"
-      << "    <parent link=\"" << (i == 0 ? std::string("base") : "link_" + std::to_string(i)) << "\"/>\n"
+      << "    <parent link=\"" << (i == 0 ? std::string("base") : "link_" + std::to_string(i))
+      << "\"/>\n"
       << "    <child link=\"link_" << i + 1 << "\"/>\n"
       << "    <origin xyz=\"" << vec(j.xyz) << "\" rpy=\"" << vec(j.rpy) << "\"/>\n"
       << "    <axis xyz=\"" << vec(j.axis) << "\"/>\n";
@@ -108,7 +110,8 @@ ChainFrames forward(const std::vector<TableJoint>& table, const std::vector<doub
     p = p + r * j.xyz;
     r = r * rpy_rotation(j.rpy);
     const Vec3 a = r * j.axis.normalized();
-    if (j.kind == Kind::revolute || j.kind == Kind::continuous) r = Eigen::AngleAxisd(q[i], a).toRotationMatrix() * r;
+    if (j.kind == Kind::revolute || j.kind == Kind::continuous)
+      r = Eigen::AngleAxisd(q[i], a).toRotationMatrix() * r;
     if (j.kind == Kind::prismatic) p = p + q[i] * a;
     k.rotation.push_back(r);
     k.origin.push_back(p);
@@ -137,7 +140,8 @@ Vjm vjm(const std::vector<TableJoint>& table, const ChainFrames& k, const Vec3& 
     columns.push_back(c);
     stiffness.push_back(table[i].stiffness);
   }
-  Vjm v{MatX(6, static_cast<Eigen::Index>(columns.size())), VecX(static_cast<Eigen::Index>(columns.size()))};
+  Vjm v{MatX(6, static_cast<Eigen::Index>(columns.size())),
+        VecX(static_cast<Eigen::Index>(columns.size()))};
   for (std::size_t c = 0; c < columns.size(); ++c) {
     v.jacobian.col(static_cast<Eigen::Index>(c)) = columns[c];
     v.stiffness(static_cast<Eigen::Index>(c)) = stiffness[c];
@@ -151,15 +155,18 @@ double relative_difference(const MatX& a, const MatX& b) { return (a - b).norm()
 std::vector<TableJoint> random_arm(std::mt19937& rng, bool with_prismatic) {
   std::uniform_real_distribution<double> u(-1, 1);
   std::uniform_real_distribution<double> k(1e5, 1e7);
-  const auto random_vec = [&](double scale) -> Vec3 { return Vec3(u(rng), u(rng), u(rng)) * scale; };
+  const auto random_vec = [&](double scale) -> Vec3 {
+    return Vec3(u(rng), u(rng), u(rng)) * scale;
+  };
   std::vector<TableJoint> table;
   for (int i = 0; i < 6; ++i) {
     Kind kind = i == 3 ? Kind::continuous : Kind::revolute;
     if (with_prismatic && i == 1) kind = Kind::prismatic;
-    table.push_back({"joint_" + std::to_string(i + 1), kind, random_vec(0.4) + Vec3(0, 0, 0.2), random_vec(3.0),
-                     random_vec(1.0) + Vec3(0.1, 0, 0), k(rng), 0, Vec3::Zero()});
+    table.push_back({"joint_" + std::to_string(i + 1), kind, random_vec(0.4) + Vec3(0, 0, 0.2),
+                     random_vec(3.0), random_vec(1.0) + Vec3(0.1, 0, 0), k(rng), 0, Vec3::Zero()});
   }
-  table.push_back({"tool_joint", Kind::fixed, Vec3(0.05, 0.02, 0.15), Vec3(0.3, -0.2, 0.1), Vec3::UnitX(), 0, 0, Vec3::Zero()});
+  table.push_back({"tool_joint", Kind::fixed, Vec3(0.05, 0.02, 0.15), Vec3(0.3, -0.2, 0.1),
+                   Vec3::UnitX(), 0, 0, Vec3::Zero()});
   return table;
 }
 
@@ -168,7 +175,8 @@ class UrdfRobot : public ::testing::Test {
   void SetUp() override {
     if (!STIFFMSA_HAVE_URDF) GTEST_SKIP() << "built without urdfdom";
     folder_ = fs::temp_directory_path() /
-              ("stiffmsa_urdf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+              ("stiffmsa_urdf_" +
+               std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(folder_);
   }
   void TearDown() override {
@@ -212,14 +220,17 @@ TEST_F(UrdfRobot, ComplianceAtRandomAnglesIsTheVirtualJointMethods) {
   for (int trial = 0; trial < 8; ++trial) {
     const auto table = random_arm(rng, trial % 2 == 1);
     std::vector<double> q;
-    for (std::size_t i = 0; i < table.size(); ++i) q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
+    for (std::size_t i = 0; i < table.size(); ++i)
+      q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
     write("arm.urdf", chain_urdf(table));
     const Vec3 offset(0.01, -0.03, 0.12);
     std::ostringstream yaml;
     yaml.precision(17);
-    yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << joints_block(table)
-         << "end_effectors:\n  flange: {frame: link_6, axes: frame}\n  tool: {frame: link_7, offset: [" << offset.x() << ", "
-         << offset.y() << ", " << offset.z() << "]}\n";
+    yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n"
+         << positions_block(table, q) << joints_block(table)
+         << "end_effectors:\n  flange: {frame: link_6, axes: frame}\n  tool: {frame: link_7, "
+            "offset: ["
+         << offset.x() << ", " << offset.y() << ", " << offset.z() << "]}\n";
     const Model model = load_model(write("arm.yaml", yaml.str()));
     const Result result = solve(model);
     const ChainFrames k = forward(table, q);
@@ -236,14 +247,16 @@ TEST_F(UrdfRobot, ComplianceAtRandomAnglesIsTheVirtualJointMethods) {
     const Vec3 tcp = k.origin[6] + k.rotation[6] * offset;
     for (const auto& [e, point] : {std::pair{0, flange}, std::pair{1, tcp}}) {
       const Vjm v = vjm(table, k, point);
-      const MatX expected = v.jacobian * v.stiffness.cwiseInverse().asDiagonal() * v.jacobian.transpose();
+      const MatX expected =
+          v.jacobian * v.stiffness.cwiseInverse().asDiagonal() * v.jacobian.transpose();
       ASSERT_TRUE(result.end_effectors[static_cast<std::size_t>(e)].compliance);
-      EXPECT_LT(relative_difference(*result.end_effectors[static_cast<std::size_t>(e)].compliance, expected), kExact)
+      EXPECT_LT(relative_difference(*result.end_effectors[static_cast<std::size_t>(e)].compliance,
+                                    expected),
+                kExact)
           << "trial " << trial << ", end effector " << e;
     }
   }
 }
-
 
 Mat6 random_spd(std::mt19937& rng, double scale) {
   std::uniform_real_distribution<double> u(-1, 1);
@@ -270,10 +283,12 @@ TEST_F(UrdfRobot, SixBySixJointCompliancesAddUpTransportedToTheToolFromEachJoint
   std::uniform_real_distribution<double> angle(-2.5, 2.5);
   const auto table = random_arm(rng, false);
   std::vector<double> q;
-  for (std::size_t i = 0; i < table.size(); ++i) q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
+  for (std::size_t i = 0; i < table.size(); ++i)
+    q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
   std::vector<Mat6> compliance;
   std::ostringstream yaml;
-  yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << "  joints:\n";
+  yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n"
+       << positions_block(table, q) << "  joints:\n";
   for (std::size_t i = 0; i < 6; ++i) {
     compliance.push_back(random_spd(rng, 1e-6));
     yaml << "    " << table[i].name << ": {compliance: " << matrix_text(compliance.back()) << "}\n";
@@ -305,14 +320,17 @@ TEST_F(UrdfRobot, SelfWeightDeflectsTheToolByTheJointTorquesOfTheLinkMasses) {
     j.com = Vec3(u(rng), u(rng), u(rng));
   }
   std::vector<double> q;
-  for (std::size_t i = 0; i < table.size(); ++i) q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
+  for (std::size_t i = 0; i < table.size(); ++i)
+    q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
   const Vec3 g(0.3, -0.2, -9.81);
   const Vec6 tool_load = stiffmsa::testing::wrench(100, -50, 200, 5, 0, -8);
   std::ostringstream yaml;
   yaml.precision(17);
-  yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << joints_block(table)
-       << "  gravity: [" << g.x() << ", " << g.y() << ", " << g.z() << "]\n"
-       << "end_effectors:\n  tool: {frame: link_7}\nloads:\n  - {frame: link_7, wrench: [100, -50, 200, 5, 0, -8]}\n";
+  yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n"
+       << positions_block(table, q) << joints_block(table) << "  gravity: [" << g.x() << ", "
+       << g.y() << ", " << g.z() << "]\n"
+       << "end_effectors:\n  tool: {frame: link_7}\nloads:\n  - {frame: link_7, wrench: [100, -50, "
+          "200, 5, 0, -8]}\n";
   write("arm.urdf", chain_urdf(table, 1000.0));  // the base's mass goes to the support
   const Result result = solve(load_model(write("arm.yaml", yaml.str())));
   const ChainFrames k = forward(table, q);
@@ -326,18 +344,21 @@ TEST_F(UrdfRobot, SelfWeightDeflectsTheToolByTheJointTorquesOfTheLinkMasses) {
     for (std::size_t b = i; b < table.size(); ++b) {
       const Vec3 weight = table[b].mass * g;
       const Vec3 centre = k.origin[b] + k.rotation[b] * table[b].com;
-      torque(column) += table[i].kind == Kind::prismatic ? k.axis[i].dot(weight)
-                                                         : k.axis[i].dot((centre - k.origin[i]).cross(weight));
+      torque(column) += table[i].kind == Kind::prismatic
+                            ? k.axis[i].dot(weight)
+                            : k.axis[i].dot((centre - k.origin[i]).cross(weight));
     }
     ++column;
   }
   const Vec6 expected_gravity = v.jacobian * (torque.array() / v.stiffness.array()).matrix();
-  const MatX compliance = v.jacobian * v.stiffness.cwiseInverse().asDiagonal() * v.jacobian.transpose();
+  const MatX compliance =
+      v.jacobian * v.stiffness.cwiseInverse().asDiagonal() * v.jacobian.transpose();
   const Vec6 expected_total = expected_gravity + compliance * tool_load;
   const auto& tool_result = result.end_effectors[0];
   ASSERT_TRUE(tool_result.deflection_gravity);
   ASSERT_TRUE(tool_result.deflection);
-  EXPECT_LT((*tool_result.deflection_gravity - expected_gravity).norm(), kExact * expected_gravity.norm());
+  EXPECT_LT((*tool_result.deflection_gravity - expected_gravity).norm(),
+            kExact * expected_gravity.norm());
   EXPECT_LT((*tool_result.deflection - expected_total).norm(), kExact * expected_total.norm());
 }
 
@@ -348,20 +369,25 @@ TEST_F(UrdfRobot, TheSameRobotWrittenByHandGivesTheSameNumbers) {
   std::uniform_real_distribution<double> angle(-2.5, 2.5);
   const auto table = random_arm(rng, false);
   std::vector<double> q;
-  for (std::size_t i = 0; i < table.size(); ++i) q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
+  for (std::size_t i = 0; i < table.size(); ++i)
+    q.push_back(table[i].kind == Kind::fixed ? 0.0 : angle(rng));
   const Material steel{2.1e11, 0.3, std::nullopt};
   const Section tube = Section::tube(0.08, 0.006);
   std::ostringstream yaml;
-  yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << joints_block(table)
-       << "  links:\n    link_2: {material: {E: 2.1e11, nu: 0.3}, section: {shape: tube, D: 0.08, t: 0.006}}\n"
-       << "end_effectors:\n  tool: {frame: link_7}\nloads:\n  - {frame: link_7, wrench: [10, 20, -300, 4, 5, 6]}\n";
+  yaml << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n"
+       << positions_block(table, q) << joints_block(table)
+       << "  links:\n    link_2: {material: {E: 2.1e11, nu: 0.3}, section: {shape: tube, D: 0.08, "
+          "t: 0.006}}\n"
+       << "end_effectors:\n  tool: {frame: link_7}\nloads:\n  - {frame: link_7, wrench: [10, 20, "
+          "-300, 4, 5, 6]}\n";
   write("arm.urdf", chain_urdf(table));
   const Result from_urdf = solve(load_model(write("arm.yaml", yaml.str())));
 
   const ChainFrames k = forward(table, q);
   Model hand;
   hand.add_point("p0", Vec3::Zero());
-  for (std::size_t i = 0; i < table.size(); ++i) hand.add_point("p" + std::to_string(i + 1), k.origin[i]);
+  for (std::size_t i = 0; i < table.size(); ++i)
+    hand.add_point("p" + std::to_string(i + 1), k.origin[i]);
   hand.add_point("tip", k.origin[6]);
   for (std::size_t i = 0; i <= table.size(); ++i) {
     const std::string from = "p" + std::to_string(i);
@@ -377,14 +403,17 @@ TEST_F(UrdfRobot, TheSameRobotWrittenByHandGivesTheSameNumbers) {
       c.kinematics = Kinematics::revolute(k.axis[i]);
       c.stiffness = MatX::Constant(1, 1, table[i].stiffness);
     }
-    hand.add_joint("j" + std::to_string(i), "p" + std::to_string(i + 1), {"l" + std::to_string(i), "l" + std::to_string(i + 1)}, c);
+    hand.add_joint("j" + std::to_string(i), "p" + std::to_string(i + 1),
+                   {"l" + std::to_string(i), "l" + std::to_string(i + 1)}, c);
   }
   hand.add_support("ground", "p0", {}, Connection::rigid());
   hand.add_load("tip", std::nullopt, stiffmsa::testing::wrench(10, 20, -300, 4, 5, 6));
   hand.add_end_effector("tool", "tip");
   const Result by_hand = solve(hand);
   ASSERT_TRUE(from_urdf.end_effectors[0].compliance && by_hand.end_effectors[0].compliance);
-  EXPECT_LT(relative_difference(*from_urdf.end_effectors[0].compliance, *by_hand.end_effectors[0].compliance), 1e-12);
+  EXPECT_LT(relative_difference(*from_urdf.end_effectors[0].compliance,
+                                *by_hand.end_effectors[0].compliance),
+            1e-12);
   EXPECT_LT((*from_urdf.end_effectors[0].deflection - *by_hand.end_effectors[0].deflection).norm(),
             1e-12 * by_hand.end_effectors[0].deflection->norm());
 }
@@ -396,11 +425,13 @@ TEST_F(UrdfRobot, JointSpaceMembersAreTheRobotAtThoseAngles) {
   const auto table = random_arm(rng, false);
   write("arm.urdf", chain_urdf(table));
   std::ostringstream yaml;
-  yaml << "format: stiffmsa/1\nparameters:\n  q2: 0.3\n  q3: {default: 1.1, unit: rad}\nrobot:\n  urdf: arm.urdf\n"
-       << "  positions: {joint_2: q2, joint_3: q3, joint_5: \"q2 - q3\"}\n" << joints_block(table)
-       << "end_effectors:\n  tool: {frame: link_7, offset: [0, 0, 0.1]}\n";
+  yaml << "format: stiffmsa/1\nparameters:\n  q2: 0.3\n  q3: {default: 1.1, unit: rad}\nrobot:\n  "
+          "urdf: arm.urdf\n"
+       << "  positions: {joint_2: q2, joint_3: q3, joint_5: \"q2 - q3\"}\n"
+       << joints_block(table) << "end_effectors:\n  tool: {frame: link_7, offset: [0, 0, 0.1]}\n";
   const ModelFamily family = load_model_family(write("arm.yaml", yaml.str()));
-  for (const auto& [q2, q3] : {std::pair{0.3, 1.1}, std::pair{-1.0, 0.2}, std::pair{0.7, 2.4}, std::pair{-0.2, -0.9}}) {
+  for (const auto& [q2, q3] :
+       {std::pair{0.3, 1.1}, std::pair{-1.0, 0.2}, std::pair{0.7, 2.4}, std::pair{-0.2, -0.9}}) {
     const std::vector<double> values{q2, q3};
     const Model member = family.build(values);
     const Result posed = solve(member);
@@ -410,14 +441,16 @@ TEST_F(UrdfRobot, JointSpaceMembersAreTheRobotAtThoseAngles) {
     q[4] = q2 - q3;
     std::ostringstream plain;
     plain.precision(17);
-    plain << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n" << positions_block(table, q) << joints_block(table)
+    plain << "format: stiffmsa/1\nrobot:\n  urdf: arm.urdf\n"
+          << positions_block(table, q) << joints_block(table)
           << "end_effectors:\n  tool: {frame: link_7, offset: [0, 0, 0.1]}\n";
     const Result expected = solve(load_model(write("plain.yaml", plain.str())));
-    EXPECT_LT(relative_difference(*posed.end_effectors[0].compliance, *expected.end_effectors[0].compliance), 1e-13)
+    EXPECT_LT(relative_difference(*posed.end_effectors[0].compliance,
+                                  *expected.end_effectors[0].compliance),
+              1e-13)
         << "q2 = " << q2 << ", q3 = " << q3;
   }
 }
-
 
 // ---- expand -------------------------------------------------------------------------------
 
@@ -431,19 +464,24 @@ TEST_F(UrdfRobot, TheExpandedModelSolvesToTheSameNumbers) {
   write("arm.urdf", chain_urdf(table));
   std::ostringstream yaml;
   yaml << "format: stiffmsa/1\nparameters:\n  q2: 0.3\nrobot:\n  urdf: arm.urdf\n"
-       << "  positions: {joint_1: 0.4, joint_2: q2, joint_3: -0.7, joint_5: 1.2}\n" << joints_block(table)
-       << "  links:\n    link_3: {material: {E: 7e10, nu: 0.33}, section: {shape: rect, b: 0.05, h: 0.08}}\n"
+       << "  positions: {joint_1: 0.4, joint_2: q2, joint_3: -0.7, joint_5: 1.2}\n"
+       << joints_block(table)
+       << "  links:\n    link_3: {material: {E: 7e10, nu: 0.33}, section: {shape: rect, b: 0.05, "
+          "h: 0.08}}\n"
        << "  gravity: [0, 0, -9.81]\n"
        << "end_effectors:\n  tool: {frame: link_7, offset: [0.01, 0, 0.1]}\n"
-       << "loads:\n  - {frame: link_7, offset: [0.01, 0, 0.1], axes: frame, wrench: [0, 0, -100, 0, 0, 3]}\n";
+       << "loads:\n  - {frame: link_7, offset: [0.01, 0, 0.1], axes: frame, wrench: [0, 0, -100, "
+          "0, 0, 3]}\n";
   const ModelFamily family = load_model_family(write("arm.yaml", yaml.str()), {}, {{"q2", -0.4}});
   const Model model = family.build(family.default_values());
   const Result direct = solve(model);
   const Result expanded = solve(parse_model(model_to_yaml(model), "expanded.yaml"));
-  ASSERT_TRUE(direct.end_effectors[0].deflection_gravity && expanded.end_effectors[0].deflection_gravity);
+  ASSERT_TRUE(direct.end_effectors[0].deflection_gravity &&
+              expanded.end_effectors[0].deflection_gravity);
   EXPECT_EQ(*direct.end_effectors[0].compliance, *expanded.end_effectors[0].compliance);
   EXPECT_EQ(*direct.end_effectors[0].deflection, *expanded.end_effectors[0].deflection);
-  EXPECT_EQ(*direct.end_effectors[0].deflection_gravity, *expanded.end_effectors[0].deflection_gravity);
+  EXPECT_EQ(*direct.end_effectors[0].deflection_gravity,
+            *expanded.end_effectors[0].deflection_gravity);
 }
 
 // ---- errors ---------------------------------------------------------------------------------
@@ -463,10 +501,11 @@ void expect_defect(const std::function<void()>& load, const Expected& expected) 
   } catch (const InputError& e) {
     bool found = false;
     for (const Diagnostic& d : e.diagnostics())
-      found = found || (d.location.file.ends_with(expected.file) && d.location.line == expected.line &&
-                        d.key_path == expected.key && d.message.find(expected.says) != std::string::npos);
-    EXPECT_TRUE(found) << "expected " << expected.file << ":" << expected.line << ": " << expected.key << ": ..."
-                       << expected.says << "...\ngot: " << e.what();
+      found = found ||
+              (d.location.file.ends_with(expected.file) && d.location.line == expected.line &&
+               d.key_path == expected.key && d.message.find(expected.says) != std::string::npos);
+    EXPECT_TRUE(found) << "expected " << expected.file << ":" << expected.line << ": "
+                       << expected.key << ": ..." << expected.says << "...\ngot: " << e.what();
   }
 }
 
@@ -480,7 +519,8 @@ class UrdfErrors : public UrdfRobot {
     write("arm.urdf", chain_urdf(table_));
   }
   // The arm's model file with `extra` lines in its robot block and `rest` after it.
-  Model load(const std::string& robot, const std::string& rest = "end_effectors:\n  tool: {frame: link_7}\n") {
+  Model load(const std::string& robot,
+             const std::string& rest = "end_effectors:\n  tool: {frame: link_7}\n") {
     return load_model(write("arm.yaml", "format: stiffmsa/1\nrobot:\n" + robot + rest));
   }
   std::vector<TableJoint> table_;
@@ -488,58 +528,100 @@ class UrdfErrors : public UrdfRobot {
 
 TEST_F(UrdfErrors, AMissingUrdfFileIsNamedAtTheUrdfKey) {
   expect_defect([&] { load("  urdf: no-such.urdf\n  default_joint: {stiffness: 1e6}\n"); },
-                {"arm.yaml", 3, "robot.urdf", "the URDF file '" + (folder_ / "no-such.urdf").string() + "' does not exist"});
+                {"arm.yaml", 3, "robot.urdf",
+                 "the URDF file '" + (folder_ / "no-such.urdf").string() + "' does not exist"});
 }
 
 TEST_F(UrdfErrors, AJointNotInTheUrdfGetsTheNearestName) {
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  joints:\n    joint_22: {stiffness: 1e6}\n"); },
-                {"arm.yaml", 6, "robot.joints.joint_22", "no joint named 'joint_22' in arm.urdf; did you mean 'joint_2'?"});
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  positions: {jiont_3: 0.5}\n"); },
-                {"arm.yaml", 5, "robot.positions.jiont_3", "did you mean 'joint_3'?"});
+  expect_defect(
+      [&] {
+        load(
+            "  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  joints:\n    joint_22: "
+            "{stiffness: 1e6}\n");
+      },
+      {"arm.yaml", 6, "robot.joints.joint_22",
+       "no joint named 'joint_22' in arm.urdf; did you mean 'joint_2'?"});
+  expect_defect(
+      [&] {
+        load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  positions: {jiont_3: 0.5}\n");
+      },
+      {"arm.yaml", 5, "robot.positions.jiont_3", "did you mean 'joint_3'?"});
 }
 
 TEST_F(UrdfErrors, AJointWithoutStiffnessIsAnErrorWithoutADefault) {
   expect_defect([&] { load("  urdf: arm.urdf\n  joints:\n    joint_1: {stiffness: 1e6}\n"); },
-                {"arm.yaml", 4, "robot.joints", "the revolute joint 'joint_2' of arm.urdf (line 13) has no stiffness"});
+                {"arm.yaml", 4, "robot.joints",
+                 "the revolute joint 'joint_2' of arm.urdf (line 13) has no stiffness"});
 }
 
 TEST_F(UrdfErrors, APositionOutOfItsLimitsIsAWarningWithTheLimits) {
-  const Model model = load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  positions: {joint_2: 3.5}\n");
+  const Model model =
+      load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  positions: {joint_2: 3.5}\n");
   ASSERT_EQ(model.warnings.size(), 1u);
   EXPECT_EQ(model.warnings[0].location.line, 5);
   EXPECT_EQ(model.warnings[0].key_path, "robot.positions.joint_2");
-  EXPECT_NE(model.warnings[0].message.find("outside its limits [-3, 3] rad"), std::string::npos) << model.warnings[0].message;
+  EXPECT_NE(model.warnings[0].message.find("outside its limits [-3, 3] rad"), std::string::npos)
+      << model.warnings[0].message;
   const Result result = solve(model);
   ASSERT_FALSE(result.report.warnings.empty());
   EXPECT_NE(result.report.warnings[0].find("joint_2"), std::string::npos);
 }
 
 TEST_F(UrdfErrors, AFrameThatDoesNotExistGetsTheNearestName) {
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n", "end_effectors:\n  tool: {frame: link_8}\n"); },
-                {"arm.yaml", 6, "end_effectors.tool.frame", "no frame (URDF link) named 'link_8' in arm.urdf; did you mean"});
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  base: basse\n"); },
-                {"arm.yaml", 5, "robot.base", "no link named 'basse' in arm.urdf; did you mean 'base'?"});
+  expect_defect(
+      [&] {
+        load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n",
+             "end_effectors:\n  tool: {frame: link_8}\n");
+      },
+      {"arm.yaml", 6, "end_effectors.tool.frame",
+       "no frame (URDF link) named 'link_8' in arm.urdf; did you mean"});
+  expect_defect(
+      [&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  base: basse\n"); },
+      {"arm.yaml", 5, "robot.base", "no link named 'basse' in arm.urdf; did you mean 'base'?"});
 }
 
 TEST_F(UrdfErrors, AnOffsetNeedsAFrameAtTheEndOfTheChain) {
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n", "end_effectors:\n  tool: {frame: link_3, offset: [0, 0, 1]}\n"); },
-                {"arm.yaml", 6, "end_effectors.tool.frame", "an offset needs a frame at the end of a chain"});
+  expect_defect(
+      [&] {
+        load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n",
+             "end_effectors:\n  tool: {frame: link_3, offset: [0, 0, 1]}\n");
+      },
+      {"arm.yaml", 6, "end_effectors.tool.frame", "an offset needs a frame at the end of a chain"});
 }
 
 TEST_F(UrdfErrors, AJointComplianceMustBeSymmetricPositiveDefinite) {
   Mat6 c = Mat6::Identity() * 1e-6;
   c(2, 2) = -1e-7;
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  joints:\n    joint_1: {compliance: " + matrix_text(c) + "}\n"); },
-                {"arm.yaml", 6, "robot.joints.joint_1.compliance", "the compliance is not positive definite"});
+  expect_defect(
+      [&] {
+        load(
+            "  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  joints:\n    joint_1: "
+            "{compliance: " +
+            matrix_text(c) + "}\n");
+      },
+      {"arm.yaml", 6, "robot.joints.joint_1.compliance",
+       "the compliance is not positive definite"});
   c = Mat6::Identity() * 1e-6;
   c(0, 1) = 1e-8;
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  joints:\n    joint_1: {compliance: " + matrix_text(c) + "}\n"); },
-                {"arm.yaml", 6, "robot.joints.joint_1.compliance", "the compliance is not symmetric"});
+  expect_defect(
+      [&] {
+        load(
+            "  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  joints:\n    joint_1: "
+            "{compliance: " +
+            matrix_text(c) + "}\n");
+      },
+      {"arm.yaml", 6, "robot.joints.joint_1.compliance", "the compliance is not symmetric"});
 }
 
 TEST_F(UrdfErrors, AFlexibleLinkNeedsOneChildJoint) {
-  expect_defect([&] { load("  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  links:\n    link_7: {material: {E: 2e11, nu: 0.3}, section: {shape: circle, D: 0.05}}\n"); },
-                {"arm.yaml", 6, "robot.links.link_7", "link 'link_7' has 0 child joints: a flexible link runs from its frame's origin"});
+  expect_defect(
+      [&] {
+        load(
+            "  urdf: arm.urdf\n  default_joint: {stiffness: 1e6}\n  links:\n    link_7: {material: "
+            "{E: 2e11, nu: 0.3}, section: {shape: circle, D: 0.05}}\n");
+      },
+      {"arm.yaml", 6, "robot.links.link_7",
+       "link 'link_7' has 0 child joints: a flexible link runs from its frame's origin"});
 }
 
 // The robot's weights come first among the model's loads; a message about the file's own load
@@ -550,40 +632,69 @@ TEST_F(UrdfErrors, ALoadBesideTheWeightsKeepsItsKeyPath) {
           for (auto& j : heavy) j.mass = 2;
           return heavy;
         }()));
-  expect_defect([&] {
-    load_model(write("arm.yaml", "format: stiffmsa/1\nrobot:\n  urdf: heavy.urdf\n  default_joint: {stiffness: 1e6}\n"
-                                 "  gravity: [0, 0, -9.81]\nloads:\n  - {at: nowhere, wrench: [1, 0, 0, 0, 0, 0]}\n"));
-  }, {"arm.yaml", 7, "loads[0].at", "no point named 'nowhere'"});
+  expect_defect(
+      [&] {
+        load_model(write(
+            "arm.yaml",
+            "format: stiffmsa/1\nrobot:\n  urdf: heavy.urdf\n  default_joint: {stiffness: 1e6}\n"
+            "  gravity: [0, 0, -9.81]\nloads:\n  - {at: nowhere, wrench: [1, 0, 0, 0, 0, 0]}\n"));
+      },
+      {"arm.yaml", 7, "loads[0].at", "no point named 'nowhere'"});
 }
 
 // The URDF's own defects are told at their line in the URDF.
 TEST_F(UrdfErrors, UrdfJointsStiffmsaCannotModelAreNamedAtTheirLine) {
   const std::string robot = "  urdf: bad.urdf\n  default_joint: {stiffness: 1e6}\n";
-  const std::string head = "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n  <link name=\"a\"/>\n  <link name=\"b\"/>\n  <link name=\"c\"/>\n";
-  write("bad.urdf", head + "  <joint name=\"free\" type=\"floating\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
-                           "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/></joint>\n</robot>\n");
-  expect_defect([&] { load(robot, ""); }, {"bad.urdf", 6, "robot.urdf", "joint 'free' is floating"});
-  write("bad.urdf", head + "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>"
-                           "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n"
-                           "  <joint name=\"j2\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/><mimic joint=\"j1\"/>"
-                           "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n</robot>\n");
-  expect_defect([&] { load(robot, ""); }, {"bad.urdf", 7, "robot.urdf", "joint 'j2' mimics another joint"});
-  write("bad.urdf", head + "  <joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/><child link=\"c\"/></joint>\n"
-                           "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/></joint>\n</robot>\n");
-  expect_defect([&] { load(robot, ""); }, {"bad.urdf", 7, "robot.urdf", "the URDF is not a tree: link 'c' is the child of joint 'j1'"});
-  write("bad.urdf", head + "  <joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/><child link=\"d\"/></joint>\n</robot>\n");
-  expect_defect([&] { load(robot, ""); }, {"bad.urdf", 6, "robot.urdf", "its child link 'd' is not in the URDF"});
+  const std::string head =
+      "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n  <link name=\"a\"/>\n  <link name=\"b\"/>\n  "
+      "<link name=\"c\"/>\n";
+  write("bad.urdf", head +
+                        "  <joint name=\"free\" type=\"floating\"><parent link=\"a\"/><child "
+                        "link=\"b\"/></joint>\n"
+                        "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child "
+                        "link=\"c\"/></joint>\n</robot>\n");
+  expect_defect([&] { load(robot, ""); },
+                {"bad.urdf", 6, "robot.urdf", "joint 'free' is floating"});
+  write("bad.urdf",
+        head +
+            "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>"
+            "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n"
+            "  <joint name=\"j2\" type=\"revolute\"><parent link=\"b\"/><child link=\"c\"/><mimic "
+            "joint=\"j1\"/>"
+            "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>\n</robot>\n");
+  expect_defect([&] { load(robot, ""); },
+                {"bad.urdf", 7, "robot.urdf", "joint 'j2' mimics another joint"});
+  write("bad.urdf",
+        head +
+            "  <joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/><child link=\"c\"/></joint>\n"
+            "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child "
+            "link=\"c\"/></joint>\n</robot>\n");
+  expect_defect(
+      [&] { load(robot, ""); },
+      {"bad.urdf", 7, "robot.urdf", "the URDF is not a tree: link 'c' is the child of joint 'j1'"});
+  write("bad.urdf", head +
+                        "  <joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/><child "
+                        "link=\"d\"/></joint>\n</robot>\n");
+  expect_defect([&] { load(robot, ""); },
+                {"bad.urdf", 6, "robot.urdf", "its child link 'd' is not in the URDF"});
   write("bad.urdf", head + "  <joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/>\n</robot>\n");
-  expect_defect([&] { load(robot, ""); }, {"bad.urdf", 7, "robot.urdf", "the URDF is not well-formed XML"});
-  write("bad.urdf", head + "  <joint name=\"j1\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 0\"/></joint>\n"
-                           "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/></joint>\n</robot>\n");
+  expect_defect([&] { load(robot, ""); },
+                {"bad.urdf", 7, "robot.urdf", "the URDF is not well-formed XML"});
+  write("bad.urdf", head +
+                        "  <joint name=\"j1\" type=\"continuous\"><parent link=\"a\"/><child "
+                        "link=\"b\"/><axis xyz=\"0 0 0\"/></joint>\n"
+                        "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child "
+                        "link=\"c\"/></joint>\n</robot>\n");
   expect_defect([&] { load(robot, ""); }, {"bad.urdf", 6, "robot.urdf", "axis is a zero vector"});
-  write("bad.urdf", head + "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
-                           "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"c\"/></joint>\n</robot>\n");
+  write(
+      "bad.urdf",
+      head +
+          "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint>\n"
+          "  <joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child "
+          "link=\"c\"/></joint>\n</robot>\n");
   // urdfdom's own check, placed at the joint it names.
   expect_defect([&] { load(robot, ""); }, {"bad.urdf", 6, "robot.urdf", "urdfdom: "});
 }
-
 
 // ---- the examples -----------------------------------------------------------------------------
 
@@ -619,8 +730,10 @@ TEST_F(UrdfRobot, AToolCentrePointExtendsTheLinkThatEndsAtItsFrame) {
 
   const Result a = solve(folded), b = solve(apart);
   ASSERT_TRUE(a.end_effectors.at(0).compliance && b.end_effectors.at(0).compliance);
-  EXPECT_LT(relative_difference(*a.end_effectors[0].compliance, *b.end_effectors[0].compliance), 1e-12);
-  EXPECT_LT(relative_difference(*a.end_effectors[0].deflection, *b.end_effectors[0].deflection), 1e-12);
+  EXPECT_LT(relative_difference(*a.end_effectors[0].compliance, *b.end_effectors[0].compliance),
+            1e-12);
+  EXPECT_LT(relative_difference(*a.end_effectors[0].deflection, *b.end_effectors[0].deflection),
+            1e-12);
 }
 
 TEST_F(UrdfRobot, TheRobotExamplesSolveCleanly) {
@@ -645,7 +758,6 @@ TEST_F(UrdfRobot, TheSevenAxisArmsPayloadAddsItsComplianceTimesTheLoadToTheSag) 
   EXPECT_GT(tcp.deflection_gravity->head<3>().norm(), 1e-5);  // the sag is the larger part here
 }
 
-
 // Where an expression of the robot block goes through forward kinematics (gravity times the
 // masses here), each member is read afresh: still the robot at those values.
 TEST_F(UrdfRobot, AnExpressionForwardKinematicsTransformsStillGivesEachMember) {
@@ -655,18 +767,22 @@ TEST_F(UrdfRobot, AnExpressionForwardKinematicsTransformsStillGivesEachMember) {
   write("arm.urdf", chain_urdf(table));
   std::ostringstream yaml;
   yaml << "format: stiffmsa/1\nparameters:\n  g: 9.81\n  q2: 0.5\nrobot:\n  urdf: arm.urdf\n"
-       << "  positions: {joint_2: q2}\n" << joints_block(table) << "  gravity: [0, 0, -g]\n"
+       << "  positions: {joint_2: q2}\n"
+       << joints_block(table) << "  gravity: [0, 0, -g]\n"
        << "end_effectors:\n  tool: {frame: link_7}\n";
   const ModelFamily family = load_model_family(write("arm.yaml", yaml.str()));
-  const Vec6 earth = *solve(family.build(std::vector<double>{9.81, 0.5})).end_effectors[0].deflection_gravity;
-  const Vec6 moon = *solve(family.build(std::vector<double>{1.62, 0.5})).end_effectors[0].deflection_gravity;
+  const Vec6 earth =
+      *solve(family.build(std::vector<double>{9.81, 0.5})).end_effectors[0].deflection_gravity;
+  const Vec6 moon =
+      *solve(family.build(std::vector<double>{1.62, 0.5})).end_effectors[0].deflection_gravity;
   EXPECT_LT((moon - earth * (1.62 / 9.81)).norm(), 1e-12 * moon.norm());
 }
 
 TEST_F(UrdfRobot, TheExpandCommandWritesAModelThatSolvesToTheSameNumbers) {
   const std::string robot = std::string(STIFFMSA_SOURCE_DIR) + "/examples/robots/six-axis.yaml";
   const fs::path out = folder_ / "expanded.yaml";
-  const std::string command = std::string(STIFFMSA_CLI) + " expand " + robot + " --set q3=-0.5 -o " + out.string();
+  const std::string command =
+      std::string(STIFFMSA_CLI) + " expand " + robot + " --set q3=-0.5 -o " + out.string();
   ASSERT_EQ(std::system(command.c_str()), 0);
   const ModelFamily family = load_model_family(robot, {}, {{"q3", -0.5}});
   const Result direct = solve(family.build(family.default_values()));
@@ -675,7 +791,8 @@ TEST_F(UrdfRobot, TheExpandCommandWritesAModelThatSolvesToTheSameNumbers) {
   EXPECT_EQ(*direct.end_effectors[0].deflection, *expanded.end_effectors[0].deflection);
   // The expanded model is the robot's, not the file's own text again.
   std::ifstream text(out);
-  const std::string written((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  const std::string written((std::istreambuf_iterator<char>(text)),
+                            std::istreambuf_iterator<char>());
   EXPECT_EQ(written.find("robot:"), std::string::npos);
   EXPECT_NE(written.find("\"joint_3\": {type: revolute"), std::string::npos);
 }

@@ -34,7 +34,8 @@ struct Cantilever {
   Cantilever() {
     model.add_point("O", Vec3::Zero());
     model.add_point("E", kLength * e);
-    model.add_beam("rod", "O", "E", Material{kYoungs, kPoisson, std::nullopt}, Section::circle(kDiameter));
+    model.add_beam("rod", "O", "E", Material{kYoungs, kPoisson, std::nullopt},
+                   Section::circle(kDiameter));
     model.add_support("clamp", "O", {}, Connection::rigid());
     Vec6 wrench;
     wrench << kTransverseForce * n + kAxialForce * e, kTorque * e;
@@ -66,11 +67,13 @@ TEST(DeformedShape, BeamFollowsTheCantileverClosedFormAlongItsLength) {
   ASSERT_TRUE(rod.from.deflection && rod.to.deflection);
   const CentreLineMotion tip = closed_form(c, kLength);
   for (const double xi : {0.0, 0.1, 0.3, 0.5, 0.77, 1.0}) {
-    const CentreLineMotion drawn = centre_line_motion(true, Vec3::Zero(), kLength * c.e, *rod.from.deflection,
-                                                      *rod.to.deflection, xi);
+    const CentreLineMotion drawn = centre_line_motion(true, Vec3::Zero(), kLength * c.e,
+                                                      *rod.from.deflection, *rod.to.deflection, xi);
     const CentreLineMotion expected = closed_form(c, xi * kLength);
-    EXPECT_LT((drawn.displacement - expected.displacement).norm(), 1e-9 * tip.displacement.norm()) << "xi " << xi;
-    EXPECT_LT((drawn.rotation - expected.rotation).norm(), 1e-9 * tip.rotation.norm()) << "xi " << xi;
+    EXPECT_LT((drawn.displacement - expected.displacement).norm(), 1e-9 * tip.displacement.norm())
+        << "xi " << xi;
+    EXPECT_LT((drawn.rotation - expected.rotation).norm(), 1e-9 * tip.rotation.norm())
+        << "xi " << xi;
   }
 }
 
@@ -78,7 +81,8 @@ TEST(DeformedShape, ChordIsTheLinearInterpolationOfTheEnds) {
   Vec6 from, to;
   from << 1, 2, 3, 0.1, 0.2, 0.3;
   to << -4, 5, 6, 0.4, -0.5, 0.6;
-  const CentreLineMotion middle = centre_line_motion(false, Vec3::Zero(), Vec3(1, 0, 0), from, to, 0.25);
+  const CentreLineMotion middle =
+      centre_line_motion(false, Vec3::Zero(), Vec3(1, 0, 0), from, to, 0.25);
   EXPECT_EQ(middle.displacement, Vec3(-0.25, 2.75, 3.75));
   EXPECT_LT((middle.rotation - Vec3(0.175, 0.025, 0.375)).norm(), 1e-15);
 }
@@ -101,7 +105,8 @@ TEST(PrincipalAxes, DiagonalisesTheBlockWithStiffnessItsInverse) {
   block << 4, 1, 0, 1, 3, 0, 0, 0, 1e-30;  // z rigidly held
   const PrincipalAxes axes = principal_axes(block);
   for (int k = 0; k < 3; ++k)
-    EXPECT_LT((block * axes.directions.col(k) - axes.compliance(k) * axes.directions.col(k)).norm(), 1e-14);
+    EXPECT_LT((block * axes.directions.col(k) - axes.compliance(k) * axes.directions.col(k)).norm(),
+              1e-14);
   EXPECT_TRUE(std::isinf(axes.stiffness(0)));
   EXPECT_NEAR(axes.stiffness(1), 1 / (3.5 - std::sqrt(1.25)), 1e-15);
   EXPECT_NEAR(axes.stiffness(2), 1 / (3.5 + std::sqrt(1.25)), 1e-15);
@@ -131,7 +136,8 @@ TEST(ModelView, HostileNamesStayDataAndCloseNoScriptBlock) {
   EXPECT_NE(page.find("\\u003cimg src=x onerror=alert(1)\\u003e"), std::string::npos);
   // The data block and the three scripts, and no other script element.
   std::size_t opened = 0;
-  for (auto at = page.find("<script"); at != std::string::npos; at = page.find("<script", at + 1)) ++opened;
+  for (auto at = page.find("<script"); at != std::string::npos; at = page.find("<script", at + 1))
+    ++opened;
   EXPECT_EQ(opened, 4u);
   const nlohmann::json data = page_data(page);
   EXPECT_EQ(data["name"], model_name);
@@ -141,16 +147,21 @@ TEST(ModelView, HostileNamesStayDataAndCloseNoScriptBlock) {
 }
 
 TEST(ModelView, JsonForScriptBlockEscapesWhatCouldEndTheBlock) {
-  EXPECT_EQ(json_for_script_block(R"({"a":"</script>&<!--"})"), R"({"a":"\u003c/script\u003e\u0026\u003c!--"})");
-  EXPECT_EQ(nlohmann::json::parse(json_for_script_block(R"({"a":"</script>&<!--"})"))["a"], "</script>&<!--");
+  EXPECT_EQ(json_for_script_block(R"({"a":"</script>&<!--"})"),
+            R"({"a":"\u003c/script\u003e\u0026\u003c!--"})");
+  EXPECT_EQ(nlohmann::json::parse(json_for_script_block(R"({"a":"</script>&<!--"})"))["a"],
+            "</script>&<!--");
 }
 
 TEST(ModelView, AutomaticScaleDrawsTheLargestDisplacementAsATenthOfTheModel) {
   const Cantilever c;
   const nlohmann::json data = page_data(model_view_html(c.model, &c.result));
-  const double largest = c.result.end_effectors[0].deflection->head<3>().norm();  // the tip moves most
-  EXPECT_NEAR(data["deformed"]["largest_displacement"].get<double>(), largest, 1e-6 * largest);  // stored as float
-  EXPECT_NEAR(data["deformed"]["automatic_scale"].get<double>(), 0.1 * kLength / largest, 1e-6 * kLength / largest);
+  const double largest =
+      c.result.end_effectors[0].deflection->head<3>().norm();  // the tip moves most
+  EXPECT_NEAR(data["deformed"]["largest_displacement"].get<double>(), largest,
+              1e-6 * largest);  // stored as float
+  EXPECT_NEAR(data["deformed"]["automatic_scale"].get<double>(), 0.1 * kLength / largest,
+              1e-6 * kLength / largest);
   EXPECT_EQ(data["deformed"]["scale"], data["deformed"]["automatic_scale"]);
   ModelViewOptions chosen;
   chosen.scale = 250;
@@ -161,11 +172,13 @@ TEST(ModelView, AutomaticScaleDrawsTheLargestDisplacementAsATenthOfTheModel) {
 
 TEST(ModelView, EllipsoidCarriesTheTranslationalComplianceAxes) {
   const Cantilever c;
-  const nlohmann::json effector = page_data(model_view_html(c.model, &c.result))["end_effectors"][0];
+  const nlohmann::json effector =
+      page_data(model_view_html(c.model, &c.result))["end_effectors"][0];
   const Mat3 block = c.result.end_effectors[0].compliance->topLeftCorner<3, 3>();
   for (int k = 0; k < 3; ++k) {
     const double value = effector["compliance"][k];
-    const Vec3 direction(effector["directions"][k][0], effector["directions"][k][1], effector["directions"][k][2]);
+    const Vec3 direction(effector["directions"][k][0], effector["directions"][k][1],
+                         effector["directions"][k][2]);
     EXPECT_LT((block * direction - value * direction).norm(), 1e-12 * block.norm());
     EXPECT_NEAR(effector["stiffness"][k].get<double>(), 1 / value, 1e-12 / value);
   }
@@ -186,7 +199,8 @@ TEST(VtkFile, BeamIsCutIntoLinesThatCarryItsDeflectedShape) {
   const Cantilever c;
   const std::string text = vtu_text(c.model, c.result, 4);
   EXPECT_NE(text.find("NumberOfPoints=\"5\" NumberOfCells=\"4\""), std::string::npos);
-  for (const char* name : {"\"displacement\"", "\"rotation\"", "\"link_kind\"", "\"end_wrench_from\"", "\"end_wrench_to\""})
+  for (const char* name : {"\"displacement\"", "\"rotation\"", "\"link_kind\"",
+                           "\"end_wrench_from\"", "\"end_wrench_to\""})
     EXPECT_NE(text.find(name), std::string::npos) << name;
   const std::string pvd = pvd_text({{"a<b", "x&y.vtu"}});
   EXPECT_NE(pvd.find("name=\"a&lt;b\" file=\"x&amp;y.vtu\""), std::string::npos);
@@ -214,18 +228,21 @@ std::vector<float> floats_of(const std::string& base64) {
   std::vector<float> values(bytes.size() / 4);
   for (std::size_t i = 0; i < values.size(); ++i) {
     std::uint32_t word = 0;
-    for (int b = 0; b < 4; ++b) word |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[4 * i + b])) << (8 * b);
+    for (int b = 0; b < 4; ++b)
+      word |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[4 * i + b])) << (8 * b);
     std::memcpy(&values[i], &word, 4);
   }
   return values;
 }
 
 TEST(SweepView, CarriesEachPoseValuesAndEllipsoidsAndEscapesNames) {
-  const ModelFamily family = load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml");
+  const ModelFamily family =
+      load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-3rpr-parametric.yaml");
   SweepOptions options;
   options.keep_matrices = true;
   options.threads = 1;
-  SweepResult sweep = stiffmsa::sweep(family, grid_poses({{"x", 0.4, 0.5, 2}, {"y", 0.3, 0.3, 1}}), options);
+  SweepResult sweep =
+      stiffmsa::sweep(family, grid_poses({{"x", 0.4, 0.5, 2}, {"y", 0.3, 0.3, 1}}), options);
   sweep.model = "<img src=x onerror=alert(1)>";
   const std::string page = sweep_view_html(sweep);
   EXPECT_EQ(page.find("<img"), std::string::npos);
@@ -243,8 +260,11 @@ TEST(SweepView, CarriesEachPoseValuesAndEllipsoidsAndEscapesNames) {
   const std::vector<float> axes = floats_of(data["ellipsoids"][0]);
   ASSERT_EQ(axes.size(), 24u);
   for (std::size_t pose = 0; pose < 2; ++pose) {
-    const PrincipalAxes expected = principal_axes(sweep.results[pose].end_effectors[0].compliance->topLeftCorner<3, 3>());
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(axes[12 * pose + static_cast<std::size_t>(k)], static_cast<float>(expected.compliance(k)));
+    const PrincipalAxes expected =
+        principal_axes(sweep.results[pose].end_effectors[0].compliance->topLeftCorner<3, 3>());
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(axes[12 * pose + static_cast<std::size_t>(k)],
+                static_cast<float>(expected.compliance(k)));
   }
 }
 

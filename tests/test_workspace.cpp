@@ -45,14 +45,23 @@ TEST_P(WorkspaceWithEverySolve, RefilledPosesMatchFreshSolves) {
       const Model pose = arm(x, k);
       const Result reused = solve(workspace, pose, options);
       const Result fresh = solve(pose, options);
-      EXPECT_EQ(reused.report.solver, GetParam() == SolverKind::automatic ? stiffmsa::SolverUsed::tree : stiffmsa::SolverUsed::sparse_lu);
-      EXPECT_LT(reference::relative_difference_scaled(*reused.end_effectors[0].compliance, *fresh.end_effectors[0].compliance), 1e-13);
-      EXPECT_LT(reference::relative_difference(*reused.end_effectors[0].deflection, *fresh.end_effectors[0].deflection), 1e-13);
+      EXPECT_EQ(reused.report.solver, GetParam() == SolverKind::automatic
+                                          ? stiffmsa::SolverUsed::tree
+                                          : stiffmsa::SolverUsed::sparse_lu);
+      EXPECT_LT(reference::relative_difference_scaled(*reused.end_effectors[0].compliance,
+                                                      *fresh.end_effectors[0].compliance),
+                1e-13);
+      EXPECT_LT(reference::relative_difference(*reused.end_effectors[0].deflection,
+                                               *fresh.end_effectors[0].deflection),
+                1e-13);
     }
   }
   // A changed pose changes the answer: the workspace holds no stale numbers.
-  const Result near = solve(workspace, arm(0.5, 2e5), options), far = solve(workspace, arm(0.8, 2e5), options);
-  EXPECT_GT(reference::relative_difference(*far.end_effectors[0].compliance, *near.end_effectors[0].compliance), 0.05);
+  const Result near = solve(workspace, arm(0.5, 2e5), options),
+               far = solve(workspace, arm(0.8, 2e5), options);
+  EXPECT_GT(reference::relative_difference(*far.end_effectors[0].compliance,
+                                           *near.end_effectors[0].compliance),
+            0.05);
 }
 
 // Same names and connectivity, but the elbow is now rigid: its block writes other positions,
@@ -64,12 +73,16 @@ TEST_P(WorkspaceWithEverySolve, ABlockThatWritesOtherPositionsIsRejected) {
   Model other = arm(0.5, 2e5);
   other.joints.back().connection = Connection::rigid();
   EXPECT_THROW(solve(workspace, other, options), InputError);
-  const Result again = solve(workspace, arm(0.62, 2e5), options);  // the workspace still serves its topology
-  EXPECT_LT(reference::relative_difference_scaled(*again.end_effectors[0].compliance,
-                                                  *solve(arm(0.62, 2e5)).end_effectors[0].compliance), 1e-13);
+  const Result again =
+      solve(workspace, arm(0.62, 2e5), options);  // the workspace still serves its topology
+  EXPECT_LT(
+      reference::relative_difference_scaled(*again.end_effectors[0].compliance,
+                                            *solve(arm(0.62, 2e5)).end_effectors[0].compliance),
+      1e-13);
 }
 
-INSTANTIATE_TEST_SUITE_P(Solves, WorkspaceWithEverySolve, ::testing::Values(SolverKind::automatic, SolverKind::sparse_lu));
+INSTANTIATE_TEST_SUITE_P(Solves, WorkspaceWithEverySolve,
+                         ::testing::Values(SolverKind::automatic, SolverKind::sparse_lu));
 
 // A tree workspace records its pattern only when a factorising solve needs it, and then from
 // the model it was built from: a first factorised model of another pattern (here a passive
@@ -84,8 +97,10 @@ TEST(Workspace, ThePatternIsTheReferencesWhateverIsFactorisedFirst) {
   klu.solver = SolverKind::sparse_lu;
   const Result again = solve(workspace, arm(0.62, 2e5), klu);
   EXPECT_EQ(again.report.solver, stiffmsa::SolverUsed::sparse_lu);
-  EXPECT_LT(reference::relative_difference_scaled(*again.end_effectors[0].compliance,
-                                                  *solve(arm(0.62, 2e5)).end_effectors[0].compliance), 1e-13);
+  EXPECT_LT(
+      reference::relative_difference_scaled(*again.end_effectors[0].compliance,
+                                            *solve(arm(0.62, 2e5)).end_effectors[0].compliance),
+      1e-13);
   EXPECT_EQ(workspace.size().unknowns, 3 * 24);
 }
 

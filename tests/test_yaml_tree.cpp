@@ -54,8 +54,8 @@ TEST(YamlTree, QuotedBlockAndBangTaggedScalarsAreText) {
 }
 
 TEST(YamlTree, PlainNullSpellingsAndEmptyValuesAreNull) {
-  const YamlTree tree = parse_yaml(
-      "a: ~\nb: null\nc: Null\nd: NULL\ne:\nf: \"null\"\ng: nil\n", "t.yaml", kDepth);
+  const YamlTree tree =
+      parse_yaml("a: ~\nb: null\nc: Null\nd: NULL\ne:\nf: \"null\"\ng: nil\n", "t.yaml", kDepth);
   const YamlNode& root = tree.root();
   for (const char* key : {"a", "b", "c", "d", "e"})
     EXPECT_TRUE(value_of(root, key).is_null()) << key;
@@ -165,11 +165,14 @@ TEST(YamlTree, BytesThatAreNoUtf8AreRefusedWhereTheyStand) {
   EXPECT_NE(directive.message.find("not UTF-8"), std::string::npos) << directive.message;
   EXPECT_NE(directive.message.find("0xff"), std::string::npos) << directive.message;
   // Overlong forms, surrogates, truncated sequences.
-  for (const char* bad : {"a: \xc0\xaf\n", "a: \xed\xa0\x80\n", "a: \xe2\x82\n", "a: \xf5\x80\x80\x80\n"})
+  for (const char* bad :
+       {"a: \xc0\xaf\n", "a: \xed\xa0\x80\n", "a: \xe2\x82\n", "a: \xf5\x80\x80\x80\n"})
     EXPECT_EQ(refusal_of(bad).location.column, 4) << bad;
   // Text in other scripts is read.
-  const YamlTree tree = parse_yaml("name: \"Schulter-Gelenk \xc3\xa4 \xe2\x88\x86 \xf0\x9f\xa4\x96\"\n", "t.yaml", kDepth);
-  EXPECT_EQ(value_of(tree.root(), "name").text(), "Schulter-Gelenk \xc3\xa4 \xe2\x88\x86 \xf0\x9f\xa4\x96");
+  const YamlTree tree = parse_yaml(
+      "name: \"Schulter-Gelenk \xc3\xa4 \xe2\x88\x86 \xf0\x9f\xa4\x96\"\n", "t.yaml", kDepth);
+  EXPECT_EQ(value_of(tree.root(), "name").text(),
+            "Schulter-Gelenk \xc3\xa4 \xe2\x88\x86 \xf0\x9f\xa4\x96");
 }
 
 TEST(YamlTree, ASyntaxErrorInAFlowCollectionSaysWhereItOpens) {
@@ -201,8 +204,7 @@ TEST(YamlTree, NestingBeyondTheLimitIsRefusedWhereItBegins) {
 
 TEST(YamlTree, HostileNestingIsRefusedWithoutRecursion) {
   // A reader that recursed once per level would overflow the stack on 100 000 levels.
-  for (const std::string& text : {std::string(100'000, '['), std::string(100'000, '{'),
-                                  [] {
+  for (const std::string& text : {std::string(100'000, '['), std::string(100'000, '{'), [] {
                                     std::string items;
                                     for (int i = 0; i < 100'000; ++i) items += "- ";
                                     return items + "x\n";

@@ -85,7 +85,8 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
 // The solve of one pose of a structure: the workspace's structure (Workspace(const Structure&))
 // with these values, one per value slot. Only the values are checked (InputError names the
 // slot's key and the structure's source location); nothing of the structure is redone.
-Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options = {});
+Result solve(Workspace& workspace, std::span<const double> values,
+             const SolveOptions& options = {});
 // The same, saying which structure the values are of: UsageError when the workspace was not
 // built for it.
 Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,

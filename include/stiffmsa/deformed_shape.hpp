@@ -26,8 +26,9 @@ struct CentreLineMotion {
 // slopes Δφ × e, axial displacement and twist linear (a Timoshenko beam's shear adds a part
 // the cubic leaves out). A rigid link moves rigidly, which is the linear interpolation of its
 // ends; a CAD link's interior is unknown and is drawn by the same straight chord.
-CentreLineMotion centre_line_motion(bool bends, const Vec3& from, const Vec3& to, const Vec6& from_deflection,
-                                    const Vec6& to_deflection, double xi);
+CentreLineMotion centre_line_motion(bool bends, const Vec3& from, const Vec3& to,
+                                    const Vec6& from_deflection, const Vec6& to_deflection,
+                                    double xi);
 
 // Whether a link kind bends along its length (beams) or is drawn as a chord between its ends.
 bool bends(const LinkKind& kind);
@@ -42,7 +43,7 @@ class ModelPoints {
   ModelPoints(const ModelPoints&) = delete;
   ModelPoints& operator=(const ModelPoints&) = delete;
   int of_link_end(std::size_t link, LinkEnd end) const;  // −1 where the link names no point
-  int of_name(std::string_view point) const;              // −1 where no point bears the name
+  int of_name(std::string_view point) const;             // −1 where no point bears the name
 
  private:
   std::unique_ptr<const detail::ModelIndex> index_;

@@ -18,7 +18,7 @@ namespace stiffmsa {
 
 // Where an entity and each of its keys came from in a model file (empty for API models).
 struct Origin {
-  SourceLocation location;                           // the entity's own mapping
+  SourceLocation location;                              // the entity's own mapping
   std::map<std::string, SourceLocation> key_locations;  // per key, e.g. "axis"
 
   // The location of `key` if recorded, else the entity's own location.
@@ -95,15 +95,24 @@ struct Link {
 
 // ---- joints and supports -----------------------------------------------------------------
 
-enum class JointType { rigid, revolute, prismatic, cylindrical, universal, spherical, planar, custom };
+enum class JointType {
+  rigid,
+  revolute,
+  prismatic,
+  cylindrical,
+  universal,
+  spherical,
+  planar,
+  custom
+};
 
 // The free directions of a joint or support (model-format.md, "free directions").
 struct Kinematics {
   JointType type = JointType::rigid;
-  Vec3 axis = Vec3::Zero();            // revolute, prismatic, cylindrical
-  Vec3 axis_b = Vec3::Zero();          // universal: axes [axis, axis_b]
-  Vec3 normal = Vec3::Zero();          // planar
-  std::vector<Vec6> free_rows;         // custom, as given
+  Vec3 axis = Vec3::Zero();     // revolute, prismatic, cylindrical
+  Vec3 axis_b = Vec3::Zero();   // universal: axes [axis, axis_b]
+  Vec3 normal = Vec3::Zero();   // planar
+  std::vector<Vec6> free_rows;  // custom, as given
 
   static Kinematics rigid();
   static Kinematics revolute(const Vec3& axis);
@@ -250,13 +259,13 @@ struct Model {
   PointIndex add_point(std::string name, const Vec3& position);
   LinkIndex add_beam(std::string name, std::string from, std::string to, const Material& material,
                      const Section& section);
-  LinkIndex add_beam(std::string name, std::string from, std::string to,
-                     std::string_view material, std::string_view section);
+  LinkIndex add_beam(std::string name, std::string from, std::string to, std::string_view material,
+                     std::string_view section);
   LinkIndex add_rigid_link(std::string name, std::string from, std::string to);
   LinkIndex add_matrix_link(std::string name, std::string from, std::string to, const Mat12& K,
                             LinkFrame frame = LinkFrame::global);
-  LinkIndex add_compliance_link(std::string name, std::string from, std::string to,
-                                const Mat6& C, LinkFrame frame = LinkFrame::global);
+  LinkIndex add_compliance_link(std::string name, std::string from, std::string to, const Mat6& C,
+                                LinkFrame frame = LinkFrame::global);
   JointIndex add_joint(std::string name, std::string at, std::vector<std::string> links,
                        Connection connection);
   SupportIndex add_support(std::string name, std::string at, std::vector<std::string> links,

@@ -36,8 +36,9 @@ class ModelFamily {
   // expression that cannot be evaluated there, say). The values are checked by the solve, not
   // here. A writer may keep caches between calls and is used by one thread at a time; each
   // thread of a sweep makes its own.
-  using ValueWriter = std::function<void(std::span<const double> parameters, std::span<double> values,
-                                         std::vector<Diagnostic>& warnings)>;
+  using ValueWriter =
+      std::function<void(std::span<const double> parameters, std::span<double> values,
+                         std::vector<Diagnostic>& warnings)>;
   using ValueWriterFactory = std::function<ValueWriter()>;
   // A member as a model, for one value per parameter.
   using MemberFunction = std::function<Model(std::span<const double> parameters)>;

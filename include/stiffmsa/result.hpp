@@ -90,11 +90,12 @@ std::optional<SolverUsed> solver_used_from_string(std::string_view name);
 
 // How the solve went: accuracy checks and notes for the user.
 struct SolveReport {
-  double relative_residual = 0;    // max over all solves of ‖Ax−b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)
-  double equilibrium_error = 0;    // ‖Σ reactions + Σ loads‖ / scale (moments about the origin)
-  double reciprocal_condition = 0; // 1-norm estimate for the equilibrated system; 0 where no
-                                   // sparse system was factorised (solver "tree", "tree_with_cuts");
-                                   // for "frame", that of the condensed stiffness (unit diagonal)
+  double relative_residual = 0;  // max over all solves of ‖Ax−b‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)
+  double equilibrium_error = 0;  // ‖Σ reactions + Σ loads‖ / scale (moments about the origin)
+  double reciprocal_condition =
+      0;  // 1-norm estimate for the equilibrated system; 0 where no
+          // sparse system was factorised (solver "tree", "tree_with_cuts");
+          // for "frame", that of the condensed stiffness (unit diagonal)
   SolverUsed solver = SolverUsed::none;
   std::vector<std::string> notes;  // e.g. free motions accepted, values left null
   std::vector<std::string> warnings;

@@ -12,9 +12,9 @@ namespace stiffmsa {
 // dense system for its cut reactions and free motions (§7.2), where that system is regular and
 // at most 32 unknowns; a frame (every link flexible, every connection a weld: a building, a
 // truss with welded joints) by the condensed displacement system of frame programs, where its
-// stiffness keeps about 10 digits (§7.3); others it factorises with KLU, or with Eigen's SparseLU where
-// KLU's ordering predicts heavy fill. The others force that factorisation. The result's report
-// names what was used.
+// stiffness keeps about 10 digits (§7.3); others it factorises with KLU, or with Eigen's SparseLU
+// where KLU's ordering predicts heavy fill. The others force that factorisation. The result's
+// report names what was used.
 enum class SolverKind { automatic, sparse_lu, umfpack, klu };
 const char* to_string(SolverKind s);
 std::optional<SolverKind> solver_kind_from_string(const std::string& s);

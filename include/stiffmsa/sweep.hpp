@@ -59,7 +59,7 @@ enum class PoseStatus {
   inaccurate,   // solved, but an accuracy check failed (SolveReport::usable() is false)
   error,        // the solve failed otherwise: an internal error, not the pose's values
 };
-inline constexpr std::array kPoseStatuses{PoseStatus::ok,         PoseStatus::singular,
+inline constexpr std::array kPoseStatuses{PoseStatus::ok,          PoseStatus::singular,
                                           PoseStatus::free_motion, PoseStatus::invalid,
                                           PoseStatus::inaccurate,  PoseStatus::error};
 // "ok", "singular", "free-motion", "invalid", "inaccurate", "error"
@@ -67,13 +67,13 @@ const char* to_string(PoseStatus status);
 
 // What a sweep reports of one end effector at one pose.
 struct EndEffectorMeasures {
-  PrincipalStiffness principal;  // +inf where a block is singular (a rigidly held direction)
+  PrincipalStiffness principal;       // +inf where a block is singular (a rigidly held direction)
   double deflection_translation = 0;  // |Δp| under the model's loads
   double deflection_rotation = 0;     // |Δφ|
   // With SolveOptions::direction: the stiffness along it (+inf where held rigidly).
   std::optional<DirectionalStiffness> along_direction;
-  std::optional<Mat6> compliance;     // kept with SweepOptions::keep_matrices
-  std::optional<Mat6> stiffness;      // kept with keep_matrices; nullopt where unbounded
+  std::optional<Mat6> compliance;  // kept with SweepOptions::keep_matrices
+  std::optional<Mat6> stiffness;   // kept with keep_matrices; nullopt where unbounded
 };
 
 struct PoseResult {
@@ -121,8 +121,9 @@ std::vector<PoseResult> solve_poses(const Structure& structure, std::span<const 
 // Solves the family at each pose: its structure, and at each pose the values its writer writes
 // for the pose's parameter values (the defaults for the parameters not swept). A pose whose
 // values fail their checks, or whose member (a function family's) has another structure, is
-// invalid, with a message saying so. Throws InputError when the defaults themselves give an invalid model and UsageError when
-// a swept name is not a parameter.
-SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const SweepOptions& options = {});
+// invalid, with a message saying so. Throws InputError when the defaults themselves give an invalid
+// model and UsageError when a swept name is not a parameter.
+SweepResult sweep(const ModelFamily& family, const PoseTable& poses,
+                  const SweepOptions& options = {});
 
 }  // namespace stiffmsa

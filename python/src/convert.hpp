@@ -30,14 +30,17 @@ py::array_t<double> to_array(const MatX& matrix);
 template <class T>
 py::object to_optional_array(const std::optional<T>& value) {
   if (!value) return py::none();
-  if constexpr (T::ColsAtCompileTime == 1) return to_array(VecX(*value));
-  else return to_array(MatX(*value));
+  if constexpr (T::ColsAtCompileTime == 1)
+    return to_array(VecX(*value));
+  else
+    return to_array(MatX(*value));
 }
 
 // SolveOptions from the keyword arguments named as its members; "auto" is SolverKind::automatic.
 // Throws UsageError for an unknown or unavailable solver or a value out of range.
-SolveOptions solve_options(const std::string& solver, bool accept_idle_motions, double singular_rcond,
-                           double max_relative_residual, int refinement_steps, double warn_condition);
+SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
+                           double singular_rcond, double max_relative_residual,
+                           int refinement_steps, double warn_condition);
 
 void bind_errors(py::module_& m);
 void bind_model(py::module_& m);

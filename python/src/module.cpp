@@ -14,7 +14,8 @@ namespace {
 
 std::string shape_text(const py::array& array) {
   std::string text = "(";
-  for (py::ssize_t k = 0; k < array.ndim(); ++k) text += (k > 0 ? ", " : "") + std::to_string(array.shape(k));
+  for (py::ssize_t k = 0; k < array.ndim(); ++k)
+    text += (k > 0 ? ", " : "") + std::to_string(array.shape(k));
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
@@ -22,18 +23,23 @@ using FloatArray = py::array_t<double, py::array::c_style | py::array::forcecast
 
 FloatArray as_float_array(py::handle value, const std::string& what) {
   FloatArray array = FloatArray::ensure(value);  // null, with the error cleared, when not numbers
-  if (!array) throw UsageError(what + ": expected numbers, got " + py::repr(value).cast<std::string>());
+  if (!array)
+    throw UsageError(what + ": expected numbers, got " + py::repr(value).cast<std::string>());
   return array;
 }
 
-py::object error_class(const char* name) { return py::module_::import("stiffmsa.errors").attr(name); }
+py::object error_class(const char* name) {
+  return py::module_::import("stiffmsa.errors").attr(name);
+}
 
 void raise(const char* class_name, py::object instance) {
   const py::object cls = error_class(class_name);
   PyErr_SetObject(cls.ptr(), instance.ptr());
 }
 
-py::object optional_text(const std::string& text) { return text.empty() ? py::none() : py::cast(text); }
+py::object optional_text(const std::string& text) {
+  return text.empty() ? py::none() : py::cast(text);
+}
 py::object optional_position(int value) { return value > 0 ? py::cast(value) : py::none(); }
 
 }  // namespace
@@ -42,7 +48,8 @@ VecX to_vector(py::handle value, const std::string& what, std::optional<long> si
   const auto array = as_float_array(value, what);
   const bool scalar_for_one = array.ndim() == 0 && (!size || *size == 1);
   if (!scalar_for_one && (array.ndim() != 1 || (size && array.shape(0) != *size))) {
-    throw UsageError(what + ": expected " + (size ? std::to_string(*size) + " numbers" : "a list of numbers") +
+    throw UsageError(what + ": expected " +
+                     (size ? std::to_string(*size) + " numbers" : "a list of numbers") +
                      ", got an array of shape " + shape_text(array));
   }
   VecX vector(array.size());
@@ -53,14 +60,17 @@ VecX to_vector(py::handle value, const std::string& what, std::optional<long> si
 Vec3 to_vec3(py::handle value, const std::string& what) { return to_vector(value, what, 3); }
 Vec6 to_vec6(py::handle value, const std::string& what) { return to_vector(value, what, 6); }
 
-MatX to_matrix(py::handle value, const std::string& what, std::optional<long> rows, std::optional<long> cols) {
+MatX to_matrix(py::handle value, const std::string& what, std::optional<long> rows,
+               std::optional<long> cols) {
   const auto array = as_float_array(value, what);
   const bool one_by_one = rows.value_or(1) == 1 && cols.value_or(1) == 1;
   if (array.ndim() == 0 && one_by_one) return MatX::Constant(1, 1, *array.data());
   if (array.ndim() != 2 || (rows && array.shape(0) != *rows) || (cols && array.shape(1) != *cols)) {
-    const std::string expected = rows && cols ? std::to_string(*rows) + "×" + std::to_string(*cols) + " matrix"
-                                              : std::string("matrix (a list of rows)");
-    throw UsageError(what + ": expected a " + expected + ", got an array of shape " + shape_text(array));
+    const std::string expected =
+        rows && cols ? std::to_string(*rows) + "×" + std::to_string(*cols) + " matrix"
+                     : std::string("matrix (a list of rows)");
+    throw UsageError(what + ": expected a " + expected + ", got an array of shape " +
+                     shape_text(array));
   }
   MatX matrix(array.shape(0), array.shape(1));
   for (py::ssize_t r = 0; r < array.shape(0); ++r)
@@ -93,13 +103,16 @@ py::array_t<double> to_array(const MatX& matrix) {
   return array;
 }
 
-SolveOptions solve_options(const std::string& solver, bool accept_idle_motions, double singular_rcond,
-                           double max_relative_residual, int refinement_steps, double warn_condition) {
+SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
+                           double singular_rcond, double max_relative_residual,
+                           int refinement_steps, double warn_condition) {
   SolveOptions options;
   const auto kind = solver_kind_from_string(solver);
-  if (!kind) throw UsageError("solver '" + solver + "': expected one of auto, sparse_lu, umfpack, klu");
+  if (!kind)
+    throw UsageError("solver '" + solver + "': expected one of auto, sparse_lu, umfpack, klu");
   if (!solver_available(*kind))
-    throw UsageError("solver '" + solver + "' is not available in this build of stiffmsa (built without "
+    throw UsageError("solver '" + solver +
+                     "' is not available in this build of stiffmsa (built without "
                      "SuiteSparse); use solver=\"auto\" or \"sparse_lu\"");
   options.solver = *kind;
   options.accept_idle_motions = accept_idle_motions;
@@ -121,12 +134,15 @@ void bind_errors(py::module_&) {
       const py::object diagnostic = error_class("Diagnostic");
       py::list diagnostics;
       for (const auto& d : e.diagnostics())
-        diagnostics.append(diagnostic(optional_text(d.location.file), optional_position(d.location.line),
-                                      optional_position(d.location.column), d.key_path, d.message, d.to_string()));
+        diagnostics.append(
+            diagnostic(optional_text(d.location.file), optional_position(d.location.line),
+                       optional_position(d.location.column), d.key_path, d.message, d.to_string()));
       raise("InputError", error_class("InputError")(e.what(), diagnostics));
     } catch (const SingularModelError& e) {
-      const char* cause = e.cause() == SingularModelError::Cause::free_motion ? "free_motion" : "numerical";
-      raise("SingularModelError", error_class("SingularModelError")(e.summary(), cause, e.details()));
+      const char* cause =
+          e.cause() == SingularModelError::Cause::free_motion ? "free_motion" : "numerical";
+      raise("SingularModelError",
+            error_class("SingularModelError")(e.summary(), cause, e.details()));
     } catch (const IoError& e) {
       raise("IoError", error_class("IoError")(e.what()));
     } catch (const UsageError& e) {

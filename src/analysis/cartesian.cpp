@@ -2,8 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/QR>
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -37,7 +37,8 @@ Mat6 inverse(const Mat6& c) {
 }
 }  // namespace
 
-CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, double spread_threshold) {
+CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length,
+                                       double spread_threshold) {
   Vec6 weights;
   weights << 1, 1, 1, length, length, length;
   const Mat6 weighted = weights.asDiagonal() * compliance * weights.asDiagonal();
@@ -49,7 +50,8 @@ CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, do
   const Eigen::LLT<Mat6> cholesky(symmetric);
   if (cholesky.info() == Eigen::Success) {
     double inverse_trace = 0;
-    for (int c = 0; c < 6; ++c) inverse_trace += cholesky.matrixL().solve(Vec6::Unit(c)).squaredNorm();
+    for (int c = 0; c < 6; ++c)
+      inverse_trace += cholesky.matrixL().solve(Vec6::Unit(c)).squaredNorm();
     const double bound = symmetric.trace() * inverse_trace;
     if (bound > 0 && bound <= std::min(spread_threshold, kRigidSpread)) {
       result.spread = bound;
@@ -59,9 +61,11 @@ CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, do
       return result;
     }
   }
-  const Vec6 values = Eigen::SelfAdjointEigenSolver<Mat6>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
+  const Vec6 values =
+      Eigen::SelfAdjointEigenSolver<Mat6>(symmetric, Eigen::EigenvaluesOnly).eigenvalues();
   result.spread = values(0) > 0 ? values(5) / values(0) : std::numeric_limits<double>::infinity();
-  if (values(5) > 0 && values(0) * kRigidSpread > values(5)) result.stiffness = Mat6(compliance.fullPivLu().inverse());
+  if (values(5) > 0 && values(0) * kRigidSpread > values(5))
+    result.stiffness = Mat6(compliance.fullPivLu().inverse());
   return result;
 }
 
@@ -81,11 +85,13 @@ std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double
   // the directions. Where those axes are all that is held (a planar robot: z, rx, ry), the
   // directions are the other axes exactly, and K_r is the inverse of C's block on them.
   std::vector<int> moving_axes, held_axes;
-  for (int axis = 0; axis < 6; ++axis) (weighted(axis, axis) * kRigidSpread > largest ? moving_axes : held_axes).push_back(axis);
+  for (int axis = 0; axis < 6; ++axis)
+    (weighted(axis, axis) * kRigidSpread > largest ? moving_axes : held_axes).push_back(axis);
   ReducedStiffness reduced;
   reduced.directions = MatX::Zero(moving, 6);
   if (static_cast<Eigen::Index>(moving_axes.size()) == moving) {
-    for (Eigen::Index k = 0; k < moving; ++k) reduced.directions(k, moving_axes[static_cast<std::size_t>(k)]) = 1;
+    for (Eigen::Index k = 0; k < moving; ++k)
+      reduced.directions(k, moving_axes[static_cast<std::size_t>(k)]) = 1;
   } else {
     // The range of C is W⁻¹ times that of Ĉ = W·C·W; an orthonormal basis of it, each
     // direction signed so that its largest entry is positive.
@@ -99,7 +105,8 @@ std::optional<ReducedStiffness> reduced_stiffness(const Mat6& compliance, double
       if (reduced.directions(k, at) < 0) reduced.directions.row(k) *= -1;
     }
   }
-  reduced.matrix = MatX(reduced.directions * compliance * reduced.directions.transpose()).fullPivLu().inverse();
+  reduced.matrix =
+      MatX(reduced.directions * compliance * reduced.directions.transpose()).fullPivLu().inverse();
   return reduced;
 }
 
@@ -116,7 +123,8 @@ double stiffness_of(double compliance, double largest) {
 // Eigenvalues of the block's inverse, ascending, with their eigenvectors: the compliance's
 // eigenvalues descending, inverted.
 void block_stiffness(const Mat3& compliance_block, Vec3& values, Mat3& directions) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(
+      0.5 * (compliance_block + compliance_block.transpose()));
   const Vec3& c = eigen.eigenvalues();
   for (int i = 0; i < 3; ++i) {
     values(i) = stiffness_of(c(2 - i), c(2));
@@ -130,15 +138,19 @@ void block_stiffness(const Mat3& compliance_block, Vec3& values, Mat3& direction
 
 PrincipalStiffness principal_stiffness(const Mat6& compliance) {
   PrincipalStiffness principal;
-  block_stiffness(compliance.topLeftCorner<3, 3>(), principal.translational, principal.translational_directions);
-  block_stiffness(compliance.bottomRightCorner<3, 3>(), principal.rotational, principal.rotational_directions);
+  block_stiffness(compliance.topLeftCorner<3, 3>(), principal.translational,
+                  principal.translational_directions);
+  block_stiffness(compliance.bottomRightCorner<3, 3>(), principal.rotational,
+                  principal.rotational_directions);
   return principal;
 }
 
 PrincipalAxes principal_axes(const Mat3& compliance_block) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(0.5 * (compliance_block + compliance_block.transpose()));
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(
+      0.5 * (compliance_block + compliance_block.transpose()));
   const Vec3& c = eigen.eigenvalues();
-  return {c, eigen.eigenvectors(), Vec3(stiffness_of(c(0), c(2)), stiffness_of(c(1), c(2)), stiffness_of(c(2), c(2)))};
+  return {c, eigen.eigenvectors(),
+          Vec3(stiffness_of(c(0), c(2)), stiffness_of(c(1), c(2)), stiffness_of(c(2), c(2)))};
 }
 
 DirectionalStiffness directional_stiffness(const Mat6& compliance, const Vec3& direction) {
@@ -146,7 +158,8 @@ DirectionalStiffness directional_stiffness(const Mat6& compliance, const Vec3& d
   if (!std::isfinite(length) || length == 0)
     throw UsageError("the direction of a directional stiffness must be a finite, non-zero vector");
   const Vec3 u = direction / length;
-  const Mat3 translational = compliance.topLeftCorner<3, 3>(), rotational = compliance.bottomRightCorner<3, 3>();
+  const Mat3 translational = compliance.topLeftCorner<3, 3>(),
+             rotational = compliance.bottomRightCorner<3, 3>();
   return {u, stiffness_of(u.dot(translational * u), translational.diagonal().maxCoeff()),
           stiffness_of(u.dot(rotational * u), rotational.diagonal().maxCoeff())};
 }
@@ -162,7 +175,8 @@ const char* to_string(SolverKind s) {
 }
 
 std::optional<SolverKind> solver_kind_from_string(const std::string& s) {
-  for (SolverKind k : {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu})
+  for (SolverKind k :
+       {SolverKind::automatic, SolverKind::sparse_lu, SolverKind::umfpack, SolverKind::klu})
     if (s == to_string(k)) return k;
   return std::nullopt;
 }

@@ -23,7 +23,8 @@ struct CartesianStiffness {
   // below it, the bound that showed it does not.
   double spread = 0;
 };
-CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length, double spread_threshold);
+CartesianStiffness cartesian_stiffness(const Mat6& compliance, double length,
+                                       double spread_threshold);
 
 // Where the compliance holds some directions rigidly (the same test as above: eigenvalues of Ĉ
 // within 1e-14 of the largest), the stiffness on the others; nullopt where no direction or

@@ -24,9 +24,13 @@ namespace {
 constexpr Index kDenseLimit = 2400;
 constexpr double kNegligible = kNegligibleNullEntry;
 
-double weighted_norm(const Vec6& t, double length) { return t.head<3>().norm() + length * t.tail<3>().norm(); }
+double weighted_norm(const Vec6& t, double length) {
+  return t.head<3>().norm() + length * t.tail<3>().norm();
+}
 
-std::string counted(std::size_t count, const char* singular, const char* plural) { return count == 1 ? singular : plural; }
+std::string counted(std::size_t count, const char* singular, const char* plural) {
+  return count == 1 ? singular : plural;
+}
 
 MatX deflection_rows(const MatX& v, int ends) {
   MatX rows(6 * static_cast<Index>(ends), v.cols());
@@ -54,7 +58,8 @@ std::vector<int> unsupported_parts(const Topology& topology) {
     for (int end : group.ends) join(end, group.ends.front());
   std::vector<bool> supported(root.size(), false);
   for (const auto& group : topology.groups)
-    if (group.kind == ConnectionGroup::Kind::support) supported[static_cast<std::size_t>(find(group.ends.front()))] = true;
+    if (group.kind == ConnectionGroup::Kind::support)
+      supported[static_cast<std::size_t>(find(group.ends.front()))] = true;
   std::vector<int> part(root.size(), -1), number(root.size(), -1);
   int parts = 0;
   for (int end = 0; end < topology.end_count(); ++end) {
@@ -73,32 +78,44 @@ std::vector<std::string> describe_unsupported_parts(const Model& model, const To
   const int parts = part.empty() ? 0 : 1 + *std::max_element(part.begin(), part.end());
   if (parts == 0) return {};
   if (model.supports.empty())
-    return {"the model has no support: nothing holds it, so it can move as a whole; add one under `supports:`"};
+    return {
+        "the model has no support: nothing holds it, so it can move as a whole; add one under "
+        "`supports:`"};
   std::vector<std::string> lines;
   for (int p = 0; p < parts; ++p) {
     std::vector<std::string> causes, links;
     for (int link = 0; link < topology.link_count; ++link)
-      if (part[static_cast<std::size_t>(2 * link)] == p) links.push_back("'" + model.links[static_cast<std::size_t>(link)].name + "'");
+      if (part[static_cast<std::size_t>(2 * link)] == p)
+        links.push_back("'" + model.links[static_cast<std::size_t>(link)].name + "'");
     for (const auto& group : topology.groups) {
-      if (group.kind != ConnectionGroup::Kind::free_end || part[static_cast<std::size_t>(group.ends.front())] != p) continue;
+      if (group.kind != ConnectionGroup::Kind::free_end ||
+          part[static_cast<std::size_t>(group.ends.front())] != p)
+        continue;
       const int end = group.ends.front();
-      const Point& own = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])];
+      const Point& own =
+          model
+              .points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])];
       for (std::size_t other = 0; other < topology.end_points.size(); ++other) {
         const Point& there = model.points[static_cast<std::size_t>(topology.end_points[other])];
-        if (part[other] == p || there.name == own.name || (there.position - own.position).norm() > kSamePlace * length) continue;
-        causes.push_back("link '" + model.links[static_cast<std::size_t>(end / 2)].name + "' is connected to nothing at its " +
-                         (end % 2 == 0 ? "start" : "end") + ": its point '" + own.name + "' stands where point '" +
-                         there.name + "' is, but points are told apart by name, not by coordinates");
+        if (part[other] == p || there.name == own.name ||
+            (there.position - own.position).norm() > kSamePlace * length)
+          continue;
+        causes.push_back("link '" + model.links[static_cast<std::size_t>(end / 2)].name +
+                         "' is connected to nothing at its " + (end % 2 == 0 ? "start" : "end") +
+                         ": its point '" + own.name + "' stands where point '" + there.name +
+                         "' is, but points are told apart by name, not by coordinates");
         break;
       }
     }
     if (causes.empty())
-      lines.push_back(links.size() == 1 ? "link " + links.front() +
-                                              " is held by no support: no joint, support or shared point joins it "
-                                              "to a supported part, so it can move as a whole"
-                                        : "links " + name_list(links) +
-                                              " are held by no support: no joint, support or shared point joins "
-                                              "them to a supported part, so they can move as a whole");
+      lines.push_back(
+          links.size() == 1
+              ? "link " + links.front() +
+                    " is held by no support: no joint, support or shared point joins it "
+                    "to a supported part, so it can move as a whole"
+              : "links " + name_list(links) +
+                    " are held by no support: no joint, support or shared point joins "
+                    "them to a supported part, so they can move as a whole");
     else
       lines.insert(lines.end(), causes.begin(), causes.end());
   }
@@ -114,7 +131,8 @@ struct PassiveConnection {
   Mat6 projector;                          // onto the free directions
 };
 
-std::vector<PassiveConnection> passive_connections(const Model& model, const Topology& topology, const std::vector<int>& part) {
+std::vector<PassiveConnection> passive_connections(const Model& model, const Topology& topology,
+                                                   const std::vector<int>& part) {
   std::vector<PassiveConnection> passive;
   for (const auto kind : {ConnectionGroup::Kind::support, ConnectionGroup::Kind::joint}) {
     for (const auto& group : topology.groups) {
@@ -123,7 +141,8 @@ std::vector<PassiveConnection> passive_connections(const Model& model, const Top
       const std::size_t source = static_cast<std::size_t>(group.source);
       const std::string& name = support ? model.supports[source].name : model.joints[source].name;
       const std::string& at = support ? model.supports[source].at : model.joints[source].at;
-      const Connection& connection = support ? model.supports[source].connection : model.joints[source].connection;
+      const Connection& connection =
+          support ? model.supports[source].connection : model.joints[source].connection;
       const auto directions = free_directions(connection.kinematics);
       if (directions.free().rows() == 0 || connection.stiffness || connection.is_actuated) continue;
       PassiveConnection c;
@@ -133,7 +152,8 @@ std::vector<PassiveConnection> passive_connections(const Model& model, const Top
       if (support)
         c.moves.emplace_back(group.ends.front(), -1);
       else
-        for (std::size_t k = 1; k < group.ends.size(); ++k) c.moves.emplace_back(group.ends[k], group.ends.front());
+        for (std::size_t k = 1; k < group.ends.size(); ++k)
+          c.moves.emplace_back(group.ends[k], group.ends.front());
       passive.push_back(std::move(c));
     }
   }
@@ -142,7 +162,8 @@ std::vector<PassiveConnection> passive_connections(const Model& model, const Top
 
 // The motion a passive connection lets happen in each column of `motions`, rotations weighed
 // by `length`: 6 rows per moving end.
-MatX passive_motion_rows(const std::vector<PassiveConnection>& passive, const MatX& motions, double length) {
+MatX passive_motion_rows(const std::vector<PassiveConnection>& passive, const MatX& motions,
+                         double length) {
   Index rows = 0;
   for (const auto& c : passive) rows += 6 * static_cast<Index>(c.moves.size());
   MatX g(rows, motions.cols());
@@ -192,19 +213,22 @@ MatX separated_motions(const MatX& motions, const MatX& passive_rows) {
 // One free motion (`several`: alike motions) in the user's terms: the passive joints and
 // supports that let it happen, the links and end effectors it moves. Parts that no support holds
 // are described once elsewhere. `names_passive` tells whether it names a joint or support.
-std::string describe_motion(const Model& model, const Topology& topology, const std::vector<PassiveConnection>& passive,
-                            const std::vector<int>& part, const VecX& motion, double length, bool several,
-                            bool& names_passive) {
+std::string describe_motion(const Model& model, const Topology& topology,
+                            const std::vector<PassiveConnection>& passive,
+                            const std::vector<int>& part, const VecX& motion, double length,
+                            bool several, bool& names_passive) {
   auto deflection = [&](int end) -> Vec6 { return motion.segment<6>(deflection_column(end)); };
   double largest = 0;
   for (int end = 0; end < topology.end_count(); ++end)
-    if (part[static_cast<std::size_t>(end)] < 0) largest = std::max(largest, weighted_norm(deflection(end), length));
+    if (part[static_cast<std::size_t>(end)] < 0)
+      largest = std::max(largest, weighted_norm(deflection(end), length));
   const double significant = kTakesPart * largest;
 
   std::vector<std::string> supports, joints, links, effectors;
   for (const auto& c : passive)
     for (const auto& [end, reference] : c.moves) {
-      const Vec6 relative = c.projector * (deflection(end) - (reference >= 0 ? deflection(reference) : Vec6::Zero()));
+      const Vec6 relative =
+          c.projector * (deflection(end) - (reference >= 0 ? deflection(reference) : Vec6::Zero()));
       if (weighted_norm(relative, length) <= significant) continue;
       (c.support ? supports : joints).push_back(c.label);
       break;
@@ -212,33 +236,45 @@ std::string describe_motion(const Model& model, const Topology& topology, const 
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l);
     if (part[static_cast<std::size_t>(from)] >= 0) continue;
-    if (weighted_norm(deflection(from), length) > significant || weighted_norm(deflection(from + 1), length) > significant)
+    if (weighted_norm(deflection(from), length) > significant ||
+        weighted_norm(deflection(from + 1), length) > significant)
       links.push_back("'" + model.links[l].name + "'");
   }
   for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
     const int end = topology.effector_ends[e];
-    if (part[static_cast<std::size_t>(end)] < 0 && weighted_norm(deflection(end), length) > significant)
+    if (part[static_cast<std::size_t>(end)] < 0 &&
+        weighted_norm(deflection(end), length) > significant)
       effectors.push_back("'" + model.end_effectors[e].name + "'");
   }
 
   const char* subject = several ? "they" : "it";
   const char* moves = several ? " move" : " moves";
   std::vector<std::string> culprits;
-  if (!supports.empty()) culprits.push_back(counted(supports.size(), "passive support ", "passive supports ") + name_list(supports));
-  if (!joints.empty()) culprits.push_back(counted(joints.size(), "passive joint ", "passive joints ") + name_list(joints));
+  if (!supports.empty())
+    culprits.push_back(counted(supports.size(), "passive support ", "passive supports ") +
+                       name_list(supports));
+  if (!joints.empty())
+    culprits.push_back(counted(joints.size(), "passive joint ", "passive joints ") +
+                       name_list(joints));
   names_passive = !culprits.empty();
   std::ostringstream text;
   if (names_passive) {
-    text << name_list(culprits, " and ") << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (several ? "them" : "it") << " happen";
-    if (!links.empty()) text << "; " << subject << moves << " " << counted(links.size(), "link ", "links ") << name_list(links);
+    text << name_list(culprits, " and ")
+         << (supports.size() + joints.size() == 1 ? " lets " : " let ") << (several ? "them" : "it")
+         << " happen";
+    if (!links.empty())
+      text << "; " << subject << moves << " " << counted(links.size(), "link ", "links ")
+           << name_list(links);
   } else {
-    text << counted(links.size(), "link ", "links ") << name_list(links) << " can move without resistance";
+    text << counted(links.size(), "link ", "links ") << name_list(links)
+         << " can move without resistance";
   }
   if (effectors.empty())
-    text << "; " << subject << moves << " no end effector " << (several ? kAcceptIdleMotionsHint : kAcceptIdleMotionHint);
+    text << "; " << subject << moves << " no end effector "
+         << (several ? kAcceptIdleMotionsHint : kAcceptIdleMotionHint);
   else
-    text << (names_passive && !links.empty() ? " and" : "; " + std::string(subject) + moves) << " end effector"
-         << (effectors.size() == 1 ? " " : "s ") << name_list(effectors);
+    text << (names_passive && !links.empty() ? " and" : "; " + std::string(subject) + moves)
+         << " end effector" << (effectors.size() == 1 ? " " : "s ") << name_list(effectors);
   return text.str();
 }
 
@@ -246,25 +282,28 @@ std::string describe_redundancy(const Model& model, const MatX& redundancies) {
   std::vector<std::string> links;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l);
-    const double change = redundancies.middleRows<6>(wrench_column(from)).norm() + redundancies.middleRows<6>(wrench_column(from + 1)).norm();
-    if (change > kNegligible * redundancies.norm()) links.push_back("'" + model.links[l].name + "'");
+    const double change = redundancies.middleRows<6>(wrench_column(from)).norm() +
+                          redundancies.middleRows<6>(wrench_column(from + 1)).norm();
+    if (change > kNegligible * redundancies.norm())
+      links.push_back("'" + model.links[l].name + "'");
   }
   std::ostringstream text;
   text << "the structure is over-constrained (" << redundancies.cols()
        << (redundancies.cols() == 1 ? " redundant constraint" : " redundant constraints")
        << "): a rigid model does not determine the internal wrenches in the loop through "
-       << (links.size() == 1 ? "link " : "links ") << name_list(links) << "; they are reported as null";
+       << (links.size() == 1 ? "link " : "links ") << name_list(links)
+       << "; they are reported as null";
   return text.str();
 }
-
 
 // The free motions, each said once: the parts that no support holds, then the motions of the
 // supported part (in the basis of separated_motions; motions told alike share a line), then
 // what stops them.
-void describe_motions(const Model& model, const Topology& topology, const MatX& motions, double length,
-                      std::vector<std::string>& lines) {
+void describe_motions(const Model& model, const Topology& topology, const MatX& motions,
+                      double length, std::vector<std::string>& lines) {
   const std::vector<int> part = unsupported_parts(topology);
-  const std::vector<std::string> unsupported = describe_unsupported_parts(model, topology, part, length);
+  const std::vector<std::string> unsupported =
+      describe_unsupported_parts(model, topology, part, length);
   lines.insert(lines.end(), unsupported.begin(), unsupported.end());
 
   // The motions that move a supported link end: a basis from the right singular vectors of
@@ -277,7 +316,8 @@ void describe_motions(const Model& model, const Topology& topology, const MatX& 
     if (part[static_cast<std::size_t>(end)] >= 0) supported.middleRows<6>(6 * end).setZero();
   const Eigen::JacobiSVD<MatX> svd(supported, Eigen::ComputeThinV);
   Index count = 0;
-  for (Index i = 0; i < svd.singularValues().size(); ++i) count += svd.singularValues()(i) > kTakesPart * all.norm();
+  for (Index i = 0; i < svd.singularValues().size(); ++i)
+    count += svd.singularValues()(i) > kTakesPart * all.norm();
   if (count == 0) return;
   const std::vector<PassiveConnection> passive = passive_connections(model, topology, part);
   const MatX basis = motions * svd.matrixV().leftCols(count);
@@ -288,9 +328,11 @@ void describe_motions(const Model& model, const Topology& topology, const MatX& 
   bool passive_named = false;
   for (Index c = 0; c < count; ++c) {
     bool names_passive = false;
-    std::string text = describe_motion(model, topology, passive, part, separated.col(c), length, false, names_passive);
+    std::string text = describe_motion(model, topology, passive, part, separated.col(c), length,
+                                       false, names_passive);
     passive_named |= names_passive;
-    auto same = std::find_if(alike.begin(), alike.end(), [&](const auto& a) { return a.first == text; });
+    auto same =
+        std::find_if(alike.begin(), alike.end(), [&](const auto& a) { return a.first == text; });
     if (same == alike.end())
       alike.emplace_back(std::move(text), std::vector<Index>{c});
     else
@@ -306,11 +348,14 @@ void describe_motions(const Model& model, const Topology& topology, const MatX& 
     const std::string label = "free motions " + name_list(ordinals, " and ");
     bool names_passive = false;
     lines.push_back(label + ": " +
-                    describe_motion(model, topology, passive, part, separated.col(numbers.front()), length, true, names_passive));
+                    describe_motion(model, topology, passive, part, separated.col(numbers.front()),
+                                    length, true, names_passive));
   }
   if (passive_named)
-    lines.push_back("to stop a free motion, give a joint or support that lets it happen a `stiffness:` (elastic) "
-                    "or `actuated: true` (a motor, locked where it stands)");
+    lines.push_back(
+        "to stop a free motion, give a joint or support that lets it happen a `stiffness:` "
+        "(elastic) "
+        "or `actuated: true` (a motor, locked where it stands)");
 }
 
 }  // namespace
@@ -336,7 +381,8 @@ std::optional<NullSpaces> sparse_null_spaces(const SparseMatrix& matrix) {
   const Equilibration scaling = equilibrate(matrix);
   SparseMatrix scaled = matrix;
   for (Index j = 0; j < scaled.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator e(scaled, j); e; ++e) e.valueRef() *= scaling.row(e.row()) * scaling.column(j);
+    for (SparseMatrix::InnerIterator e(scaled, j); e; ++e)
+      e.valueRef() *= scaling.row(e.row()) * scaling.column(j);
   NullSpaces spaces;
   spaces.column_scale = scaling.column;
   Index rank = 0;
@@ -376,17 +422,20 @@ std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix) {
   return spaces;
 }
 
-SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix) {
+SingularStructure analyse_singular_structure(const Model& model, const Topology& topology,
+                                             const SparseMatrix& matrix) {
   SingularStructure s;
   const auto spaces = null_spaces(matrix);
   if (!spaces) {
-    s.descriptions.push_back("the system (" + std::to_string(matrix.rows()) +
-                             " unknowns) is singular: part of the structure can move freely or is over-constrained");
+    s.descriptions.push_back(
+        "the system (" + std::to_string(matrix.rows()) +
+        " unknowns) is singular: part of the structure can move freely or is over-constrained");
     return s;
   }
   s.analysed = true;
   if (spaces->right_equilibrated.cols() == 0) {
-    s.descriptions.push_back("the system is nearly singular (ill-conditioned) but has no exact free motion");
+    s.descriptions.push_back(
+        "the system is nearly singular (ill-conditioned) but has no exact free motion");
     return s;
   }
   const MatX& null_basis = spaces->right_equilibrated;
@@ -397,14 +446,17 @@ SingularStructure analyse_singular_structure(const Model& model, const Topology&
   const MatX moving = deflection_rows(null_basis, topology.end_count());
   const Eigen::JacobiSVD<MatX> split(moving, Eigen::ComputeFullV);
   Index motion_count = 0;
-  for (Index i = 0; i < split.singularValues().size(); ++i) motion_count += split.singularValues()(i) > kNegligible;
+  for (Index i = 0; i < split.singularValues().size(); ++i)
+    motion_count += split.singularValues()(i) > kNegligible;
   const MatX v = split.matrixV();
   s.motions = spaces->column_scale.asDiagonal() * (null_basis * v.leftCols(motion_count));
-  s.redundancies = spaces->column_scale.asDiagonal() * (null_basis * v.rightCols(v.cols() - motion_count));
+  s.redundancies =
+      spaces->column_scale.asDiagonal() * (null_basis * v.rightCols(v.cols() - motion_count));
 
   const double length = characteristic_length(model);
   if (motion_count > 0) describe_motions(model, topology, s.motions, length, s.descriptions);
-  if (s.redundancies.cols() > 0) s.descriptions.push_back(describe_redundancy(model, s.redundancies));
+  if (s.redundancies.cols() > 0)
+    s.descriptions.push_back(describe_redundancy(model, s.redundancies));
   return s;
 }
 

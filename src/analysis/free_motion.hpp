@@ -14,10 +14,10 @@
 namespace stiffmsa::detail {
 
 struct SingularStructure {
-  bool analysed = false;   // false above the size where the dense analysis is affordable
-  MatX motions;            // unscaled null vectors with a deflection part, one per column
-  MatX redundancies;       // unscaled null vectors that change wrenches only
-  MatX left_null;          // unscaled basis of the left null space (the equations' dependencies)
+  bool analysed = false;  // false above the size where the dense analysis is affordable
+  MatX motions;           // unscaled null vectors with a deflection part, one per column
+  MatX redundancies;      // unscaled null vectors that change wrenches only
+  MatX left_null;         // unscaled basis of the left null space (the equations' dependencies)
   std::vector<std::string> descriptions;
 };
 
@@ -28,7 +28,7 @@ struct SingularStructure {
 struct NullSpaces {
   MatX right_equilibrated;  // in equilibrated unknowns: entries are comparable across units
   VecX column_scale;
-  MatX left;                // unscaled: each column u has uᵀ·A = 0
+  MatX left;  // unscaled: each column u has uᵀ·A = 0
   MatX right() const { return column_scale.asDiagonal() * right_equilibrated; }
 };
 std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix);
@@ -36,13 +36,15 @@ std::optional<NullSpaces> null_spaces(const SparseMatrix& matrix);
 // How the description of a free motion that moves no end effector tells the user to accept
 // it; a solve that has accepted it says so instead.
 inline constexpr std::string_view kAcceptIdleMotionHint =
-    "(an idle motion: accept it with `options: {accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)";
+    "(an idle motion: accept it with `options: {accept_idle_motions: true}` in the model or "
+    "SolveOptions::accept_idle_motions)";
 inline constexpr std::string_view kAcceptIdleMotionsHint =
-    "(idle motions: accept them with `options: {accept_idle_motions: true}` in the model or SolveOptions::accept_idle_motions)";
+    "(idle motions: accept them with `options: {accept_idle_motions: true}` in the model or "
+    "SolveOptions::accept_idle_motions)";
 inline constexpr std::string_view kAcceptedIdleMotionTag = "(an idle motion, accepted)";
 inline constexpr std::string_view kAcceptedIdleMotionsTag = "(idle motions, accepted)";
 
-
-SingularStructure analyse_singular_structure(const Model& model, const Topology& topology, const SparseMatrix& matrix);
+SingularStructure analyse_singular_structure(const Model& model, const Topology& topology,
+                                             const SparseMatrix& matrix);
 
 }  // namespace stiffmsa::detail

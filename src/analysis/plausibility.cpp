@@ -43,7 +43,8 @@ std::string end_name(const Result& result, std::size_t end) {
 }  // namespace
 
 void add_plausibility_warnings(const Model& model, const ModelIndex& index, Result& result) {
-  for (const Diagnostic& d : find_implausible_values(model, index)) result.report.warnings.push_back(d.to_string());
+  for (const Diagnostic& d : find_implausible_values(model, index))
+    result.report.warnings.push_back(d.to_string());
 
   LargestDeflection largest;
   for (std::size_t l = 0; l < result.links.size(); ++l) {
@@ -56,13 +57,17 @@ void add_plausibility_warnings(const Model& model, const ModelIndex& index, Resu
   if (!turns && !moves) return;
   std::string text = std::string(kLargeDeflectionWarning) + ", which assumes small ones:";
   if (turns)
-    text += " link end '" + end_name(result, largest.rotation_at) + "' turns " + rounded(largest.rotation) + " rad (more than " +
-            shortest_text(kLargestLinearRotation) + " rad)";
+    text += " link end '" + end_name(result, largest.rotation_at) + "' turns " +
+            rounded(largest.rotation) + " rad (more than " + shortest_text(kLargestLinearRotation) +
+            " rad)";
   if (moves)
-    text += std::string(turns ? ";" : "") + " link end '" + end_name(result, largest.translation_at) + "' moves " +
-            rounded(largest.translation) + " m (more than " + shortest_text(100 * kLargestLinearTranslationFraction) +
+    text += std::string(turns ? ";" : "") + " link end '" +
+            end_name(result, largest.translation_at) + "' moves " + rounded(largest.translation) +
+            " m (more than " + shortest_text(100 * kLargestLinearTranslationFraction) +
             " % of the model's size, " + rounded(size) + " m)";
-  text += "; likely a pose near a singularity, loads too large, or a stiffness too small (a modulus in MPa?)";
+  text +=
+      "; likely a pose near a singularity, loads too large, or a stiffness too small (a modulus in "
+      "MPa?)";
   result.report.large_deflection = text;
   result.report.warnings.push_back(std::move(text));
 }

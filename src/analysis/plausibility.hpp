@@ -10,8 +10,8 @@ namespace stiffmsa::detail {
 
 // The linear method of MSA holds while rotations are small (sin θ and θ differ by 0.04 % at
 // 0.05 rad) and translations are small against the structure's size.
-constexpr double kLargestLinearRotation = 0.05;               // rad
-constexpr double kLargestLinearTranslationFraction = 0.03;    // of the model's size
+constexpr double kLargestLinearRotation = 0.05;             // rad
+constexpr double kLargestLinearTranslationFraction = 0.03;  // of the model's size
 
 // Appends to the report's warnings those of find_implausible_values() and, where some link
 // end's deflection under the loads is beyond the linear range, one naming the largest

@@ -1,7 +1,6 @@
 // The analyses of model-format.md: deflections and wrenches under the model's loads, and the
 // compliance and Cartesian stiffness (paper eqs. 20–21) at every end effector.
 #include <Eigen/Cholesky>
-#include <algorithm>
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
@@ -33,15 +32,14 @@ bool solver_available(SolverKind s) {
 
 void SolveOptions::validate() const {
   if (!solver_available(solver))
-    throw UsageError(std::string("the solver '") + to_string(solver) + "' is not built into this stiffmsa");
+    throw UsageError(std::string("the solver '") + to_string(solver) +
+                     "' is not built into this stiffmsa");
   if (!(singular_rcond >= 0 && singular_rcond < 1))
     throw UsageError("singular_rcond must be in [0, 1)");
-  if (!(max_relative_residual > 0))
-    throw UsageError("max_relative_residual must be positive");
+  if (!(max_relative_residual > 0)) throw UsageError("max_relative_residual must be positive");
   if (refinement_steps < 0 || refinement_steps > 20)
     throw UsageError("refinement_steps must be between 0 and 20");
-  if (!(warn_condition > 1))
-    throw UsageError("warn_condition must be greater than 1");
+  if (!(warn_condition > 1)) throw UsageError("warn_condition must be greater than 1");
   if (direction && !(direction->allFinite() && direction->norm() > 0))
     throw UsageError("the direction of a directional stiffness must be a finite, non-zero vector");
 }
@@ -92,7 +90,8 @@ struct Workspace::Impl {
     recorded_blocks = detail::make_blocks(model, topology, spin_locks);
     tree = detail::tree_order(topology);
     // A tree that the tree solve cannot take (a stiffness-only CAD link) may still be a frame.
-    if (!tree || !detail::passes_tree(recorded_blocks)) frame = detail::frame_plan(topology, recorded_blocks);
+    if (!tree || !detail::passes_tree(recorded_blocks))
+      frame = detail::frame_plan(topology, recorded_blocks);
   }
 };
 
@@ -138,15 +137,20 @@ using detail::wrench_column;
 
 // Of a solution vector (a VecX, or a column of the tree solve's unknowns stored by rows).
 template <class Column>
-Vec6 deflection_of(const Column& x, int end) { return x.template segment<6>(deflection_column(end)); }
+Vec6 deflection_of(const Column& x, int end) {
+  return x.template segment<6>(deflection_column(end));
+}
 template <class Column>
-Vec6 wrench_of(const Column& x, int end) { return x.template segment<6>(wrench_column(end)); }
+Vec6 wrench_of(const Column& x, int end) {
+  return x.template segment<6>(wrench_column(end));
+}
 
 // Where each link end sits.
 std::vector<Vec3> end_positions(const Model& model, const detail::Topology& topology) {
   std::vector<Vec3> positions;
   positions.reserve(topology.end_points.size());
-  for (int point : topology.end_points) positions.push_back(model.points[static_cast<std::size_t>(point)].position);
+  for (int point : topology.end_points)
+    positions.push_back(model.points[static_cast<std::size_t>(point)].position);
   return positions;
 }
 
@@ -162,12 +166,14 @@ struct Problem {
   Workspace::Impl& ws;
   const SolveOptions& options;
   detail::Blocks blocks;
-  std::vector<Vec6> external;  // per link end: sum of the model's loads there
-  bool loaded = false;         // any nonzero load or preload
+  std::vector<Vec6> external;             // per link end: sum of the model's loads there
+  bool loaded = false;                    // any nonzero load or preload
   bool blocks_are_the_reference = false;  // a one-shot solve's: its own pattern
 
   // The blocks of the model the workspace was built from.
-  const detail::Blocks& reference_blocks() const { return blocks_are_the_reference ? blocks : ws.recorded_blocks; }
+  const detail::Blocks& reference_blocks() const {
+    return blocks_are_the_reference ? blocks : ws.recorded_blocks;
+  }
 
   // `topology_known`: the workspace was built from this very model.
   Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
@@ -198,7 +204,8 @@ struct Problem {
   // robot's blocks are tens, kept to be refilled by its next pose.
   static constexpr std::size_t kMostKeptBlocks = 4096;
   ~Problem() {
-    if (!blocks_are_the_reference && blocks.size() <= kMostKeptBlocks) ws.pose_blocks = std::move(blocks);
+    if (!blocks_are_the_reference && blocks.size() <= kMostKeptBlocks)
+      ws.pose_blocks = std::move(blocks);
   }
 
   VecX load_rhs() const {
@@ -236,21 +243,24 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
       // The joint's block holds its directions, except a locked actuator's, which it holds rigidly:
       // its effort is still along the joint's own free directions.
       const bool locked = joint.connection.is_actuated && !joint.connection.stiffness;
-      const detail::FreeDirections* held = problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
+      const detail::FreeDirections* held =
+          problem.blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
       const detail::FreeDirections directions =
           locked || !held ? detail::free_directions(joint.connection.kinematics) : *held;
       JointResult& r = result.joints[static_cast<std::size_t>(group.source)];
       const int first = group.ends.front();
       std::vector<VecX> q;
       for (std::size_t k = 1; k < group.ends.size(); ++k)
-        q.push_back(directions.free() * (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
+        q.push_back(directions.free() *
+                    (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
       r.relative_deflection = std::move(q);
       r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
       if (joint.connection.is_actuated)
         r.effort = VecX(directions.gram().ldlt().solve(directions.free() * *r.wrench));
     } else if (group.kind == detail::ConnectionGroup::Kind::support) {
       Vec6 reaction = Vec6::Zero();
-      for (int end : group.ends) reaction += wrench_of(x, end) - problem.external[static_cast<std::size_t>(end)];
+      for (int end : group.ends)
+        reaction += wrench_of(x, end) - problem.external[static_cast<std::size_t>(end)];
       result.supports[static_cast<std::size_t>(group.source)].reaction = reaction;
     }
   }
@@ -322,14 +332,14 @@ std::string message(const Parts&... parts) {
 void check_accuracy(const SolveOptions& options, Result& result) {
   const double rcond = result.report.reciprocal_condition;
   if (rcond > 0 && rcond * options.warn_condition < 1)
-    result.report.warnings.push_back(
-        message("the system is ill-conditioned (condition estimate ", 1 / rcond,
-                "): likely a near-mechanism (joint axes almost aligned, a link almost along a joint's free "
-                "direction) or stiffness values many decades apart; check the digits of the results"));
+    result.report.warnings.push_back(message(
+        "the system is ill-conditioned (condition estimate ", 1 / rcond,
+        "): likely a near-mechanism (joint axes almost aligned, a link almost along a joint's free "
+        "direction) or stiffness values many decades apart; check the digits of the results"));
   if (result.report.relative_residual > options.max_relative_residual)
-    result.report.failed_checks.push_back(message("the relative residual ", result.report.relative_residual,
-                                                  " exceeds ", options.max_relative_residual,
-                                                  "; results may be inaccurate"));
+    result.report.failed_checks.push_back(
+        message("the relative residual ", result.report.relative_residual, " exceeds ",
+                options.max_relative_residual, "; results may be inaccurate"));
   if (result.report.equilibrium_error > detail::kEquilibriumTolerance)
     result.report.failed_checks.push_back(message("loads and support reactions balance only to ",
                                                   result.report.equilibrium_error,
@@ -353,32 +363,37 @@ MatX load_and_unit_wrench_rhs(const Problem& problem) {
 // Deflections, wrenches, compliance and stiffness from the solutions of those right-hand sides
 // (a MatX, or the tree solve's RowMajorMatX).
 template <class Solution>
-void fill_loads_and_compliance(const Problem& problem, const Solution& x, double residual, Result& result) {
+void fill_loads_and_compliance(const Problem& problem, const Solution& x, double residual,
+                               Result& result) {
   const auto& t = problem.ws.topology;
   const std::size_t effectors = problem.model.end_effectors.size();
   result.report.relative_residual = std::max(result.report.relative_residual, residual);
   fill_state_results(problem, x.col(0), result);
   const double length = detail::characteristic_length(problem.model);
   for (std::size_t e = 0; e < effectors; ++e) {
-    const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]), 1 + 6 * static_cast<Index>(e));
+    const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]),
+                                                   1 + 6 * static_cast<Index>(e));
     auto& r = result.end_effectors[e];
     r.compliance = compliance;
-    const detail::CartesianStiffness cartesian = detail::cartesian_stiffness(compliance, length, problem.options.warn_condition);
+    const detail::CartesianStiffness cartesian =
+        detail::cartesian_stiffness(compliance, length, problem.options.warn_condition);
     r.stiffness = cartesian.stiffness;
     if (!r.stiffness) {
       r.reduced_stiffness = detail::reduced_stiffness(compliance, length);
       result.report.notes.push_back(
           "end effector '" + r.name +
-          "' is held rigidly in some direction (or is so nearly a mechanism that double precision cannot tell): its "
+          "' is held rigidly in some direction (or is so nearly a mechanism that double precision "
+          "cannot tell): its "
           "stiffness is unbounded (null)" +
-          (r.reduced_stiffness ? message("; reduced_stiffness gives it on the ", r.reduced_stiffness->matrix.rows(),
-                                         " directions it can move in")
-                               : std::string()));
+          (r.reduced_stiffness
+               ? message("; reduced_stiffness gives it on the ", r.reduced_stiffness->matrix.rows(),
+                         " directions it can move in")
+               : std::string()));
     } else if (cartesian.spread > problem.options.warn_condition) {
-      result.report.warnings.push_back(message("end effector '", r.name, "': its stiffness differs by a factor ",
-                                               cartesian.spread,
-                                               " between directions, a near-mechanism; its softest direction may "
-                                               "have lost most digits"));
+      result.report.warnings.push_back(message(
+          "end effector '", r.name, "': its stiffness differs by a factor ", cartesian.spread,
+          " between directions, a near-mechanism; its softest direction may "
+          "have lost most digits"));
     }
   }
   result.report.equilibrium_error = equilibrium_error(problem, result);
@@ -386,7 +401,8 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
 
 void solve_regular(Problem& problem, Result& result) {
   double residual = 0;
-  const MatX x = problem.ws.system->solve(load_and_unit_wrench_rhs(problem), problem.options.refinement_steps, residual);
+  const MatX x = problem.ws.system->solve(load_and_unit_wrench_rhs(problem),
+                                          problem.options.refinement_steps, residual);
   fill_loads_and_compliance(problem, x, residual, result);
   check_accuracy(problem.options, result);
 }
@@ -410,8 +426,8 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
   const char* solver = nullptr;
   double reciprocal_condition = 0;  // of what was factorised: nothing on the tree
   if (kind == BlockSolve::tree) {
-    const std::optional<detail::Index> cut_unknowns =
-        detail::tree_solve(problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition, scratch);
+    const std::optional<detail::Index> cut_unknowns = detail::tree_solve(
+        problem.blocks, t, *problem.ws.tree, external, 1 / problem.options.warn_condition, scratch);
     if (!cut_unknowns) return false;
     solver = *cut_unknowns == 0 ? "tree" : "tree_with_cuts";
   } else {
@@ -422,9 +438,11 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
     reciprocal_condition = solution->reciprocal_condition;
   }
   const detail::RowMajorMatX& x = scratch.x;
-  const detail::BlockCheck check = detail::check_block_by_block(problem.blocks, t, x, external, scratch);
+  const detail::BlockCheck check =
+      detail::check_block_by_block(problem.blocks, t, x, external, scratch);
   if (!problem.blocks_are_the_reference) {
-    if (!problem.ws.block_pattern) problem.ws.block_pattern = detail::pattern_fingerprint(problem.reference_blocks());
+    if (!problem.ws.block_pattern)
+      problem.ws.block_pattern = detail::pattern_fingerprint(problem.reference_blocks());
     if (check.pattern != *problem.ws.block_pattern) detail::throw_topology_changed();
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
@@ -436,7 +454,8 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
   return true;
 }
 
-detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns, const MatX& rows) {
+detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns,
+                              const MatX& rows) {
   const Index n = a.rows(), k = columns.cols();
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(static_cast<std::size_t>(a.nonZeros() + 2 * n * k));
@@ -444,7 +463,8 @@ detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns
     for (detail::SparseMatrix::InnerIterator e(a, j); e; ++e)
       entries.emplace_back(static_cast<int>(e.row()), static_cast<int>(j), e.value());
   for (Index c = 0; c < k; ++c) {
-    const double column_scale = columns.col(c).cwiseAbs().maxCoeff(), row_scale = rows.col(c).cwiseAbs().maxCoeff();
+    const double column_scale = columns.col(c).cwiseAbs().maxCoeff(),
+                 row_scale = rows.col(c).cwiseAbs().maxCoeff();
     for (Index i = 0; i < n; ++i) {
       if (std::abs(columns(i, c)) > detail::kBorderDrop * column_scale)
         entries.emplace_back(static_cast<int>(i), static_cast<int>(n + c), columns(i, c));
@@ -463,16 +483,20 @@ detail::SparseMatrix bordered(const detail::SparseMatrix& a, const MatX& columns
 double largest_six(const MatX& rows6, double length, bool rotations_times_length) {
   if (rows6.cols() == 0) return 0.0;
   const double w = rotations_times_length ? length : 1.0 / length;
-  return (rows6.topRows<3>().colwise().norm() + w * rows6.bottomRows<3>().colwise().norm()).maxCoeff();
+  return (rows6.topRows<3>().colwise().norm() + w * rows6.bottomRows<3>().colwise().norm())
+      .maxCoeff();
 }
 
 bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
   const double length = detail::characteristic_length(problem.model);
   double largest = 0;
   for (int end = 0; end < problem.ws.topology.end_count(); ++end)
-    largest = std::max(largest, largest_six(motions.middleRows<6>(deflection_column(end)), length, true));
+    largest =
+        std::max(largest, largest_six(motions.middleRows<6>(deflection_column(end)), length, true));
   for (int end : problem.ws.topology.effector_ends)
-    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) > detail::kNegligibleShare * largest) return true;
+    if (largest_six(motions.middleRows<6>(deflection_column(end)), length, true) >
+        detail::kNegligibleShare * largest)
+      return true;
   return false;
 }
 
@@ -480,58 +504,73 @@ bool moves_any_end_effector(const Problem& problem, const MatX& motions) {
 // wrenches, 6×k, is not negligible against `negligible`) may still have some components that do
 // not vary: a planar robot's in-plane reactions where only its out-of-plane ones are shared out
 // among over-constrained legs. A note names them with their values; the wrench is null.
-void note_determined_components(const std::string& whose, const Vec6& wrench, const MatX& variation, double length,
-                                double negligible, std::vector<std::string>& notes) {
+void note_determined_components(const std::string& whose, const Vec6& wrench, const MatX& variation,
+                                double length, double negligible, std::vector<std::string>& notes) {
   static constexpr std::array<const char*, 6> components = {"Fx", "Fy", "Fz", "Mx", "My", "Mz"};
   std::array<bool, 6> fixed{};
   double scale = 0;
   for (int c = 0; c < 6; ++c) {
     const double per_length = c < 3 ? 1.0 : 1.0 / length;
-    fixed[static_cast<std::size_t>(c)] = variation.row(c).cwiseAbs().maxCoeff() * per_length <= negligible;
-    if (fixed[static_cast<std::size_t>(c)]) scale = std::max(scale, std::abs(wrench(c)) * per_length);
+    fixed[static_cast<std::size_t>(c)] =
+        variation.row(c).cwiseAbs().maxCoeff() * per_length <= negligible;
+    if (fixed[static_cast<std::size_t>(c)])
+      scale = std::max(scale, std::abs(wrench(c)) * per_length);
   }
   std::string determined;
   int count = 0;
   for (int c = 0; c < 6; ++c) {
     if (!fixed[static_cast<std::size_t>(c)]) continue;
-    const double value = std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < detail::kRoundOff * scale ? 0.0 : wrench(c);
-    determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ", value, c < 3 ? " N" : " N·m");
+    const double value =
+        std::abs(wrench(c)) * (c < 3 ? 1.0 : 1.0 / length) < detail::kRoundOff * scale ? 0.0
+                                                                                       : wrench(c);
+    determined += message(count++ ? ", " : "", components[static_cast<std::size_t>(c)], " = ",
+                          value, c < 3 ? " N" : " N·m");
   }
   if (count > 0)
-    notes.push_back(whose + " is null, as the rigid model does not determine all of it; its determined " +
+    notes.push_back(whose +
+                    " is null, as the rigid model does not determine all of it; its determined " +
                     (count == 1 ? "component is " : "components are ") + determined);
 }
 
 constexpr const char* kIdleMotionsAccepted =
-    "idle motions accepted: the end-effector results do not depend on them; the deflections they change are null";
+    "idle motions accepted: the end-effector results do not depend on them; the deflections they "
+    "change are null";
 
 // A singular system whose null space leaves every end effector in place: over-constrained rigid
 // loops (deflections unique, some wrenches not) and, where accepted, idle motions (some link
 // ends' deflections not unique). The system bordered with the dependencies of its equations
 // and its null vectors is regular; its solution is one member of the family, and every value
 // that varies across the family is reported null.
-void solve_singular_but_determined(Problem& problem, const detail::SingularStructure& structure, Result& result) {
+void solve_singular_but_determined(Problem& problem, const detail::SingularStructure& structure,
+                                   Result& result) {
   const Index n = problem.ws.topology.unknowns();
   const MatX& redundancies = structure.redundancies;
   const MatX& idle = structure.motions;
   MatX null_vectors(n, redundancies.cols() + idle.cols());
   null_vectors << redundancies, idle;
-  const detail::SparseMatrix extended = bordered(problem.ws.matrix, structure.left_null, null_vectors);
+  const detail::SparseMatrix extended =
+      bordered(problem.ws.matrix, structure.left_null, null_vectors);
   detail::FactorizedSystem system(problem.options.solver);
   if (!system.factorize(extended, problem.options.singular_rcond))
-    throw SingularModelError(SingularModelError::Cause::numerical, "the model is singular and could not be solved", structure.descriptions);
+    throw SingularModelError(SingularModelError::Cause::numerical,
+                             "the model is singular and could not be solved",
+                             structure.descriptions);
   {
     const MatX rhs = load_and_unit_wrench_rhs(problem);
     MatX padded = MatX::Zero(n + null_vectors.cols(), rhs.cols());
     padded.topRows(n) = rhs;
     double bordered_residual = 0;
-    const MatX x = system.solve(std::move(padded), problem.options.refinement_steps, bordered_residual);
+    const MatX x =
+        system.solve(std::move(padded), problem.options.refinement_steps, bordered_residual);
     const MatX solution = x.topRows(n);
-    fill_loads_and_compliance(problem, solution, detail::relative_residual(problem.ws.matrix, solution, rhs), result);
+    fill_loads_and_compliance(problem, solution,
+                              detail::relative_residual(problem.ws.matrix, solution, rhs), result);
   }
   if (result.report.relative_residual > detail::kLoadAlongFreeMotion)
-    throw SingularModelError(SingularModelError::Cause::free_motion, "the structure cannot hold its loads or preloads: they act along a free motion",
-                             structure.descriptions);
+    throw SingularModelError(
+        SingularModelError::Cause::free_motion,
+        "the structure cannot hold its loads or preloads: they act along a free motion",
+        structure.descriptions);
 
   const double length = detail::characteristic_length(problem.model);
   // Rows of a matrix without columns would be taken from a null pointer.
@@ -540,11 +579,15 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     double largest = 0;
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
       largest = std::max(largest, size(redundancies.middleRows<6>(wrench_column(end))));
-    auto undetermined = [&](const MatX& rows6) { return size(rows6) > detail::kNegligibleShare * largest; };
+    auto undetermined = [&](const MatX& rows6) {
+      return size(rows6) > detail::kNegligibleShare * largest;
+    };
     for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
       const int from = 2 * static_cast<int>(l);
-      if (undetermined(redundancies.middleRows<6>(wrench_column(from)))) result.links[l].from.wrench.reset();
-      if (undetermined(redundancies.middleRows<6>(wrench_column(from + 1)))) result.links[l].to.wrench.reset();
+      if (undetermined(redundancies.middleRows<6>(wrench_column(from))))
+        result.links[l].from.wrench.reset();
+      if (undetermined(redundancies.middleRows<6>(wrench_column(from + 1))))
+        result.links[l].to.wrench.reset();
     }
     for (const auto& group : problem.ws.topology.groups) {
       if (group.kind == detail::ConnectionGroup::Kind::joint &&
@@ -552,8 +595,9 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         auto& joint = result.joints[static_cast<std::size_t>(group.source)];
         if (joint.wrench)
           note_determined_components("the wrench of joint '" + joint.name + "'", *joint.wrench,
-                                     redundancies.middleRows<6>(wrench_column(group.ends.front())), length,
-                                     detail::kNegligibleShare * largest, result.report.notes);
+                                     redundancies.middleRows<6>(wrench_column(group.ends.front())),
+                                     length, detail::kNegligibleShare * largest,
+                                     result.report.notes);
         joint.wrench.reset();
         joint.effort.reset();
       } else if (group.kind == detail::ConnectionGroup::Kind::support) {
@@ -562,7 +606,8 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         auto& support = result.supports[static_cast<std::size_t>(group.source)];
         if (!undetermined(sum)) continue;
         if (support.reaction)
-          note_determined_components("the reaction of support '" + support.name + "'", *support.reaction, sum, length,
+          note_determined_components("the reaction of support '" + support.name + "'",
+                                     *support.reaction, sum, length,
                                      detail::kNegligibleShare * largest, result.report.notes);
         support.reaction.reset();
       }
@@ -571,11 +616,13 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
   if (idle.cols() > 0) {
     double largest_motion = 0;
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
-      largest_motion = std::max(largest_motion, largest_six(idle.middleRows<6>(deflection_column(end)), length, true));
+      largest_motion = std::max(
+          largest_motion, largest_six(idle.middleRows<6>(deflection_column(end)), length, true));
     std::vector<bool> moving(static_cast<std::size_t>(problem.ws.topology.end_count()));
     for (int end = 0; end < problem.ws.topology.end_count(); ++end)
       moving[static_cast<std::size_t>(end)] =
-          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) > detail::kNegligibleShare * largest_motion;
+          largest_six(idle.middleRows<6>(deflection_column(end)), length, true) >
+          detail::kNegligibleShare * largest_motion;
     for (std::size_t l = 0; l < problem.model.links.size(); ++l) {
       if (moving[2 * l]) result.links[l].from.deflection.reset();
       if (moving[2 * l + 1]) result.links[l].to.deflection.reset();
@@ -583,13 +630,16 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
     for (const auto& group : problem.ws.topology.groups)
       if (group.kind == detail::ConnectionGroup::Kind::joint)
         for (int end : group.ends)
-          if (moving[static_cast<std::size_t>(end)]) result.joints[static_cast<std::size_t>(group.source)].relative_deflection.reset();
+          if (moving[static_cast<std::size_t>(end)])
+            result.joints[static_cast<std::size_t>(group.source)].relative_deflection.reset();
     result.report.notes.push_back(kIdleMotionsAccepted);
   }
   for (std::string d : structure.descriptions) {
-    for (const auto& [hint, accepted] : {std::pair{detail::kAcceptIdleMotionHint, detail::kAcceptedIdleMotionTag},
-                                         std::pair{detail::kAcceptIdleMotionsHint, detail::kAcceptedIdleMotionsTag}})
-      if (const auto at = d.find(hint); at != std::string::npos) d.replace(at, hint.size(), accepted);
+    for (const auto& [hint, accepted] :
+         {std::pair{detail::kAcceptIdleMotionHint, detail::kAcceptedIdleMotionTag},
+          std::pair{detail::kAcceptIdleMotionsHint, detail::kAcceptedIdleMotionsTag}})
+      if (const auto at = d.find(hint); at != std::string::npos)
+        d.replace(at, hint.size(), accepted);
     result.report.notes.push_back(std::move(d));
   }
   check_accuracy(problem.options, result);
@@ -597,8 +647,8 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
 
 // Eq. (21) without an inverse: Δt_e becomes prescribed and W_ext,e unknown. Regular where
 // prescribing Δt_e removes every free motion.
-std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int end, double& residual,
-                                                    double& rcond) {
+std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int end,
+                                                    double& residual, double& rcond) {
   const Index n = problem.ws.topology.unknowns();
   MatX columns = -problem.unit_wrench_rhs(end);
   MatX rows = MatX::Zero(n, 6);
@@ -619,15 +669,19 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
   if (!spaces || spaces->right_equilibrated.cols() == 0) return std::nullopt;
   const MatX& null_basis = spaces->right_equilibrated;
   for (int e = 0; e < problem.ws.topology.end_count(); ++e)
-    if (null_basis.middleRows<6>(deflection_column(e)).cwiseAbs().maxCoeff() > detail::kNegligibleNullEntry) return std::nullopt;
-  if (null_basis.bottomRows<6>().cwiseAbs().maxCoeff() > detail::kNegligibleNullEntry) return std::nullopt;
+    if (null_basis.middleRows<6>(deflection_column(e)).cwiseAbs().maxCoeff() >
+        detail::kNegligibleNullEntry)
+      return std::nullopt;
+  if (null_basis.bottomRows<6>().cwiseAbs().maxCoeff() > detail::kNegligibleNullEntry)
+    return std::nullopt;
   const detail::SparseMatrix regular = bordered(augmented, spaces->left, spaces->right());
   detail::FactorizedSystem bordered_system(problem.options.solver);
   if (!bordered_system.factorize(regular, problem.options.singular_rcond)) return std::nullopt;
   rcond = bordered_system.reciprocal_condition();
   MatX padded = MatX::Zero(regular.rows(), 6);
   padded.topRows(n + 6) = rhs;
-  const MatX x = bordered_system.solve(std::move(padded), problem.options.refinement_steps, residual);
+  const MatX x =
+      bordered_system.solve(std::move(padded), problem.options.refinement_steps, residual);
   return Mat6(x.middleRows<6>(n));
 }
 
@@ -635,21 +689,25 @@ std::optional<Mat6> prescribed_deflection_stiffness(const Problem& problem, int 
 std::string mechanism(const detail::SingularStructure& structure) {
   const Index count = structure.motions.cols();
   if (!structure.analysed || count == 0) return "the model is a mechanism";
-  return message("the model is a mechanism with ", count, count == 1 ? " free motion" : " free motions");
+  return message("the model is a mechanism with ", count,
+                 count == 1 ? " free motion" : " free motions");
 }
 
-void solve_free_structure(Problem& problem, const detail::SingularStructure& structure, Result& result) {
+void solve_free_structure(Problem& problem, const detail::SingularStructure& structure,
+                          Result& result) {
   const std::vector<std::string>& details = structure.descriptions;
   const bool one = structure.motions.cols() == 1;
   if (problem.loaded)
     throw SingularModelError(SingularModelError::Cause::free_motion,
-                             mechanism(structure) + " and carries loads or preloads, which a mechanism cannot hold "
-                             "(only an unloaded one is solved)",
+                             mechanism(structure) +
+                                 " and carries loads or preloads, which a mechanism cannot hold "
+                                 "(only an unloaded one is solved)",
                              details);
   bool any = false;
   for (std::size_t e = 0; e < problem.model.end_effectors.size(); ++e) {
     double residual = 0, rcond = 0;
-    auto stiffness = prescribed_deflection_stiffness(problem, problem.ws.topology.effector_ends[e], residual, rcond);
+    auto stiffness = prescribed_deflection_stiffness(problem, problem.ws.topology.effector_ends[e],
+                                                     residual, rcond);
     if (!stiffness) continue;
     any = true;
     result.end_effectors[e].stiffness = stiffness;
@@ -658,15 +716,18 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
   }
   if (!any)
     throw SingularModelError(SingularModelError::Cause::free_motion,
-                             mechanism(structure) + (one ? ", and no end effector stops it" : ", and no end effector stops them"),
+                             mechanism(structure) + (one ? ", and no end effector stops it"
+                                                         : ", and no end effector stops them"),
                              details);
   result.report.notes.push_back(
-      "the structure can move freely; only the stiffness of the end effectors that stop every free motion "
+      "the structure can move freely; only the stiffness of the end effectors that stop every free "
+      "motion "
       "is reported, everything else is null");
   if (problem.model.supports.empty())
-    result.report.warnings.push_back("the model has no support: nothing holds it, so the stiffness of its end effectors "
-                                     "is zero (it measures only what holds the end effector against the rest of the "
-                                     "model); add a support under `supports:`");
+    result.report.warnings.push_back(
+        "the model has no support: nothing holds it, so the stiffness of its end effectors "
+        "is zero (it measures only what holds the end effector against the rest of the "
+        "model); add a support under `supports:`");
   for (const auto& d : details) result.report.notes.push_back(d);
   check_accuracy(problem.options, result);
 }
@@ -688,8 +749,8 @@ namespace {
 // What holding the rods' spins left out of a result: the spin moves the rods' ends, so their
 // deflections and their ball joints' relative deflections are not determined, as an accepted
 // idle motion's are (solve_singular_but_determined); a support reports no relative deflection.
-void report_held_spins(const Model& model, const detail::Topology& topology, const std::vector<detail::SpinLock>& locks,
-                       Result& result) {
+void report_held_spins(const Model& model, const detail::Topology& topology,
+                       const std::vector<detail::SpinLock>& locks, Result& result) {
   std::string rods;
   for (const detail::SpinLock& lock : locks) {
     auto& link = result.links[static_cast<std::size_t>(lock.rod)];
@@ -700,21 +761,26 @@ void report_held_spins(const Model& model, const detail::Topology& topology, con
       if (group.kind == detail::ConnectionGroup::Kind::joint)
         result.joints[static_cast<std::size_t>(group.source)].relative_deflection.reset();
     }
-    rods += (rods.empty() ? "'" : ", '") + model.links[static_cast<std::size_t>(lock.rod)].name + "'";
+    rods +=
+        (rods.empty() ? "'" : ", '") + model.links[static_cast<std::size_t>(lock.rod)].name + "'";
   }
   // Once, where idle motions other than the spins were accepted too.
-  if (std::find(result.report.notes.begin(), result.report.notes.end(), kIdleMotionsAccepted) == result.report.notes.end())
+  if (std::find(result.report.notes.begin(), result.report.notes.end(), kIdleMotionsAccepted) ==
+      result.report.notes.end())
     result.report.notes.push_back(kIdleMotionsAccepted);
   const bool one = locks.size() == 1;
-  result.report.notes.push_back(message(one ? "link " : "links ", rods, one ? " spins" : " spin",
-                                        " freely about the line through the ball joints at ", one ? "its" : "their",
-                                        one ? " ends (an idle motion)" : " ends (an idle motion each)"));
+  result.report.notes.push_back(
+      message(one ? "link " : "links ", rods, one ? " spins" : " spin",
+              " freely about the line through the ball joints at ", one ? "its" : "their",
+              one ? " ends (an idle motion)" : " ends (an idle motion each)"));
 }
 
 // The solve with one set of blocks: the model's own, or those with the rods' spins held.
-Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known);
+Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
+                bool topology_known);
 
-Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options, bool topology_known) {
+Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options,
+                       bool topology_known) {
   Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   if (accept_idle && options.solver == SolverKind::automatic && ws.spin_locked) {
@@ -725,13 +791,15 @@ Result solve_validated(Workspace& workspace, const Model& model, const SolveOpti
   return solve_in(ws, model, options, topology_known);
 }
 
-Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options, bool topology_known) {
+Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
+                bool topology_known) {
   Problem problem(model, ws, options, topology_known);
   Result result = empty_result(model, ws);
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
       solve_without_factorising(problem, BlockSolve::tree, result))
     return result;
-  if (options.solver == SolverKind::automatic && ws.frame && solve_without_factorising(problem, BlockSolve::frame, result))
+  if (options.solver == SolverKind::automatic && ws.frame &&
+      solve_without_factorising(problem, BlockSolve::frame, result))
     return result;
   detail::Assembler& assembler = ws.pattern(problem.reference_blocks());
   if (!ws.system || ws.solver_kind != options.solver) {
@@ -749,7 +817,8 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
   result.system = assembler.size();
   result.system.nonzeros = count_nonzero_values(ws.matrix);
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
-  result.report.solver = solver_used_from_string(ws.system->solver_name()).value_or(SolverUsed::none);  // `auto` has chosen by now
+  result.report.solver = solver_used_from_string(ws.system->solver_name())
+                             .value_or(SolverUsed::none);  // `auto` has chosen by now
   result.report.reciprocal_condition = ws.system->reciprocal_condition();
   if (regular) {
     solve_regular(problem, result);
@@ -757,8 +826,10 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
   }
   const auto structure = detail::analyse_singular_structure(model, ws.topology, ws.matrix);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
-  const bool determined = structure.motions.cols() == 0 || (accept_idle && !moves_any_end_effector(problem, structure.motions));
-  if (structure.analysed && structure.motions.cols() + structure.redundancies.cols() > 0 && determined)
+  const bool determined = structure.motions.cols() == 0 ||
+                          (accept_idle && !moves_any_end_effector(problem, structure.motions));
+  if (structure.analysed && structure.motions.cols() + structure.redundancies.cols() > 0 &&
+      determined)
     solve_singular_but_determined(problem, structure, result);
   else
     solve_free_structure(problem, structure, result);
@@ -766,7 +837,8 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
 }
 
 // What every solve adds to its result, however it was solved.
-void finish_result(const Model& model, const detail::ModelIndex& index, const SolveOptions& options, Result& result) {
+void finish_result(const Model& model, const detail::ModelIndex& index, const SolveOptions& options,
+                   Result& result) {
   result.model_size = detail::characteristic_length(model);
   result.parameters = model.parameters;
   detail::add_plausibility_warnings(model, index, result);
@@ -800,7 +872,8 @@ void add_results_in_own_axes(const Model& model, Result& result) {
 }
 
 bool has_self_weight(const Model& model) {
-  return std::any_of(model.loads.begin(), model.loads.end(), [](const Load& l) { return l.self_weight; });
+  return std::any_of(model.loads.begin(), model.loads.end(),
+                     [](const Load& l) { return l.self_weight; });
 }
 
 // The model under its self-weight loads alone: its other loads and its preloads at zero, so
@@ -842,14 +915,17 @@ Result solve(Workspace& workspace, std::span<const double> values, const SolveOp
   options.validate();
   Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   if (!ws.structure)
-    throw UsageError("solving values needs the workspace of their structure: build it as Workspace(structure)");
+    throw UsageError(
+        "solving values needs the workspace of their structure: build it as Workspace(structure)");
   const Structure& structure = *ws.structure;
   structure.write_values(values, ws.member);
   const Model& model = ws.member;
   auto defects = detail::find_value_defects(model, structure.impl().index);
   if (!defects.empty()) throw InputError(std::move(defects));
   Result result = solve_validated(workspace, model, options, false);
-  if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
+  if (has_self_weight(model))
+    add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
+                            result);
   add_results_in_own_axes(model, result);
   add_model_warnings(model, result);
   finish_result(model, structure.impl().index, options, result);
@@ -858,8 +934,10 @@ Result solve(Workspace& workspace, std::span<const double> values, const SolveOp
 
 Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,
              const SolveOptions& options) {
-  if (!detail::WorkspaceAccess::impl(workspace).structure || !(*detail::WorkspaceAccess::impl(workspace).structure == structure))
-    throw UsageError("the workspace was built for another structure; build it as Workspace(structure)");
+  if (!detail::WorkspaceAccess::impl(workspace).structure ||
+      !(*detail::WorkspaceAccess::impl(workspace).structure == structure))
+    throw UsageError(
+        "the workspace was built for another structure; build it as Workspace(structure)");
   return solve(workspace, values, options);
 }
 
@@ -867,9 +945,12 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   options.validate();
   const detail::ModelIndex index(model);
   detail::validate(model, index);
-  if (!(detail::build_topology(model, index) == detail::WorkspaceAccess::impl(workspace).topology)) detail::throw_topology_changed();
+  if (!(detail::build_topology(model, index) == detail::WorkspaceAccess::impl(workspace).topology))
+    detail::throw_topology_changed();
   Result result = solve_validated(workspace, model, options, false);
-  if (has_self_weight(model)) add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false), result);
+  if (has_self_weight(model))
+    add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
+                            result);
   add_results_in_own_axes(model, result);
   add_model_warnings(model, result);
   finish_result(model, index, options, result);

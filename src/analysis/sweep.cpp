@@ -10,27 +10,29 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <mutex>
-#include <optional>
-#include <new>
-#include <set>
 #include <exception>
 #include <functional>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <optional>
+#include <set>
 
 #include "model/suggest.hpp"
-#include "stiffmsa/validate.hpp"
 #include "stiffmsa/number_text.hpp"
+#include "stiffmsa/validate.hpp"
 
 namespace stiffmsa {
 
 double GridAxis::value(std::size_t i) const {
   if (count <= 1) return start;
   if (i + 1 == count) return stop;  // exactly the stop the user wrote
-  const double interpolated = start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
+  const double interpolated =
+      start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
   // The rounding of the interpolation: of the start, of the step times i, and of their sum.
-  const double round_off = std::numeric_limits<double>::epsilon() *
-                           (std::abs(start) + std::abs(interpolated - start) + std::abs(interpolated));
+  const double round_off =
+      std::numeric_limits<double>::epsilon() *
+      (std::abs(start) + std::abs(interpolated - start) + std::abs(interpolated));
   return shortest_decimal_near(interpolated, round_off);
 }
 
@@ -40,7 +42,8 @@ PoseTable grid_poses(std::vector<GridAxis> axes, std::size_t max_poses) {
   std::size_t poses = 1;
   for (const auto& axis : axes) {
     if (axis.count == 0)
-      throw UsageError("the grid of '" + axis.parameter + "' has no values; give a count of at least 1");
+      throw UsageError("the grid of '" + axis.parameter +
+                       "' has no values; give a count of at least 1");
     if (!std::isfinite(axis.start) || !std::isfinite(axis.stop))
       throw UsageError("the grid of '" + axis.parameter + "' must start and stop at finite values");
     if (!seen.insert(axis.parameter).second)
@@ -123,7 +126,8 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
   for (const auto& effector : result.end_effectors) {
     EndEffectorMeasures m;
     m.principal = principal_stiffness(*effector.compliance);
-    const Vec6 deflection = effector.deflection.value_or(Vec6::Constant(std::numeric_limits<double>::quiet_NaN()));
+    const Vec6 deflection =
+        effector.deflection.value_or(Vec6::Constant(std::numeric_limits<double>::quiet_NaN()));
     m.deflection_translation = deflection.head<3>().norm();
     m.deflection_rotation = deflection.tail<3>().norm();
     m.along_direction = effector.along_direction;
@@ -147,7 +151,7 @@ PoseResult failed_pose(std::exception_ptr thrown, bool built) {
     pose.message = one_line(e);
   } catch (const SingularModelError& e) {
     pose.status = e.cause() == SingularModelError::Cause::free_motion ? PoseStatus::free_motion
-                                                                        : PoseStatus::singular;
+                                                                      : PoseStatus::singular;
     pose.message = one_line(e);
   } catch (const Error& e) {
     // Not the pose's values (those are InputError, SingularModelError or a failed accuracy
@@ -159,7 +163,8 @@ PoseResult failed_pose(std::exception_ptr thrown, bool built) {
   } catch (const std::exception& e) {
     // A caller's family may throw anything; the pose fails, the sweep goes on.
     pose.status = built ? PoseStatus::error : PoseStatus::invalid;
-    pose.message = std::string(built ? "the solve failed: " : "the model could not be built: ") + e.what();
+    pose.message =
+        std::string(built ? "the solve failed: " : "the model could not be built: ") + e.what();
   }
   return pose;
 }
@@ -184,7 +189,8 @@ PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& optio
     if (!worker.warnings.empty()) {
       std::vector<std::string> warnings;
       for (const Diagnostic& w : worker.warnings) warnings.push_back(w.to_string());
-      result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(), warnings.end());
+      result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(),
+                                    warnings.end());
     }
     return measure(result, options);
   } catch (...) {
@@ -194,9 +200,11 @@ PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& optio
 
 // The sweep of one structure over `count` poses, each thread writing its poses' values with
 // the writer `make_write` makes for it.
-using MakeWrite = std::function<std::function<void(std::size_t, std::span<double>, std::vector<Diagnostic>&)>()>;
-std::vector<PoseResult> run_poses(const Structure& structure, std::size_t count, const MakeWrite& make_write,
-                                  const SweepOptions& options, std::size_t& threads_used, double& seconds) {
+using MakeWrite =
+    std::function<std::function<void(std::size_t, std::span<double>, std::vector<Diagnostic>&)>()>;
+std::vector<PoseResult> run_poses(const Structure& structure, std::size_t count,
+                                  const MakeWrite& make_write, const SweepOptions& options,
+                                  std::size_t& threads_used, double& seconds) {
   // The workspace built here goes to the first thread, so a one-thread sweep analyses the
   // topology once.
   std::optional<Workspace> first_workspace(std::in_place, structure);
@@ -213,9 +221,11 @@ std::vector<PoseResult> run_poses(const Structure& structure, std::size_t count,
   // More threads than this only queue for the same cores.
   constexpr std::size_t max_threads = 1024;
   const std::size_t threads = std::min(
-      max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency()) : options.threads);
-  tbb::enumerable_thread_specific<Worker> workers(
-      [&] { return Worker{take_workspace(), std::vector<double>(structure.value_count()), {}, make_write()}; });
+      max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency())
+                                        : options.threads);
+  tbb::enumerable_thread_specific<Worker> workers([&] {
+    return Worker{take_workspace(), std::vector<double>(structure.value_count()), {}, make_write()};
+  });
 
   std::atomic<std::size_t> done{0};
   std::mutex progress_lock;
@@ -228,11 +238,13 @@ std::vector<PoseResult> run_poses(const Structure& structure, std::size_t count,
   const auto start = std::chrono::steady_clock::now();
   tbb::task_arena arena(static_cast<int>(threads));
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& range) {
-      Worker& worker = workers.local();
-      for (std::size_t i = range.begin(); i != range.end(); ++i) results[i] = solve_one(worker, i, options);
-      report_progress(done += range.size());
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        Worker& worker = workers.local();
+                        for (std::size_t i = range.begin(); i != range.end(); ++i)
+                          results[i] = solve_one(worker, i, options);
+                        report_progress(done += range.size());
+                      });
   });
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   threads_used = std::max<std::size_t>(1, workers.size());  // the threads that took part
@@ -272,8 +284,9 @@ std::vector<PoseResult> solve_poses(const Structure& structure, std::span<const 
   options.solve.validate();
   const std::size_t slots = structure.value_count();
   if (slots == 0 ? !value_sets.empty() : value_sets.size() % slots != 0)
-    throw UsageError("the value sets hold " + std::to_string(value_sets.size()) + " values, not a multiple of the " +
-                     std::to_string(slots) + " value slots of the structure");
+    throw UsageError("the value sets hold " + std::to_string(value_sets.size()) +
+                     " values, not a multiple of the " + std::to_string(slots) +
+                     " value slots of the structure");
   const std::size_t count = slots == 0 ? 0 : value_sets.size() / slots;
   const MakeWrite make_write = [&] {
     return [&](std::size_t pose, std::span<double> values, std::vector<Diagnostic>&) {
@@ -293,29 +306,33 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   // member at the defaults is every workspace's reference pose.
   const Model reference = family.build(defaults.all);
   const Structure family_structure = family.structure();
-  const Structure structure = family_structure.with_default_values(family_structure.values_of(reference));
+  const Structure structure =
+      family_structure.with_default_values(family_structure.values_of(reference));
 
   SweepResult sweep_result;
   sweep_result.model = reference.name;
   sweep_result.poses = poses;
-  for (std::size_t index : defaults.swept) sweep_result.units.push_back(family.parameters()[index].unit);
+  for (std::size_t index : defaults.swept)
+    sweep_result.units.push_back(family.parameters()[index].unit);
   for (const auto& e : reference.end_effectors) sweep_result.end_effectors.push_back(e.name);
   const std::vector<ParameterValue> all_parameters = family.parameter_values();
   for (std::size_t i = 0; i < all_parameters.size(); ++i)
     if (std::find(defaults.swept.begin(), defaults.swept.end(), i) == defaults.swept.end())
       sweep_result.fixed_parameters.push_back(all_parameters[i]);
   if (options.solve.direction) sweep_result.direction = options.solve.direction->normalized();
-  for (const Diagnostic& d : find_implausible_values(reference)) sweep_result.warnings.push_back(d.to_string());
+  for (const Diagnostic& d : find_implausible_values(reference))
+    sweep_result.warnings.push_back(d.to_string());
 
   const MakeWrite make_write = [&] {
-    return [write = family.make_writer(family_structure), parameters = defaults, &poses](
-               std::size_t pose, std::span<double> values, std::vector<Diagnostic>& warnings) mutable {
-      parameters.set(poses.pose(pose));
-      write(parameters.all, values, warnings);
-    };
+    return
+        [write = family.make_writer(family_structure), parameters = defaults, &poses](
+            std::size_t pose, std::span<double> values, std::vector<Diagnostic>& warnings) mutable {
+          parameters.set(poses.pose(pose));
+          write(parameters.all, values, warnings);
+        };
   };
-  sweep_result.results = run_poses(structure, poses.size(), make_write, options, sweep_result.threads,
-                                   sweep_result.seconds);
+  sweep_result.results = run_poses(structure, poses.size(), make_write, options,
+                                   sweep_result.threads, sweep_result.seconds);
   return sweep_result;
 }
 

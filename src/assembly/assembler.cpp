@@ -14,7 +14,6 @@ void throw_topology_changed() {
                    "parameters' defaults); one analysis solves models of one topology");
 }
 
-
 namespace {
 
 // The first pass over the blocks' writes: how many land in each column, and whether any
@@ -54,8 +53,8 @@ class ColumnSorter final : public CoefficientWriter<ColumnSorter> {
   ColumnSorter(std::vector<int>& next_in_column, std::vector<Position>& by_column)
       : next_(next_in_column), by_column_(by_column) {}
   void put(Index row, Index column, double) {
-    by_column_[static_cast<std::size_t>(next_[static_cast<std::size_t>(column)]++)] = {static_cast<int>(row),
-                                                                                       written_++};
+    by_column_[static_cast<std::size_t>(next_[static_cast<std::size_t>(column)]++)] = {
+        static_cast<int>(row), written_++};
   }
 
  private:
@@ -68,14 +67,15 @@ class ColumnSorter final : public CoefficientWriter<ColumnSorter> {
 // one position (row, column) of the pattern that the k-th write of the recording went to.
 class ValueWriter final : public CoefficientWriter<ValueWriter> {
  public:
-  ValueWriter(const std::vector<int>& slots, const std::vector<int>& outer, const std::vector<int>& inner,
-              double* values)
+  ValueWriter(const std::vector<int>& slots, const std::vector<int>& outer,
+              const std::vector<int>& inner, double* values)
       : slots_(slots), outer_(outer), inner_(inner), values_(values) {}
   void put(Index row, Index column, double value) {
     if (next_ >= slots_.size() || column < 0 || column + 1 >= static_cast<Index>(outer_.size()))
       throw_topology_changed();
     const int slot = slots_[next_++];
-    if (slot < outer_[static_cast<std::size_t>(column)] || slot >= outer_[static_cast<std::size_t>(column) + 1] ||
+    if (slot < outer_[static_cast<std::size_t>(column)] ||
+        slot >= outer_[static_cast<std::size_t>(column) + 1] ||
         inner_[static_cast<std::size_t>(slot)] != row)
       throw_topology_changed();
     values_[slot] += value;
@@ -114,19 +114,22 @@ Assembler::Assembler(const Blocks& blocks, Index unknowns) : unknowns_(unknowns)
     // Filling advances each column's start to its end, which is the next column's start: one
     // shift afterwards restores the starts without a second array of them.
     ColumnSorter sorter(column_start, by_column);
-    for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b]->write_equations(first_rows_[b], sorter);
+    for (std::size_t b = 0; b < blocks.size(); ++b)
+      blocks[b]->write_equations(first_rows_[b], sorter);
     std::copy_backward(column_start.begin(), column_start.end() - 1, column_start.end());
     column_start.front() = 0;
   }
   const auto n = static_cast<std::size_t>(unknowns);
   const auto column = [&](std::size_t j) {
-    return std::span<Position>(by_column).subspan(static_cast<std::size_t>(column_start[j]),
-                                                  static_cast<std::size_t>(column_start[j + 1] - column_start[j]));
+    return std::span<Position>(by_column).subspan(
+        static_cast<std::size_t>(column_start[j]),
+        static_cast<std::size_t>(column_start[j + 1] - column_start[j]));
   };
   std::size_t stored = 0;
   for (std::size_t j = 0; j < n; ++j) {
     const auto writes = column(j);
-    std::sort(writes.begin(), writes.end(), [](const Position& a, const Position& b) { return a.row < b.row; });
+    std::sort(writes.begin(), writes.end(),
+              [](const Position& a, const Position& b) { return a.row < b.row; });
     for (std::size_t k = 0; k < writes.size(); ++k)
       if (k == 0 || writes[k].row != writes[k - 1].row) ++stored;
   }
@@ -152,11 +155,10 @@ void Assembler::fill(const Blocks& blocks, SparseMatrix& matrix) const {
   }
   std::fill_n(matrix.valuePtr(), inner_.size(), 0.0);
   ValueWriter writer(slots_, outer_, inner_, matrix.valuePtr());
-  if (blocks.size() != first_rows_.size())
-    throw_topology_changed();
-  for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b]->write_equations(first_rows_[b], writer);
-  if (writer.written() != slots_.size())
-    throw_topology_changed();
+  if (blocks.size() != first_rows_.size()) throw_topology_changed();
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    blocks[b]->write_equations(first_rows_[b], writer);
+  if (writer.written() != slots_.size()) throw_topology_changed();
 }
 
 void Assembler::add_wrench(const Blocks& blocks, const Topology& topology, int end,
@@ -177,7 +179,8 @@ VecX Assembler::right_hand_side(const Blocks& blocks, const Topology& topology,
 }
 
 SystemSize Assembler::size() const {
-  return {static_cast<long>(unknowns_), static_cast<long>(unknowns_), static_cast<long>(inner_.size())};
+  return {static_cast<long>(unknowns_), static_cast<long>(unknowns_),
+          static_cast<long>(inner_.size())};
 }
 
 }  // namespace stiffmsa::detail

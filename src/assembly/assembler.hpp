@@ -16,7 +16,6 @@ namespace stiffmsa::detail {
 // changes the pattern too.)
 [[noreturn]] void throw_topology_changed();
 
-
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Blocks = std::vector<std::unique_ptr<ElementBlock>>;
 
@@ -44,9 +43,9 @@ class Assembler {
 
  private:
   Index unknowns_ = 0;
-  std::vector<Index> first_rows_;      // per block
-  std::vector<int> slots_;           // per write, in writing order: its index in the value array
-  std::vector<int> outer_, inner_;   // the compressed column pattern
+  std::vector<Index> first_rows_;   // per block
+  std::vector<int> slots_;          // per write, in writing order: its index in the value array
+  std::vector<int> outer_, inner_;  // the compressed column pattern
 };
 
 }  // namespace stiffmsa::detail

@@ -15,7 +15,8 @@ bool is_free_ball(const Model& model, const ConnectionGroup& group) {
     c = &model.joints[static_cast<std::size_t>(group.source)].connection;
   else if (group.kind == ConnectionGroup::Kind::support && group.ends.size() == 1)
     c = &model.supports[static_cast<std::size_t>(group.source)].connection;
-  return c && c->kinematics.type == JointType::spherical && !c->stiffness && !c->is_actuated && !c->preload;
+  return c && c->kinematics.type == JointType::spherical && !c->stiffness && !c->is_actuated &&
+         !c->preload;
 }
 
 }  // namespace
@@ -30,16 +31,21 @@ std::vector<SpinLock> find_spin_locks(const Model& model, const Topology& topolo
   for (int l = 0; l < topology.link_count; ++l) {
     if (std::holds_alternative<MatrixLink>(model.links[static_cast<std::size_t>(l)].kind)) continue;
     const int from = 2 * l, to = from + 1;
-    if (end_acted_on[static_cast<std::size_t>(from)] || end_acted_on[static_cast<std::size_t>(to)]) continue;
+    if (end_acted_on[static_cast<std::size_t>(from)] || end_acted_on[static_cast<std::size_t>(to)])
+      continue;
     const int held = topology.group_of_end[static_cast<std::size_t>(from)];
     const int other = topology.group_of_end[static_cast<std::size_t>(to)];
-    if (held == other || taken[static_cast<std::size_t>(held)] || taken[static_cast<std::size_t>(other)]) continue;
+    if (held == other || taken[static_cast<std::size_t>(held)] ||
+        taken[static_cast<std::size_t>(other)])
+      continue;
     if (!is_free_ball(model, topology.groups[static_cast<std::size_t>(held)]) ||
         !is_free_ball(model, topology.groups[static_cast<std::size_t>(other)]))
       continue;
     taken[static_cast<std::size_t>(held)] = taken[static_cast<std::size_t>(other)] = true;
     const auto position = [&](int end) -> const Vec3& {
-      return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])].position;
+      return model
+          .points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])]
+          .position;
     };
     Eigen::Index least_aligned = 0;
     (position(to) - position(from)).cwiseAbs().minCoeff(&least_aligned);

@@ -49,8 +49,8 @@ std::vector<int> named_ends(const ModelIndex& index, const std::string& point,
 }
 
 template <class KeyPath>
-int end_of(const ModelIndex& index, const std::string& point, const std::optional<std::string>& link,
-           const Origin& origin, const KeyPath& key_path) {
+int end_of(const ModelIndex& index, const std::string& point,
+           const std::optional<std::string>& link, const Origin& origin, const KeyPath& key_path) {
   std::string problem;
   const auto end = index.resolve(point, link, problem);
   if (!end) fail(origin, key_path(), problem);
@@ -83,8 +83,9 @@ Topology build_topology(const Model& model, const ModelIndex& index) {
     for (int end : group.ends) {
       int& owner = t.group_of_end[static_cast<std::size_t>(end)];
       if (owner >= 0)
-        fail(origin, key_path(), "the end of link '" + model.links[static_cast<std::size_t>(end / 2)].name +
-                                   "' at '" + group.point + "' is already held by another joint or support");
+        fail(origin, key_path(),
+             "the end of link '" + model.links[static_cast<std::size_t>(end / 2)].name + "' at '" +
+                 group.point + "' is already held by another joint or support");
       owner = index;
     }
     t.groups.push_back(std::move(group));
@@ -172,8 +173,12 @@ void place_link_block(const Model& model, const Topology& topology, int link_num
                       std::unique_ptr<ElementBlock>& slot) {
   const Link& link = model.links[static_cast<std::size_t>(link_number)];
   const int i = 2 * link_number, j = 2 * link_number + 1;
-  const Vec3& from = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(i)])].position;
-  const Vec3& to = model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(j)])].position;
+  const Vec3& from =
+      model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(i)])]
+          .position;
+  const Vec3& to =
+      model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(j)])]
+          .position;
   const Vec3 d = to - from;
   std::visit(
       [&](const auto& kind) {
@@ -203,7 +208,8 @@ const FreeDirections& locked() {
 // Bit for bit, so that directions kept by a refill are those free_directions would give.
 template <class Vector>
 bool same_bits(const Vector& a, const Vector& b) {
-  return std::memcmp(a.data(), b.data(), sizeof(typename Vector::Scalar) * static_cast<std::size_t>(a.size())) == 0;
+  return std::memcmp(a.data(), b.data(),
+                     sizeof(typename Vector::Scalar) * static_cast<std::size_t>(a.size())) == 0;
 }
 
 bool same_kinematics(const Kinematics& a, const Kinematics& b) {
@@ -217,7 +223,8 @@ bool same_kinematics(const Kinematics& a, const Kinematics& b) {
 
 // free_directions(kinematics), kept from the block in `slot` where it was made from the same
 // kinematics: a joint's axes are often the same in every pose.
-FreeDirections directions_of(const Kinematics& kinematics, const std::unique_ptr<ElementBlock>& slot) {
+FreeDirections directions_of(const Kinematics& kinematics,
+                             const std::unique_ptr<ElementBlock>& slot) {
   if (slot)
     if (const Kinematics* made = slot->kinematics(); made && same_kinematics(*made, kinematics))
       return *slot->directions();
@@ -229,24 +236,24 @@ void place_constraint_joint(std::unique_ptr<ElementBlock>& slot, const std::vect
                             const FreeDirections& directions, const std::optional<VecX>& preload,
                             const Kinematics* kinematics = nullptr) {
   place<ConstraintJointBlock>(
-      slot, [&](ConstraintJointBlock& block) { block.refill(directions, preload); }, ends, directions, preload);
+      slot, [&](ConstraintJointBlock& block) { block.refill(directions, preload); }, ends,
+      directions, preload);
   static_cast<ConstraintJointBlock&>(*slot).set_kinematics(kinematics);
 }
 
-void place_support(std::unique_ptr<ElementBlock>& slot, const std::vector<int>& ends, const FreeDirections& directions,
-                   const std::optional<MatX>& stiffness, const std::optional<VecX>& preload,
-                   const Kinematics* kinematics = nullptr) {
+void place_support(std::unique_ptr<ElementBlock>& slot, const std::vector<int>& ends,
+                   const FreeDirections& directions, const std::optional<MatX>& stiffness,
+                   const std::optional<VecX>& preload, const Kinematics* kinematics = nullptr) {
   place<SupportBlock>(
-      slot, [&](SupportBlock& block) { block.refill(directions, stiffness, preload); }, ends, directions, stiffness,
-      preload);
+      slot, [&](SupportBlock& block) { block.refill(directions, stiffness, preload); }, ends,
+      directions, stiffness, preload);
   static_cast<SupportBlock&>(*slot).set_kinematics(kinematics);
 }
 
-void place_connection_block(const Model& model, const ConnectionGroup& g, std::unique_ptr<ElementBlock>& slot) {
+void place_connection_block(const Model& model, const ConnectionGroup& g,
+                            std::unique_ptr<ElementBlock>& slot) {
   switch (g.kind) {
-    case ConnectionGroup::Kind::free_end:
-      place_fixed<FreeEndBlock>(slot, g.ends.front());
-      return;
+    case ConnectionGroup::Kind::free_end: place_fixed<FreeEndBlock>(slot, g.ends.front()); return;
     case ConnectionGroup::Kind::rigid_connection:
       place_constraint_joint(slot, g.ends, locked(), std::nullopt);
       return;
@@ -255,19 +262,21 @@ void place_connection_block(const Model& model, const ConnectionGroup& g, std::u
       if (c.stiffness) {
         if (g.ends.size() != 2)
           throw InputError(model.joints[static_cast<std::size_t>(g.source)].origin.location,
-                                       "joints." + model.joints[static_cast<std::size_t>(g.source)].name,
-                                       "an elastic joint connects exactly two link ends");
+                           "joints." + model.joints[static_cast<std::size_t>(g.source)].name,
+                           "an elastic joint connects exactly two link ends");
         const FreeDirections directions = directions_of(c.kinematics, slot);
         place<ElasticJointBlock>(
-            slot, [&](ElasticJointBlock& block) { block.refill(directions, *c.stiffness, c.preload); }, g.ends[0],
-            g.ends[1], directions, *c.stiffness, c.preload);
+            slot,
+            [&](ElasticJointBlock& block) { block.refill(directions, *c.stiffness, c.preload); },
+            g.ends[0], g.ends[1], directions, *c.stiffness, c.preload);
         static_cast<ElasticJointBlock&>(*slot).set_kinematics(&c.kinematics);
         return;
       }
       if (c.is_actuated)
         place_constraint_joint(slot, g.ends, locked(), std::nullopt);
       else
-        place_constraint_joint(slot, g.ends, directions_of(c.kinematics, slot), c.preload, &c.kinematics);
+        place_constraint_joint(slot, g.ends, directions_of(c.kinematics, slot), c.preload,
+                               &c.kinematics);
       return;
     }
     case ConnectionGroup::Kind::support: {
@@ -275,7 +284,8 @@ void place_connection_block(const Model& model, const ConnectionGroup& g, std::u
       if (c.is_actuated && !c.stiffness)
         place_support(slot, g.ends, locked(), std::nullopt, std::nullopt);
       else
-        place_support(slot, g.ends, directions_of(c.kinematics, slot), c.stiffness, c.preload, &c.kinematics);
+        place_support(slot, g.ends, directions_of(c.kinematics, slot), c.stiffness, c.preload,
+                      &c.kinematics);
       return;
     }
   }
@@ -287,9 +297,12 @@ void place_spin_holding_block(const Model& model, const Topology& topology, cons
                               std::unique_ptr<ElementBlock>& slot) {
   const int from = 2 * lock.rod;
   const auto position = [&](int end) -> const Vec3& {
-    return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])].position;
+    return model
+        .points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])]
+        .position;
   };
-  const FreeDirections directions = rotations_across(position(from + 1) - position(from), lock.across);
+  const FreeDirections directions =
+      rotations_across(position(from + 1) - position(from), lock.across);
   const ConnectionGroup& group = topology.groups[static_cast<std::size_t>(lock.group)];
   if (group.kind == ConnectionGroup::Kind::support)
     place_support(slot, group.ends, directions, std::nullopt, std::nullopt);
@@ -312,8 +325,9 @@ void refill_blocks(const Model& model, const Topology& topology, const std::vect
   for (int l = 0; l < topology.link_count; ++l)
     place_link_block(model, topology, l, blocks[static_cast<std::size_t>(l)]);
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
-    const auto lock = std::find_if(locks.begin(), locks.end(),
-                                   [&](const SpinLock& s) { return s.group == static_cast<int>(g); });
+    const auto lock = std::find_if(locks.begin(), locks.end(), [&](const SpinLock& s) {
+      return s.group == static_cast<int>(g);
+    });
     auto& slot = blocks[static_cast<std::size_t>(topology.link_count) + g];
     if (lock == locks.end())
       place_connection_block(model, topology.groups[g], slot);

@@ -15,9 +15,9 @@ namespace stiffmsa::detail {
 struct ConnectionGroup {
   enum class Kind { joint, support, rigid_connection, free_end };
   Kind kind = Kind::free_end;
-  int source = -1;          // index into model.joints / model.supports
+  int source = -1;  // index into model.joints / model.supports
   std::string point;
-  std::vector<int> ends;    // link end ids; the first is "end 1"
+  std::vector<int> ends;  // link end ids; the first is "end 1"
   bool operator==(const ConnectionGroup&) const = default;
 };
 
@@ -47,7 +47,7 @@ Topology build_topology(const Model& model, const ModelIndex& index);
 // applied at the rod's ends. The spin locks of a model are fixed by its topology; the axis is
 // each pose's.
 struct SpinLock {
-  int rod = -1;    // the link
+  int rod = -1;          // the link
   int group = -1;        // the connection group of its ball joint (or support) that holds the spin
   int other_group = -1;  // the ball joint (or support) at its other end, left free
   // The global axis least aligned with the rod in the model the locks were found for: the held

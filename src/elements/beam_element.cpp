@@ -67,10 +67,12 @@ Mat12 beam_local_stiffness(const BeamConstants& c) {
   auto bending = [&](int d1, int r1, int d2, int r2, double EI, double phi, double s) {
     const double f = EI / ((1 + phi) * L3);
     const double a = 12 * f, b = 6 * L * f * s, near = (4 + phi) * L2 * f, far = (2 - phi) * L2 * f;
+    // clang-format off
     k(d1, d1) = a;   k(d1, r1) = b;     k(d1, d2) = -a;  k(d1, r2) = b;
     k(r1, d1) = b;   k(r1, r1) = near;  k(r1, d2) = -b;  k(r1, r2) = far;
     k(d2, d1) = -a;  k(d2, r1) = -b;    k(d2, d2) = a;   k(d2, r2) = -b;
     k(r2, d1) = b;   k(r2, r1) = far;   k(r2, d2) = -b;  k(r2, r2) = near;
+    // clang-format on
   };
   bending(v1, tz1, v2, tz2, c.E * c.Iz, c.phi_y, +1.0);
   bending(w1, ty1, w2, ty2, c.E * c.Iy, c.phi_z, -1.0);

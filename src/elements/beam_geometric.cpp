@@ -19,10 +19,12 @@ Mat12 beam_geometric_stiffness(const BeamConstants& c, double axial_force) {
     const double b = f * s * L / 10;
     const double near = f * L2 * (2.0 / 15 + phi / 6 + phi * phi / 12);
     const double far = -f * L2 * (1.0 / 30 + phi / 6 + phi * phi / 12);
+    // clang-format off
     k(d1, d1) = a;   k(d1, r1) = b;     k(d1, d2) = -a;  k(d1, r2) = b;
     k(r1, d1) = b;   k(r1, r1) = near;  k(r1, d2) = -b;  k(r1, r2) = far;
     k(d2, d1) = -a;  k(d2, r1) = -b;    k(d2, d2) = a;   k(d2, r2) = -b;
     k(r2, d1) = b;   k(r2, r1) = far;   k(r2, d2) = -b;  k(r2, r2) = near;
+    // clang-format on
   };
   bending(v1, tz1, v2, tz2, c.phi_y, +1.0);
   bending(w1, ty1, w2, ty2, c.phi_z, -1.0);

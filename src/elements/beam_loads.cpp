@@ -32,12 +32,9 @@ PlaneShapes plane_shapes(double xi, double phi, double L) {
   PlaneShapes s;
   s.displacement = {(1 - 3 * x2 + 2 * x3 + phi * (1 - xi)) / d,
                     L * (xi - 2 * x2 + x3 + phi / 2 * (xi - x2)) / d,
-                    (3 * x2 - 2 * x3 + phi * xi) / d,
-                    L * (-x2 + x3 - phi / 2 * (xi - x2)) / d};
-  s.rotation = {6 * (x2 - xi) / (d * L),
-                (1 - 4 * xi + 3 * x2 + phi * (1 - xi)) / d,
-                -6 * (x2 - xi) / (d * L),
-                (-2 * xi + 3 * x2 + phi * xi) / d};
+                    (3 * x2 - 2 * x3 + phi * xi) / d, L * (-x2 + x3 - phi / 2 * (xi - x2)) / d};
+  s.rotation = {6 * (x2 - xi) / (d * L), (1 - 4 * xi + 3 * x2 + phi * (1 - xi)) / d,
+                -6 * (x2 - xi) / (d * L), (-2 * xi + 3 * x2 + phi * xi) / d};
   return s;
 }
 
@@ -59,11 +56,10 @@ Vec12 distributed_fixed_end_forces(const BeamConstants& c, const DistributedLoad
   // ∫ N_i q dx with the exact shape functions, in closed form (theory.md §12.2).
   auto plane = [L](double q1, double q2, double phi) {
     const double d = 1 + phi;
-    return std::array<double, 4>{
-        -L * ((21 + 20 * phi) * q1 + (9 + 10 * phi) * q2) / (60 * d),
-        -L * L * ((6 + 5 * phi) * q1 + (4 + 5 * phi) * q2) / (120 * d),
-        -L * ((9 + 10 * phi) * q1 + (21 + 20 * phi) * q2) / (60 * d),
-        L * L * ((4 + 5 * phi) * q1 + (6 + 5 * phi) * q2) / (120 * d)};
+    return std::array<double, 4>{-L * ((21 + 20 * phi) * q1 + (9 + 10 * phi) * q2) / (60 * d),
+                                 -L * L * ((6 + 5 * phi) * q1 + (4 + 5 * phi) * q2) / (120 * d),
+                                 -L * ((9 + 10 * phi) * q1 + (21 + 20 * phi) * q2) / (60 * d),
+                                 L * L * ((4 + 5 * phi) * q1 + (6 + 5 * phi) * q2) / (120 * d)};
   };
   put_plane(f, v1, tz1, v2, tz2, +1.0, plane(load.q_from.y(), load.q_to.y(), c.phi_y));
   put_plane(f, w1, ty1, w2, ty2, -1.0, plane(load.q_from.z(), load.q_to.z(), c.phi_z));
@@ -82,7 +78,8 @@ Vec12 point_fixed_end_forces(const BeamConstants& c, const PointLoad& load) {
   auto plane = [&](double force, double moment, double phi) {
     const PlaneShapes shapes = plane_shapes(a, phi, L);
     std::array<double, 4> r{};
-    for (int i = 0; i < 4; ++i) r[i] = -(force * shapes.displacement[i] + moment * shapes.rotation[i]);
+    for (int i = 0; i < 4; ++i)
+      r[i] = -(force * shapes.displacement[i] + moment * shapes.rotation[i]);
     return r;
   };
   put_plane(f, v1, tz1, v2, tz2, +1.0, plane(load.force.y(), load.moment.z(), c.phi_y));

@@ -14,7 +14,8 @@ Mat12 matrix_link_global_stiffness(const MatrixLink& link, const Vec3& from, con
   return T.transpose() * link.K * T;
 }
 
-Mat6 compliance_link_global_compliance(const ComplianceLink& link, const Vec3& from, const Vec3& to) {
+Mat6 compliance_link_global_compliance(const ComplianceLink& link, const Vec3& from,
+                                       const Vec3& to) {
   if (link.frame == LinkFrame::global) return link.C;
   const Mat6 R = rotation6(link_axes(from, to, link.zref));
   return R.transpose() * link.C * R;
@@ -32,7 +33,8 @@ Mat12 free_free_stiffness(const Mat6& compliance, const Vec3& d) {
 }
 
 std::optional<Mat6> clamped_compliance(const Mat12& free_free) {
-  const Mat6 K22 = 0.5 * (free_free.bottomRightCorner<6, 6>() + free_free.bottomRightCorner<6, 6>().transpose());
+  const Mat6 K22 =
+      0.5 * (free_free.bottomRightCorner<6, 6>() + free_free.bottomRightCorner<6, 6>().transpose());
   const Eigen::SelfAdjointEigenSolver<Mat6> eigen(K22, Eigen::EigenvaluesOnly);
   const Vec6& k = eigen.eigenvalues();
   if (!(k(5) > 0) || !(k(0) > kClampedSpread * k(5))) return std::nullopt;

@@ -8,7 +8,8 @@
 namespace stiffmsa::detail {
 
 Mat12 matrix_link_global_stiffness(const MatrixLink& link, const Vec3& from, const Vec3& to);
-Mat6 compliance_link_global_compliance(const ComplianceLink& link, const Vec3& from, const Vec3& to);
+Mat6 compliance_link_global_compliance(const ComplianceLink& link, const Vec3& from,
+                                       const Vec3& to);
 
 // The free-free stiffness of a link from its clamped-end compliance C and d = p_to − p_from:
 // K12 = [[DᵀKD, −DᵀK], [−KD, K]], K = C⁻¹.

@@ -32,7 +32,8 @@ class ConstraintJointBlock final : public ElementBlock {
   void refill(const FreeDirections& directions, const std::optional<VecX>& preload);
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
+                           VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
@@ -63,10 +64,12 @@ class ElasticJointBlock final : public ElementBlock {
  public:
   ElasticJointBlock(int end_1, int end_2, FreeDirections directions, const MatX& stiffness,
                     std::optional<VecX> preload);
-  void refill(const FreeDirections& directions, const MatX& stiffness, const std::optional<VecX>& preload);
+  void refill(const FreeDirections& directions, const MatX& stiffness,
+              const std::optional<VecX>& preload);
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
+                           VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
@@ -90,13 +93,14 @@ class ElasticJointBlock final : public ElementBlock {
 //   Λ_p·Σ W_k + G·K·Λ_p·Δt_1 = Λ_p·Σ W_ext,k + G·w_0            p  (K = 0 when not elastic)
 class SupportBlock final : public ElementBlock {
  public:
-  SupportBlock(std::vector<int> ends, FreeDirections directions, const std::optional<MatX>& stiffness,
-               std::optional<VecX> preload);
+  SupportBlock(std::vector<int> ends, FreeDirections directions,
+               const std::optional<MatX>& stiffness, std::optional<VecX> preload);
   void refill(const FreeDirections& directions, const std::optional<MatX>& stiffness,
               const std::optional<VecX>& preload);
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
+                           VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
@@ -117,7 +121,8 @@ class SupportBlock final : public ElementBlock {
   bool passive() const { return directions_.free().rows() > 0 && !spring_; }
   std::vector<int> ends_;
   FreeDirections directions_;
-  std::optional<SmallMat> spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
+  std::optional<SmallMat>
+      spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
   std::optional<VecX> preload_;
   std::optional<Kinematics> kinematics_;
 };
@@ -128,7 +133,8 @@ class FreeEndBlock final : public ElementBlock {
   explicit FreeEndBlock(int end) : end_(end) {}
   Index equation_count() const override { return 6; }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench, VecX& rhs) const override;
+  void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
+                           VecX& rhs) const override;
   bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
   void pass_deflection_from_root(int, TreeState&) const override {}

@@ -8,7 +8,8 @@ ConstraintJointBlock::ConstraintJointBlock(std::vector<int> ends, FreeDirections
                                            std::optional<VecX> preload)
     : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {}
 
-void ConstraintJointBlock::refill(const FreeDirections& directions, const std::optional<VecX>& preload) {
+void ConstraintJointBlock::refill(const FreeDirections& directions,
+                                  const std::optional<VecX>& preload) {
   directions_ = directions;
   preload_ = preload;
 }
@@ -76,7 +77,9 @@ void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeState&
   }
 }
 
-Index ConstraintJointBlock::cut_unknowns(int) const { return p() * (static_cast<Index>(ends_.size()) - 1); }
+Index ConstraintJointBlock::cut_unknowns(int) const {
+  return p() * (static_cast<Index>(ends_.size()) - 1);
+}
 
 // The free components' rows of the ends beyond the root's: Λ_p·W_k = Λ_p·W_ext,k (+ preload).
 void ConstraintJointBlock::add_cut_rows(int toward_root, std::vector<Index>& rows) const {

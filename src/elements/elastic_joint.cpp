@@ -56,7 +56,8 @@ void ElasticJointBlock::pass_wrench_to_root(int toward_root, TreeState& state) c
   state.set_sum(wrench_column(toward_root), wrench_column(other), -1.0);
 }
 
-// The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) − G·w_0.
+// The relative deflection δ = Δt_2 − Δt_1 from Λ_r·δ = 0 and G·K·Λ_p·δ = Λ_p·(W_1 − W_ext,1) −
+// G·w_0.
 void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
   const SpringCompliance spring = spring_compliance(directions_, spring_, preload_);
   // δ is added to end 1's deflection, or taken from end 2's.
@@ -64,7 +65,8 @@ void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeState& st
   const Mat6 compliance = sign * spring.compliance;
   RowMajorMatX& delta = state.increment;
   delta.noalias() = compliance.lazyProduct(state.wrench(end_1_));
-  if (state.external.any_at(end_1_)) delta.noalias() -= compliance.lazyProduct(state.external.at(end_1_));
+  if (state.external.any_at(end_1_))
+    delta.noalias() -= compliance.lazyProduct(state.external.at(end_1_));
   delta.col(kLoadCase) -= sign * spring.preload_motion;
   if (toward_root == end_1_)
     state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);

@@ -12,7 +12,8 @@ void ElementBlock::pass_wrench_to_root(int, TreeState&) const {
   throw Error("internal error: a block that does not pass the tree solve was asked for a wrench");
 }
 void ElementBlock::pass_deflection_from_root(int, TreeState&) const {
-  throw Error("internal error: a block that does not pass the tree solve was asked for a deflection");
+  throw Error(
+      "internal error: a block that does not pass the tree solve was asked for a deflection");
 }
 void ElementBlock::set_root_deflection(TreeState&) const {
   throw Error("internal error: a block that is no support was made the root of a tree solve");
@@ -22,8 +23,9 @@ namespace {
 // Knuth's TwoSum per value: high + low = sign·(high_in + low_in) + step exactly, to the rounding
 // of step + sign·low_in. The runs never overlap (a target's rows are never its source's), and
 // saying so lets the loop run two values at a time.
-void two_sums(Index count, double sign, const double* __restrict high_in, const double* __restrict low_in,
-              const double* __restrict step, double* __restrict high_out, double* __restrict low_out) {
+void two_sums(Index count, double sign, const double* __restrict high_in,
+              const double* __restrict low_in, const double* __restrict step,
+              double* __restrict high_out, double* __restrict low_out) {
   for (Index i = 0; i < count; ++i) {
     const double a = sign * high_in[i];
     const double b = step[i] + sign * low_in[i];
@@ -34,8 +36,8 @@ void two_sums(Index count, double sign, const double* __restrict high_in, const 
   }
 }
 
-void plain_sums(Index count, double sign, const double* __restrict high_in, const double* __restrict step,
-                double* __restrict high_out) {
+void plain_sums(Index count, double sign, const double* __restrict high_in,
+                const double* __restrict step, double* __restrict high_out) {
   for (Index i = 0; i < count; ++i) high_out[i] = sign * high_in[i] + step[i];
 }
 }  // namespace
@@ -55,7 +57,8 @@ void TreeState::set_copy(Index target, Index source) {
   if (compensated) x_low.middleRows<6>(target) = x_low.middleRows<6>(source);
 }
 
-void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root, bool with_reaction) {
+void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root,
+                                  bool with_reaction) {
   if (with_reaction)
     increment = cut(0, 6);
   else

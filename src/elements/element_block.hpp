@@ -35,15 +35,19 @@ class EquationWriter {
  public:
   virtual ~EquationWriter() = default;
   // Coefficients scale·block(i, j) at (row + i, column + j).
-  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block, double scale) = 0;
+  virtual void add_coefficients(Index row, Index column, const CoefficientBlock& block,
+                                double scale) = 0;
   virtual void add_identity(Index row, Index column, Index size, double scale) = 0;
 
   template <class Derived>
-  void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block, double scale = 1.0) {
-    static_assert(Derived::MaxRowsAtCompileTime != Eigen::Dynamic && Derived::MaxRowsAtCompileTime <= 12 &&
-                      Derived::MaxColsAtCompileTime != Eigen::Dynamic && Derived::MaxColsAtCompileTime <= 6,
-                  "an element writes blocks of at most 12x6 coefficients");
-    constexpr bool in_place = (Derived::Flags & Eigen::DirectAccessBit) && !(Derived::Flags & Eigen::RowMajorBit);
+  void add_block(Index row, Index column, const Eigen::MatrixBase<Derived>& block,
+                 double scale = 1.0) {
+    static_assert(
+        Derived::MaxRowsAtCompileTime != Eigen::Dynamic && Derived::MaxRowsAtCompileTime <= 12 &&
+            Derived::MaxColsAtCompileTime != Eigen::Dynamic && Derived::MaxColsAtCompileTime <= 6,
+        "an element writes blocks of at most 12x6 coefficients");
+    constexpr bool in_place =
+        (Derived::Flags & Eigen::DirectAccessBit) && !(Derived::Flags & Eigen::RowMajorBit);
     if constexpr (in_place) {
       add_coefficients(row, column,
                        CoefficientBlock(block.derived().data(), block.rows(), block.cols(),
@@ -52,7 +56,8 @@ class EquationWriter {
     } else {
       const CoefficientMatrix values(block);
       add_coefficients(row, column,
-                       CoefficientBlock(values.data(), values.rows(), values.cols(), Eigen::OuterStride<>(values.rows())),
+                       CoefficientBlock(values.data(), values.rows(), values.cols(),
+                                        Eigen::OuterStride<>(values.rows())),
                        scale);
     }
   }
@@ -65,7 +70,8 @@ template <class Derived>
 class CoefficientWriter : public EquationWriter {
  public:
   using EquationWriter::add_identity;
-  void add_coefficients(Index row, Index column, const CoefficientBlock& block, double scale) override {
+  void add_coefficients(Index row, Index column, const CoefficientBlock& block,
+                        double scale) override {
     for (Index i = 0; i < block.rows(); ++i)
       for (Index j = 0; j < block.cols(); ++j) self().put(row + i, column + j, scale * block(i, j));
   }
@@ -97,7 +103,7 @@ class EndWrenches {
   void widen_into(Index columns, EndWrenches& wide) const;
 
  private:
-  std::vector<int> slot_;  // per link end: index into values_, or −1
+  std::vector<int> slot_;     // per link end: index into values_, or −1
   std::vector<MatX> values_;  // the first `used_` in use; the others kept for the next reset
   std::size_t used_ = 0;
   MatX zero_;
@@ -116,7 +122,11 @@ struct TreeState {
   // `increment` is the caller's buffer (a workspace's, kept from pose to pose), sized here.
   TreeState(RowMajorMatX& x_, RowMajorMatX& x_low_, const EndWrenches& external_, bool compensated_,
             RowMajorMatX& increment_)
-      : x(x_), x_low(x_low_), external(external_), compensated(compensated_), increment(increment_) {
+      : x(x_),
+        x_low(x_low_),
+        external(external_),
+        compensated(compensated_),
+        increment(increment_) {
     increment.resize(6, x.cols());
   }
 
@@ -130,7 +140,9 @@ struct TreeState {
   // per unknown and a column per load case; set by the solve before it calls a cut block.
   const RowMajorMatX* cut_values = nullptr;
   Index cut_first = 0;
-  auto cut(Index first, Index count) const { return cut_values->middleRows(cut_first + first, count); }
+  auto cut(Index first, Index count) const {
+    return cut_values->middleRows(cut_first + first, count);
+  }
 
   auto deflection(int end) { return x.middleRows<6>(deflection_column(end)); }
   auto wrench(int end) { return x.middleRows<6>(wrench_column(end)); }
@@ -139,7 +151,7 @@ struct TreeState {
   // values and the sum not rounded.
   void set_sum(Index target, Index source, double sign);
   void set_copy(Index target, Index source);  // both parts where compensated
-  template <class Derived>  // low part zero where compensated
+  template <class Derived>                    // low part zero where compensated
   void set_value(Index target, const Eigen::MatrixBase<Derived>& value) {
     x.middleRows<6>(target) = value;
     if (compensated) x_low.middleRows<6>(target).setZero();

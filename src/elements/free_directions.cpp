@@ -12,7 +12,6 @@
 
 namespace stiffmsa::detail {
 
-
 namespace {
 
 Vec3 unit(const Vec3& v, const char* what) {
@@ -123,7 +122,8 @@ FreeDirections free_directions(const Kinematics& k) {
       set_rows({rotation_row(unit(k.axis, "axes[0]")), rotation_row(unit(k.axis_b, "axes[1]"))});
       break;
     case JointType::spherical:
-      set_rows({rotation_row(Vec3::UnitX()), rotation_row(Vec3::UnitY()), rotation_row(Vec3::UnitZ())});
+      set_rows(
+          {rotation_row(Vec3::UnitX()), rotation_row(Vec3::UnitY()), rotation_row(Vec3::UnitZ())});
       break;
     case JointType::planar: {
       Vec3 t1, t2;
@@ -132,9 +132,11 @@ FreeDirections free_directions(const Kinematics& k) {
       break;
     }
     case JointType::custom:
-      if (k.free_rows.size() > 6) throw InputError({}, "free", "at most 6 free directions can be given");
+      if (k.free_rows.size() > 6)
+        throw InputError({}, "free", "at most 6 free directions can be given");
       free.resize(static_cast<Index>(k.free_rows.size()), 6);
-      for (std::size_t i = 0; i < k.free_rows.size(); ++i) free.row(static_cast<Index>(i)) = k.free_rows[i].transpose();
+      for (std::size_t i = 0; i < k.free_rows.size(); ++i)
+        free.row(static_cast<Index>(i)) = k.free_rows[i].transpose();
       break;
   }
   FreeDirections d;  // rigid: Λ_r = I
@@ -159,7 +161,8 @@ FreeDirections free_directions(const Kinematics& k) {
   d.rows.topRows(p) = free;
   if (k.type == JointType::custom) {
     // The last 6−p columns of a full QR of Λ_pᵀ span the orthogonal complement of its rows.
-    const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> qr(free.transpose());
+    const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>> qr(
+        free.transpose());
     const Mat6 q = qr.householderQ();
     d.rows.bottomRows(6 - p) = q.rightCols(6 - p).transpose();
     return d;
@@ -175,7 +178,8 @@ FreeDirections free_directions(const Kinematics& k) {
       translations.add(free.row(i).head<3>().transpose());
   }
   Index row = p;
-  for (const Vec3& axis : complement(translations)) d.rows.row(row++) = translation_row(axis).transpose();
+  for (const Vec3& axis : complement(translations))
+    d.rows.row(row++) = translation_row(axis).transpose();
   for (const Vec3& axis : complement(rotations)) d.rows.row(row++) = rotation_row(axis).transpose();
   return d;
 }
@@ -190,13 +194,17 @@ SpringCompliance spring_compliance(const FreeDirections& directions, const Small
   if (directions.p == 1) {  // a revolute or prismatic spring: G·K·G is a number
     const auto row = directions.free().row(0);
     result.compliance.noalias() = row.transpose() * (row / gkg(0, 0));
-    if (preload) result.preload_motion = row.transpose() * (directions.gram()(0, 0) * (*preload)(0) / gkg(0, 0));
+    if (preload)
+      result.preload_motion =
+          row.transpose() * (directions.gram()(0, 0) * (*preload)(0) / gkg(0, 0));
     return result;
   }
   const Eigen::LLT<SmallMat> llt(gkg);
   const SmallMat q = llt.solve(SmallMat(directions.free()));
   result.compliance.noalias() = directions.free().transpose() * q;
-  if (preload) result.preload_motion.noalias() = directions.free().transpose() * llt.solve(directions.gram() * *preload);
+  if (preload)
+    result.preload_motion.noalias() =
+        directions.free().transpose() * llt.solve(directions.gram() * *preload);
   return result;
 }
 

@@ -36,7 +36,8 @@ void LinkBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
 }
 
 // D·Δt_i − Δt_j + C·W_j = 0 solved for the end away from the root, with D·Δt = Δt + [−d×Δφ; 0]:
-// Δt_j = Δt_i + [−d×Δφ_i; 0] + C·W_j, or Δt_i = Δt_j − C·W_j + [d×Δφ_i; 0], Δφ_i = Δφ_j − (C·W_j)_φ.
+// Δt_j = Δt_i + [−d×Δφ_i; 0] + C·W_j, or Δt_i = Δt_j − C·W_j + [d×Δφ_i; 0], Δφ_i = Δφ_j −
+// (C·W_j)_φ.
 void LinkBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
   const Mat3 d_cross = skew(d_);
   RowMajorMatX& increment = state.increment;
@@ -45,11 +46,13 @@ void LinkBlock::pass_deflection_from_root(int toward_root, TreeState& state) con
   else
     increment.setZero();
   if (toward_root == end_i_) {
-    increment.topRows<3>().noalias() -= d_cross.lazyProduct(state.deflection(end_i_).bottomRows<3>());
+    increment.topRows<3>().noalias() -=
+        d_cross.lazyProduct(state.deflection(end_i_).bottomRows<3>());
     state.set_sum(deflection_column(end_j_), deflection_column(end_i_), 1.0);
   } else {
     increment = -increment;
-    increment.topRows<3>().noalias() += d_cross.lazyProduct(state.deflection(end_j_).bottomRows<3>());
+    increment.topRows<3>().noalias() +=
+        d_cross.lazyProduct(state.deflection(end_j_).bottomRows<3>());
     increment.topRows<3>().noalias() += d_cross.lazyProduct(increment.bottomRows<3>());
     state.set_sum(deflection_column(end_i_), deflection_column(end_j_), 1.0);
   }

@@ -6,9 +6,7 @@ namespace stiffmsa::detail {
 
 SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
                            const std::optional<MatX>& stiffness, std::optional<VecX> preload)
-    : ends_(std::move(ends)),
-      directions_(std::move(directions)),
-      preload_(std::move(preload)) {
+    : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {
   if (stiffness) spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
 }
 
@@ -61,7 +59,8 @@ void SupportBlock::add_preload(Index row, VecX& rhs) const {
 void SupportBlock::set_root_deflection(TreeState& state) const {
   MatX deflection = MatX::Zero(6, state.x.cols());
   if (passive()) {
-    deflection.noalias() = directions_.free().transpose().lazyProduct(state.cut(0, directions_.free().rows()));
+    deflection.noalias() =
+        directions_.free().transpose().lazyProduct(state.cut(0, directions_.free().rows()));
   } else if (directions_.free().rows() > 0) {
     const SpringCompliance spring = spring_compliance(directions_, *spring_, preload_);
     MatX reaction = MatX::Zero(6, state.x.cols());

@@ -94,8 +94,9 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
   slot = std::make_unique<Compiled>();
   Compiled& compiled = *slot;
   if (assigns(text)) {
-    compiled.error = "the expression '" + text +
-                     "' assigns a value with '='; an expression only computes a number (compare with '==')";
+    compiled.error =
+        "the expression '" + text +
+        "' assigns a value with '='; an expression only computes a number (compare with '==')";
     return compiled;
   }
   try {
@@ -103,11 +104,13 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
     // in a stiffness model need every digit.
     compiled.parser.DefineConst("_pi", std::numbers::pi);
     compiled.parser.DefineConst("_e", std::numbers::e);
-    for (std::size_t i = 0; i < names_.size(); ++i) compiled.parser.DefineVar(names_[i], &values_[i]);
+    for (std::size_t i = 0; i < names_.size(); ++i)
+      compiled.parser.DefineVar(names_[i], &values_[i]);
     compiled.parser.SetExpr(text);
     compiled.parser.Eval();  // parses now, so that syntax errors are found once
     if (compiled.parser.GetNumResults() != 1)
-      compiled.error = "the expression '" + text + "' gives several values; a number takes one expression";
+      compiled.error =
+          "the expression '" + text + "' gives several values; a number takes one expression";
     const auto& used = compiled.parser.GetUsedVar();
     for (std::size_t i = 0; i < names_.size(); ++i)
       if (used.count(names_[i]) > 0) compiled.last_name_used = i + 1;
@@ -135,7 +138,8 @@ std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
   return text;
 }
 
-ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate_derived(std::size_t index, const std::string& text) {
+ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate_derived(std::size_t index,
+                                                                   const std::string& text) {
   const std::size_t slot = parameter_count_ + index;
   const Compiled& compiled = compile(text);
   if (compiled.error.empty() && compiled.last_name_used > slot) {
@@ -162,7 +166,8 @@ ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& te
   if (std::isfinite(value)) return {value, {}, false};
   bool uses_failed_value = false;
   for (std::size_t i = parameter_count_; i < names_.size(); ++i)
-    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) && compiled.parser.GetUsedVar().count(names_[i]) > 0);
+    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) &&
+                                              compiled.parser.GetUsedVar().count(names_[i]) > 0);
   const std::string inputs = inputs_of(compiled);
   return {0,
           "the expression '" + text + "' gives " + shortest_text(value) +

@@ -24,7 +24,8 @@ std::optional<std::string> parameter_name_problem(const std::string& name);
 // before them (inverse kinematics written once and used by several numbers).
 class ExpressionEvaluator {
  public:
-  ExpressionEvaluator(std::vector<std::string> parameter_names, std::vector<std::string> derived_names);
+  ExpressionEvaluator(std::vector<std::string> parameter_names,
+                      std::vector<std::string> derived_names);
   ~ExpressionEvaluator();
   ExpressionEvaluator(const ExpressionEvaluator&) = delete;
   ExpressionEvaluator& operator=(const ExpressionEvaluator&) = delete;

@@ -41,7 +41,8 @@ std::string list(const Dense& v) {
 
 std::string matrix(const MatX& m) {
   std::string text = "[";
-  for (Eigen::Index r = 0; r < m.rows(); ++r) text += (r ? ", " : "") + list(VecX(m.row(r).transpose()));
+  for (Eigen::Index r = 0; r < m.rows(); ++r)
+    text += (r ? ", " : "") + list(VecX(m.row(r).transpose()));
   return text + "]";
 }
 
@@ -60,7 +61,8 @@ std::string material(const Material& m) {
 
 std::string section(const Section& s) {
   std::string text = std::string("{shape: ") + to_string(s.shape);
-  for (const auto& d : detail::section_dimensions(s.shape)) text += ", " + std::string(d.key) + ": " + number(s.*d.value);
+  for (const auto& d : detail::section_dimensions(s.shape))
+    text += ", " + std::string(d.key) + ": " + number(s.*d.value);
   if (s.Asy) text += ", Asy: " + number(*s.Asy);
   if (s.Asz) text += ", Asz: " + number(*s.Asz);
   return text + "}";
@@ -75,12 +77,14 @@ std::string frame(LinkFrame f, const std::optional<Vec3>& zref) {
 std::string link(const Link& l) {
   const std::string ends = ", from: " + quoted(l.from) + ", to: " + quoted(l.to);
   if (const auto* beam = std::get_if<BeamLink>(&l.kind)) {
-    std::string text = "{type: beam" + ends + ", material: " + material(beam->material) + ", section: " + section(beam->section);
+    std::string text = "{type: beam" + ends + ", material: " + material(beam->material) +
+                       ", section: " + section(beam->section);
     if (beam->shear) text += ", shear: true";
     if (beam->zref) text += ", zref: " + list(*beam->zref);
     return text + "}";
   }
-  if (const auto* m = std::get_if<MatrixLink>(&l.kind)) return "{type: matrix" + ends + ", K: " + matrix(m->K) + frame(m->frame, m->zref) + "}";
+  if (const auto* m = std::get_if<MatrixLink>(&l.kind))
+    return "{type: matrix" + ends + ", K: " + matrix(m->K) + frame(m->frame, m->zref) + "}";
   if (const auto* c = std::get_if<ComplianceLink>(&l.kind))
     return "{type: compliance" + ends + ", C: " + matrix(c->C) + frame(c->frame, c->zref) + "}";
   return "{type: rigid" + ends + "}";
@@ -92,24 +96,20 @@ std::string connection(const Connection& c) {
   switch (k.type) {
     case JointType::revolute:
     case JointType::prismatic:
-    case JointType::cylindrical:
-      text += ", axis: " + list(k.axis);
-      break;
+    case JointType::cylindrical: text += ", axis: " + list(k.axis); break;
     case JointType::universal:
       text += ", axes: [" + list(k.axis) + ", " + list(k.axis_b) + "]";
       break;
-    case JointType::planar:
-      text += ", normal: " + list(k.normal);
-      break;
+    case JointType::planar: text += ", normal: " + list(k.normal); break;
     case JointType::custom: {
       text += ", free: [";
-      for (std::size_t i = 0; i < k.free_rows.size(); ++i) text += (i ? ", " : "") + list(k.free_rows[i]);
+      for (std::size_t i = 0; i < k.free_rows.size(); ++i)
+        text += (i ? ", " : "") + list(k.free_rows[i]);
       text += "]";
       break;
     }
     case JointType::rigid:
-    case JointType::spherical:
-      break;
+    case JointType::spherical: break;
   }
   if (c.stiffness) text += ", stiffness: " + matrix(*c.stiffness);
   if (c.preload) text += ", preload: " + list(*c.preload);
@@ -124,7 +124,8 @@ std::string model_to_yaml(const Model& model) {
   out << "format: stiffmsa/1\nname: " << quoted(model.name) << "\n";
   if (model.options.accept_idle_motions) out << "options: {accept_idle_motions: true}\n";
   out << "points:\n";
-  for (const Point& p : model.points) out << "  " << quoted(p.name) << ": " << list(p.position) << "\n";
+  for (const Point& p : model.points)
+    out << "  " << quoted(p.name) << ": " << list(p.position) << "\n";
   out << "links:\n";
   for (const Link& l : model.links) out << "  " << quoted(l.name) << ": " << link(l) << "\n";
   if (!model.joints.empty()) out << "joints:\n";

@@ -7,8 +7,8 @@
 #include <cerrno>
 #include <charconv>
 #include <climits>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -29,12 +29,12 @@
 #include "io/urdf_tree.hpp"
 #include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
-#include "stiffmsa/structure.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/number_text.hpp"
 #include "stiffmsa/parametric.hpp"
+#include "stiffmsa/structure.hpp"
 #include "stiffmsa/validate.hpp"
 
 namespace stiffmsa {
@@ -45,9 +45,9 @@ using detail::YamlNode;
 
 constexpr const char* kFormat = "stiffmsa/1";
 
-const KeyList kTopKeys{"format",   "name",     "parameters", "derived", "options",
-                       "materials", "sections", "points",    "links",   "joints",
-                       "supports", "loads",    "end_effectors", "robot"};
+const KeyList kTopKeys{"format",    "name",     "parameters",    "derived", "options",
+                       "materials", "sections", "points",        "links",   "joints",
+                       "supports",  "loads",    "end_effectors", "robot"};
 const KeyList kParameterKeys{"default", "unit"};
 const KeyList kOptionKeys{"accept_idle_motions"};
 const KeyList kMaterialKeys{"E", "nu", "G"};
@@ -60,7 +60,8 @@ const KeyList kSpringKeys{"stiffness", "preload", "actuated"};
 const KeyList kLoadKeys{"at", "link", "wrench", "self_weight"};
 const KeyList kEndEffectorKeys{"at", "link"};
 // The robot block (docs/urdf.md) and what refers to its frames.
-const KeyList kRobotKeys{"urdf", "base", "positions", "joints", "default_joint", "links", "gravity"};
+const KeyList kRobotKeys{"urdf",          "base",  "positions", "joints",
+                         "default_joint", "links", "gravity"};
 const KeyList kRobotJointKeys{"stiffness", "compliance"};
 const KeyList kRobotLinkKeys{"material", "section", "shear"};
 const KeyList kFrameLoadKeys{"frame", "wrench", "offset", "axes"};
@@ -91,17 +92,12 @@ KeyList parameter_keys(JointType type) {
   switch (type) {
     case JointType::revolute:
     case JointType::prismatic:
-    case JointType::cylindrical:
-      return {"axis"};
-    case JointType::universal:
-      return {"axes"};
-    case JointType::planar:
-      return {"normal"};
-    case JointType::custom:
-      return {"free"};
+    case JointType::cylindrical: return {"axis"};
+    case JointType::universal: return {"axes"};
+    case JointType::planar: return {"normal"};
+    case JointType::custom: return {"free"};
     case JointType::rigid:
-    case JointType::spherical:
-      return {};
+    case JointType::spherical: return {};
   }
   return {};
 }
@@ -134,14 +130,11 @@ Position position_of(const YamlNode& node) { return {node.line(), node.column()}
 
 std::string describe(const YamlNode& node) {
   switch (node.kind()) {
-    case YamlNode::Kind::sequence:
-      return "a list";
-    case YamlNode::Kind::mapping:
-      return "a mapping";
+    case YamlNode::Kind::sequence: return "a list";
+    case YamlNode::Kind::mapping: return "a mapping";
     case YamlNode::Kind::scalar:
       return (node.quoted() ? "the quoted text '" : "'") + node.text() + "'";
-    case YamlNode::Kind::null:
-      return "nothing";
+    case YamlNode::Kind::null: return "nothing";
   }
   return "nothing";
 }
@@ -175,11 +168,14 @@ struct ExpressionSite {
 
 // While probing (Loader::probe_expressions), expression k reads as this value, which no real
 // model holds (about 1e301), so that the numbers it fills can be found in the model built.
-double probe_value(std::size_t k) { return std::ldexp(1.0 + static_cast<double>(k) * 0x1p-32, 1000); }
+double probe_value(std::size_t k) {
+  return std::ldexp(1.0 + static_cast<double>(k) * 0x1p-32, 1000);
+}
 std::optional<std::size_t> probed_site(double value) {
   if (!(value > 0) || !std::isfinite(value) || std::ilogb(value) != 1000) return std::nullopt;
   const double k = (std::ldexp(value, -1000) - 1.0) * 0x1p32;
-  if (k != std::floor(k) || k >= 0x1p32 || probe_value(static_cast<std::size_t>(k)) != value) return std::nullopt;
+  if (k != std::floor(k) || k >= 0x1p32 || probe_value(static_cast<std::size_t>(k)) != value)
+    return std::nullopt;
   return static_cast<std::size_t>(k);
 }
 
@@ -437,7 +433,8 @@ const Entry* Loader::required(const std::vector<Entry>& entries, const Value& ow
   return nullptr;
 }
 
-void Loader::record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix) const {
+void Loader::record(Origin& origin, const std::vector<Entry>& entries,
+                    const std::string& prefix) const {
   for (const auto& e : entries) origin.key_locations[prefix + e.key] = located(e.key_at);
 }
 
@@ -592,8 +589,8 @@ std::optional<MatX> Loader::matrix(const Value& v) {
 // `shape` says in a message what the n values are, e.g. "[x, y, z]".
 std::optional<VecX> Loader::vector(const Value& v, int n, const std::string& shape) {
   if (!v.node->is_sequence()) {
-    fail(v, "expected a list of " + counted(static_cast<std::size_t>(n), "number") + " " + shape + ", got " +
-                describe(*v.node));
+    fail(v, "expected a list of " + counted(static_cast<std::size_t>(n), "number") + " " + shape +
+                ", got " + describe(*v.node));
     return std::nullopt;
   }
   if (v.node->size() != static_cast<std::size_t>(n)) {
@@ -668,12 +665,11 @@ Model Loader::read(const YamlNode& root) {
   // Materials and sections first: links refer to them wherever they stand in the file.
   using Part = void (Loader::*)(const Entry&);
   const std::pair<const char*, Part> parts[] = {
-      {"options", &Loader::read_options},
-      {"materials", &Loader::read_materials}, {"sections", &Loader::read_sections},
-      {"robot", &Loader::read_robot},
-      {"points", &Loader::read_points},       {"links", &Loader::read_links},
-      {"joints", &Loader::read_joints},       {"supports", &Loader::read_supports},
-      {"loads", &Loader::read_loads},         {"end_effectors", &Loader::read_end_effectors}};
+      {"options", &Loader::read_options},   {"materials", &Loader::read_materials},
+      {"sections", &Loader::read_sections}, {"robot", &Loader::read_robot},
+      {"points", &Loader::read_points},     {"links", &Loader::read_links},
+      {"joints", &Loader::read_joints},     {"supports", &Loader::read_supports},
+      {"loads", &Loader::read_loads},       {"end_effectors", &Loader::read_end_effectors}};
   for (const auto& [key, read_part] : parts)
     if (const Entry* e = find(top, key)) (this->*read_part)(*e);
   if (robot_) {
@@ -722,7 +718,8 @@ double Loader::parameter_default(const Value& v) {
 void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   std::vector<std::string> names;
   std::vector<double> defaults;
-  const std::vector<Entry> parameter_entries = parameters ? named_mapping(*parameters) : std::vector<Entry>{};
+  const std::vector<Entry> parameter_entries =
+      parameters ? named_mapping(*parameters) : std::vector<Entry>{};
   for (const auto& named : parameter_entries) {
     Parameter parameter{named.key, 0, {}, located(named.key_at)};
     if (auto problem = detail::parameter_name_problem(named.key)) {
@@ -759,7 +756,8 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       parameters_[index].set = true;
     }
   }
-  for (const Parameter& p : parameters_) model_.parameters.push_back({p.name, p.default_value, p.unit, p.set});
+  for (const Parameter& p : parameters_)
+    model_.parameters.push_back({p.name, p.default_value, p.unit, p.set});
   std::vector<Entry> derived_entries;
   for (auto& named : derived ? named_mapping(*derived) : std::vector<Entry>{}) {
     if (auto problem = detail::parameter_name_problem(named.key)) {
@@ -768,10 +766,12 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
       fail(named.key_at, named.value.path,
            "'" + named.key + "' is a parameter already; give the derived value another name");
     } else if (!named.value.node->is_scalar()) {
-      fail(named.value, "expected an expression of the parameters, got " + describe(*named.value.node));
+      fail(named.value,
+           "expected an expression of the parameters, got " + describe(*named.value.node));
     } else {
       derived_names_.push_back(named.key);
-      derived_sites_.push_back({named.value.node->text(), named.value.path, located(named.value.at)});
+      derived_sites_.push_back(
+          {named.value.node->text(), named.value.path, located(named.value.at)});
       derived_entries.push_back(std::move(named));
     }
   }
@@ -1034,10 +1034,8 @@ std::optional<Kinematics> Loader::read_kinematics(JointType type, const std::vec
     return a ? fixed_vector<3>(a->value, "[x, y, z]") : std::nullopt;
   };
   switch (type) {
-    case JointType::rigid:
-      return Kinematics::rigid();
-    case JointType::spherical:
-      return Kinematics::spherical();
+    case JointType::rigid: return Kinematics::rigid();
+    case JointType::spherical: return Kinematics::spherical();
     case JointType::revolute:
       if (auto a = axis("axis")) return Kinematics::revolute(*a);
       return std::nullopt;
@@ -1084,7 +1082,8 @@ std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::str
     if (!k) return std::nullopt;
     return MatX(*k * MatX::Identity(p, p));
   }
-  const bool rows_given = v.node->is_sequence() && v.node->size() > 0 && v.node->items()[0]->is_sequence();
+  const bool rows_given =
+      v.node->is_sequence() && v.node->size() > 0 && v.node->items()[0]->is_sequence();
   if (!rows_given) {
     const auto diagonal = vector(v, p, "(the diagonal; " + sized + ")");
     if (!diagonal) return std::nullopt;
@@ -1139,7 +1138,9 @@ void Loader::read_loads(const Entry& section) {
   // A robot block's weights come first in the model: its loads[k] is the file's loads[k - first].
   const std::size_t first = model_.loads.size();
   for (std::size_t i = 0; i < v.node->size(); ++i) {
-    if (first > 0) aliases_.emplace("loads[" + std::to_string(first + i) + "]", "loads[" + std::to_string(i) + "]");
+    if (first > 0)
+      aliases_.emplace("loads[" + std::to_string(first + i) + "]",
+                       "loads[" + std::to_string(i) + "]");
     const Value entry = item(v, i);
     Load load;
     load.origin.location = located(entry.at);
@@ -1153,9 +1154,11 @@ void Loader::read_loads(const Entry& section) {
       std::optional<Vec3> offset;
       if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
       bool frame_axes = false;
-      if (const Entry* a = find(e, "axes")) frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
+      if (const Entry* a = find(e, "axes"))
+        frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
       if (link && robot_)
-        if (auto problem = robot_->add_load(*link, wrench.value_or(Vec6::Zero()), offset, frame_axes, load.origin, model_))
+        if (auto problem = robot_->add_load(*link, wrench.value_or(Vec6::Zero()), offset,
+                                            frame_axes, load.origin, model_))
           fail(frame->value, *problem);
       continue;
     }
@@ -1164,7 +1167,8 @@ void Loader::read_loads(const Entry& section) {
       read_link_end(e, entry, load.at, load.link);
       if (const Entry* w = required(e, entry, "wrench"))
         load.wrench = fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]").value_or(Vec6::Zero());
-      if (const Entry* weight = find(e, "self_weight")) load.self_weight = boolean(weight->value).value_or(false);
+      if (const Entry* weight = find(e, "self_weight"))
+        load.self_weight = boolean(weight->value).value_or(false);
     }
     model_.loads.push_back(std::move(load));
   }
@@ -1178,14 +1182,17 @@ void Loader::read_end_effectors(const Entry& section) {
     const auto e = fixed_mapping(named.value);
     record(ee.origin, e, "");
     if (const Entry* frame = find(e, "frame")) {
-      check_keys(e, named.value.path, kFrameEndEffectorKeys, kEndEffectorKeys, "an end effector on a robot frame");
+      check_keys(e, named.value.path, kFrameEndEffectorKeys, kEndEffectorKeys,
+                 "an end effector on a robot frame");
       const auto link = robot_frame(*frame);
       std::optional<Vec3> offset;
       if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
       bool frame_axes = false;
-      if (const Entry* a = find(e, "axes")) frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
+      if (const Entry* a = find(e, "axes"))
+        frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
       if (link && robot_)
-        if (auto problem = robot_->add_end_effector(named.key, *link, offset, frame_axes, ee.origin, model_))
+        if (auto problem =
+                robot_->add_end_effector(named.key, *link, offset, frame_axes, ee.origin, model_))
           fail(frame->value, *problem);
       continue;
     }
@@ -1213,7 +1220,8 @@ void Loader::read_robot(const Entry& section) {
   if (path.is_relative()) path = std::filesystem::path(file_).parent_path() / path;
   detail::RobotBlock block;
   try {
-    block.tree = std::make_shared<const detail::UrdfTree>(detail::read_urdf(path, located(urdf->value.at), urdf->value.path));
+    block.tree = std::make_shared<const detail::UrdfTree>(
+        detail::read_urdf(path, located(urdf->value.at), urdf->value.path));
   } catch (const InputError& error) {
     diagnostics_.insert(diagnostics_.end(), error.diagnostics().begin(), error.diagnostics().end());
     spoil("");  // what refers to the robot cannot be checked
@@ -1225,13 +1233,15 @@ void Loader::read_robot(const Entry& section) {
     const auto j = tree.find_joint(named.key);
     if (!j) {
       fail(named.key_at, named.value.path,
-           "no joint named '" + named.key + "' in " + urdf_name + detail::suggestion(named.key, tree.joint_names(), "its joints are"));
+           "no joint named '" + named.key + "' in " + urdf_name +
+               detail::suggestion(named.key, tree.joint_names(), "its joints are"));
       return std::nullopt;
     }
     const detail::UrdfJoint& joint = tree.joints[static_cast<std::size_t>(*j)];
     if (!detail::is_movable(joint.type)) {
       fail(named.key_at, named.value.path,
-           "joint '" + named.key + "' is fixed in " + urdf_name + " (line " + std::to_string(joint.location.line) +
+           "joint '" + named.key + "' is fixed in " + urdf_name + " (line " +
+               std::to_string(joint.location.line) +
                "): it has no position and gives way through nothing but its links");
       return std::nullopt;
     }
@@ -1243,7 +1253,8 @@ void Loader::read_robot(const Entry& section) {
       if (const auto b = tree.find_link(*name))
         block.base = *b;
       else
-        fail(base->value, "no link named '" + *name + "' in " + urdf_name + detail::suggestion(*name, tree.link_names(), "its links are"));
+        fail(base->value, "no link named '" + *name + "' in " + urdf_name +
+                              detail::suggestion(*name, tree.link_names(), "its links are"));
     }
 
   robot_positions_.assign(tree.joints.size(), {});
@@ -1263,7 +1274,8 @@ void Loader::read_robot(const Entry& section) {
   std::optional<detail::JointSpring> default_spring;
   if (const Entry* d = find(e, "default_joint")) default_spring = read_joint_spring(d->value);
   block.springs.assign(tree.joints.size(), {});
-  for (const auto& joint : tree.joints) aliases_.emplace("joints." + joint.name + ".axis", "robot.urdf");  // the URDF's <axis>
+  for (const auto& joint : tree.joints)
+    aliases_.emplace("joints." + joint.name + ".axis", "robot.urdf");  // the URDF's <axis>
   std::vector<bool> sprung(tree.joints.size(), false);
   const Entry* joints = find(e, "joints");
   if (joints)
@@ -1290,9 +1302,10 @@ void Loader::read_robot(const Entry& section) {
     }
     spoil("joints." + joint.name);  // its zero spring is this defect
     fail(joints ? joints->key_at : section.key_at, joints ? joints->value.path : v.path,
-         "the " + std::string(detail::to_string(joint.type)) + " joint '" + joint.name + "' of " + urdf_name + " (line " +
-             std::to_string(joint.location.line) +
-             ") has no stiffness; list it under robot.joints, or give robot.default_joint for every joint not listed");
+         "the " + std::string(detail::to_string(joint.type)) + " joint '" + joint.name + "' of " +
+             urdf_name + " (line " + std::to_string(joint.location.line) +
+             ") has no stiffness; list it under robot.joints, or give robot.default_joint for "
+             "every joint not listed");
   }
 
   block.flexible.assign(tree.links.size(), std::nullopt);
@@ -1301,7 +1314,8 @@ void Loader::read_robot(const Entry& section) {
       const auto l = tree.find_link(named.key);
       if (!l) {
         fail(named.key_at, named.value.path,
-             "no link named '" + named.key + "' in " + urdf_name + detail::suggestion(named.key, tree.link_names(), "its links are"));
+             "no link named '" + named.key + "' in " + urdf_name +
+                 detail::suggestion(named.key, tree.link_names(), "its links are"));
         continue;
       }
       const auto le = fixed_mapping(named.value);
@@ -1311,16 +1325,19 @@ void Loader::read_robot(const Entry& section) {
       record(holder.origin, le, "");
       BeamLink beam;
       if (const Entry* m = required(le, named.value, "material"))
-        beam.material = named_or_inline(*m, materials_, "materials", holder, &Loader::read_material);
+        beam.material =
+            named_or_inline(*m, materials_, "materials", holder, &Loader::read_material);
       if (const Entry* sec = required(le, named.value, "section"))
         beam.section = named_or_inline(*sec, sections_, "sections", holder, &Loader::read_section);
-      if (const Entry* shear = find(le, "shear")) beam.shear = boolean(shear->value).value_or(false);
+      if (const Entry* shear = find(le, "shear"))
+        beam.shear = boolean(shear->value).value_or(false);
       block.flexible[static_cast<std::size_t>(*l)] = detail::FlexibleLink{beam, holder.origin};
       aliases_.emplace("links." + named.key, named.value.path);
       aliases_.emplace("links." + named.key + ".distal", named.value.path);
     }
 
-  if (const Entry* g = find(e, "gravity")) block.gravity = fixed_vector<3>(g->value, "[gx, gy, gz]");
+  if (const Entry* g = find(e, "gravity"))
+    block.gravity = fixed_vector<3>(g->value, "[gx, gy, gz]");
 
   try {
     robot_ = std::make_shared<detail::RobotLayout>(block, model_);
@@ -1345,7 +1362,8 @@ std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
     return std::nullopt;
   }
   if (!k && !c) {
-    fail(v.at, v.path, "give the joint's stiffness (about or along its axis) or its 6×6 compliance");
+    fail(v.at, v.path,
+         "give the joint's stiffness (about or along its axis) or its 6×6 compliance");
     return std::nullopt;
   }
   if (k) {
@@ -1359,12 +1377,16 @@ std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
   if (!compliance) return std::nullopt;
   spring.origin.key_locations["stiffness"] = located(c->value.at);
   const double scale = compliance->cwiseAbs().maxCoeff();
-  const bool symmetric = (*compliance - compliance->transpose()).cwiseAbs().maxCoeff() <= kComplianceSymmetryTolerance * scale;
+  const bool symmetric = (*compliance - compliance->transpose()).cwiseAbs().maxCoeff() <=
+                         kComplianceSymmetryTolerance * scale;
   const Mat6 symmetric_part = 0.5 * (*compliance + compliance->transpose());
   if (!symmetric || scale == 0 || Eigen::LLT<Mat6>(symmetric_part).info() != Eigen::Success) {
-    fail(c->value, symmetric ? "the compliance is not positive definite: a joint gives way in every direction, by a "
-                               "positive amount (a rigid direction needs a small compliance, not zero)"
-                             : "the compliance is not symmetric");
+    fail(
+        c->value,
+        symmetric
+            ? "the compliance is not positive definite: a joint gives way in every direction, by a "
+              "positive amount (a rigid direction needs a small compliance, not zero)"
+            : "the compliance is not symmetric");
     return std::nullopt;
   }
   spring.compliance = symmetric_part;
@@ -1376,7 +1398,9 @@ std::optional<int> Loader::robot_frame(const Entry& frame) {
   const auto name = text(frame.value);
   if (!name) return std::nullopt;
   if (!robot_) {
-    if (!find_robot_block_) fail(frame.value, "`frame:` names a frame of the robot block's URDF, and the model has no `robot:`");
+    if (!find_robot_block_)
+      fail(frame.value,
+           "`frame:` names a frame of the robot block's URDF, and the model has no `robot:`");
     return std::nullopt;
   }
   if (const auto link = robot_->tree().find_link(*name)) return *link;
@@ -1389,7 +1413,8 @@ std::optional<int> Loader::robot_frame(const Entry& frame) {
 // A joint position: a number, or an expression of the parameters that the builder evaluates
 // for each member (forward kinematics turns it into many numbers, where no probe would survive).
 std::optional<double> Loader::robot_position(const Value& v, ExpressionSite& site) {
-  if (!parametric_ || !v.node->is_scalar() || detail::plain_number(v.node->text())) return number(v);
+  if (!parametric_ || !v.node->is_scalar() || detail::plain_number(v.node->text()))
+    return number(v);
   const std::string& expression = v.node->text();
   const auto outcome = expressions_->evaluate(expression);
   if (outcome.follows_earlier_error) {
@@ -1467,8 +1492,8 @@ std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
 
 // ---- limits ------------------------------------------------------------------------------
 
-const KeyList kEntityKinds{"materials", "sections", "points",        "links",
-                           "joints",    "supports", "loads",         "end_effectors"};
+const KeyList kEntityKinds{"materials", "sections", "points", "links",
+                           "joints",    "supports", "loads",  "end_effectors"};
 
 std::string byte_count(std::uintmax_t bytes) {
   std::string text = std::to_string(bytes) + " bytes";
@@ -1492,8 +1517,8 @@ std::string byte_count(std::uintmax_t bytes) {
 
 void require_size_within(std::uintmax_t bytes, const std::string& file, const LoadLimits& limits) {
   if (bytes > limits.max_file_bytes)
-    throw_too_large(file, byte_count(bytes) + ", above the limit of " +
-                              byte_count(limits.max_file_bytes));
+    throw_too_large(
+        file, byte_count(bytes) + ", above the limit of " + byte_count(limits.max_file_bytes));
 }
 
 // How deeply mappings and lists nest in a text.
@@ -1657,7 +1682,8 @@ void require_entity_counts_within(const YamlNode& root, const std::string& file,
 
 namespace {
 
-detail::YamlTree parse_tree(std::string_view text, const std::string& file_name, const LoadLimits& limits) {
+detail::YamlTree parse_tree(std::string_view text, const std::string& file_name,
+                            const LoadLimits& limits) {
   require_size_within(text.size(), file_name, limits);
   require_nesting_within(text, file_name, limits);
   detail::YamlTree tree = detail::parse_yaml(text, file_name, limits.max_nesting_depth);
@@ -1666,11 +1692,12 @@ detail::YamlTree parse_tree(std::string_view text, const std::string& file_name,
 }
 
 // A model read from a parsed file and validated, with the file's positions in every message.
-Model read_checked(const YamlNode& root, const std::string& file_name, detail::ExpressionEvaluator* expressions,
-                   std::span<const double> values) {
+Model read_checked(const YamlNode& root, const std::string& file_name,
+                   detail::ExpressionEvaluator* expressions, std::span<const double> values) {
   Loader loader(file_name, expressions, values);
   Model model = loader.read(root);
-  for (std::size_t i = 0; i < values.size() && i < model.parameters.size(); ++i) model.parameters[i].value = values[i];
+  for (std::size_t i = 0; i < values.size() && i < model.parameters.size(); ++i)
+    model.parameters[i].value = values[i];
   auto defects = loader.merge(find_defects(model));
   if (!defects.empty()) throw InputError(std::move(defects));
   return model;
@@ -1722,7 +1749,8 @@ struct SlotBindings {
 // landed. Nullopt when that cannot be told for sure (a probe value lost or changed on its way
 // into the model, a real number in the probes' range): writers then read the file for each
 // member.
-std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& file_name, const Structure& structure,
+std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& file_name,
+                                       const Structure& structure,
                                        std::vector<ExpressionSite> derived) {
   Loader prober(file_name);
   prober.probe_expressions();
@@ -1740,7 +1768,8 @@ std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& 
     }
     ++slot;
   });
-  if (doubtful || slot != structure.value_count() || std::find(bound.begin(), bound.end(), false) != bound.end())
+  if (doubtful || slot != structure.value_count() ||
+      std::find(bound.begin(), bound.end(), false) != bound.end())
     return std::nullopt;
   return bindings;
 }
@@ -1748,9 +1777,11 @@ std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& 
 // A writer that evaluates the expressions for the member's parameter values and writes them
 // into their slots; the other slots keep the structure's defaults. A robot block's member is
 // posed on a model of the writer's own, whose numbers are then the member's values.
-ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> bindings, std::vector<std::string> names,
+ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> bindings,
+                                     std::vector<std::string> names,
                                      std::vector<std::string> derived_names) {
-  auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
+  auto expressions =
+      std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
   const Structure& structure = bindings->structure;
   // An expression written at several places (a point and an axis through it) is evaluated once
   // per member: `distinct` holds the first site of each text, `site_text` each site's.
@@ -1764,67 +1795,76 @@ ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> binding
     }
   }
   std::vector<double> text_values(distinct.size());
-  return [bindings, expressions, defaults = structure.default_values(), distinct = std::move(distinct),
-          site_text = std::move(site_text), text_values = std::move(text_values),
-          robot_values = std::vector<double>(bindings->robot_positions.size()),
-          posed = bindings->robot ? std::make_shared<Model>(structure.model()) : nullptr](
-             std::span<const double> parameters, std::span<double> values,
-             std::vector<Diagnostic>& warnings) mutable {
-    expressions->set_values(parameters);
-    std::vector<Diagnostic> defects;
-    const auto report = [&](const ExpressionSite& site, const detail::ExpressionEvaluator::Outcome& outcome) {
-      if (!outcome.error.empty() && !outcome.follows_earlier_error) defects.push_back({site.at, site.path, outcome.error});
-    };
-    for (std::size_t i = 0; i < bindings->derived.size(); ++i)
-      report(bindings->derived[i], expressions->evaluate_derived(i, bindings->derived[i].text));
-    bool all_values = true;
-    std::vector<std::pair<std::size_t, detail::ExpressionEvaluator::Outcome>> failed;  // (text, outcome)
-    for (std::size_t t = 0; t < distinct.size(); ++t) {
-      auto outcome = expressions->evaluate(bindings->sites[distinct[t]].text);
-      text_values[t] = outcome.value;
-      if (!outcome.error.empty()) failed.emplace_back(t, std::move(outcome));
-    }
-    if (!failed.empty()) {
-      // Every site of a failed text is reported at its own key, the sites in reading order.
-      all_values = false;
-      for (std::size_t k = 0; k < site_text.size(); ++k)
-        for (const auto& [t, outcome] : failed)
-          if (site_text[k] == t) report(bindings->sites[k], outcome);
-    }
-    for (std::size_t j = 0; j < bindings->robot_positions.size(); ++j) {
-      const auto& position = bindings->robot_positions[j];
-      robot_values[j] = position.value;
-      if (!position.expression) continue;
-      const auto outcome = expressions->evaluate(position.expression->text);
-      report(*position.expression, outcome);
-      all_values = all_values && outcome.error.empty();
-      robot_values[j] = outcome.value;
-    }
-    // A value that is missing without a defect of its own follows from a derived value's,
-    // which is reported: defects is never empty here.
-    if (!all_values) throw InputError(std::move(defects));
-    std::copy(defaults.begin(), defaults.end(), values.begin());
-    for (const auto& [slot, site] : bindings->filled) values[slot] = text_values[site_text[site]];
-    if (!posed) {
-      warnings = bindings->structure.model().warnings;
-      return;
-    }
-    bindings->structure.write_values(values, *posed);
-    bindings->robot->pose(robot_values, *posed);
-    double* next = values.data();
-    detail::for_each_number(*posed, [&](double v) { *next++ = v; });
-    warnings = posed->warnings;
-  };
+  return
+      [bindings, expressions, defaults = structure.default_values(), distinct = std::move(distinct),
+       site_text = std::move(site_text), text_values = std::move(text_values),
+       robot_values = std::vector<double>(bindings->robot_positions.size()),
+       posed = bindings->robot ? std::make_shared<Model>(structure.model()) : nullptr](
+          std::span<const double> parameters, std::span<double> values,
+          std::vector<Diagnostic>& warnings) mutable {
+        expressions->set_values(parameters);
+        std::vector<Diagnostic> defects;
+        const auto report = [&](const ExpressionSite& site,
+                                const detail::ExpressionEvaluator::Outcome& outcome) {
+          if (!outcome.error.empty() && !outcome.follows_earlier_error)
+            defects.push_back({site.at, site.path, outcome.error});
+        };
+        for (std::size_t i = 0; i < bindings->derived.size(); ++i)
+          report(bindings->derived[i], expressions->evaluate_derived(i, bindings->derived[i].text));
+        bool all_values = true;
+        std::vector<std::pair<std::size_t, detail::ExpressionEvaluator::Outcome>>
+            failed;  // (text, outcome)
+        for (std::size_t t = 0; t < distinct.size(); ++t) {
+          auto outcome = expressions->evaluate(bindings->sites[distinct[t]].text);
+          text_values[t] = outcome.value;
+          if (!outcome.error.empty()) failed.emplace_back(t, std::move(outcome));
+        }
+        if (!failed.empty()) {
+          // Every site of a failed text is reported at its own key, the sites in reading order.
+          all_values = false;
+          for (std::size_t k = 0; k < site_text.size(); ++k)
+            for (const auto& [t, outcome] : failed)
+              if (site_text[k] == t) report(bindings->sites[k], outcome);
+        }
+        for (std::size_t j = 0; j < bindings->robot_positions.size(); ++j) {
+          const auto& position = bindings->robot_positions[j];
+          robot_values[j] = position.value;
+          if (!position.expression) continue;
+          const auto outcome = expressions->evaluate(position.expression->text);
+          report(*position.expression, outcome);
+          all_values = all_values && outcome.error.empty();
+          robot_values[j] = outcome.value;
+        }
+        // A value that is missing without a defect of its own follows from a derived value's,
+        // which is reported: defects is never empty here.
+        if (!all_values) throw InputError(std::move(defects));
+        std::copy(defaults.begin(), defaults.end(), values.begin());
+        for (const auto& [slot, site] : bindings->filled)
+          values[slot] = text_values[site_text[site]];
+        if (!posed) {
+          warnings = bindings->structure.model().warnings;
+          return;
+        }
+        bindings->structure.write_values(values, *posed);
+        bindings->robot->pose(robot_values, *posed);
+        double* next = values.data();
+        detail::for_each_number(*posed, [&](double v) { *next++ = v; });
+        warnings = posed->warnings;
+      };
 }
 
 // Writers of a file whose numbers could not be bound read the file for each member: each
 // parses the text once into a tree of its own, so writers on different threads share nothing.
-ModelFamily::ValueWriter rereading_writer(std::shared_ptr<const std::string> text, const std::string& file_name,
-                                          const LoadLimits& limits, const Structure& structure,
-                                          std::vector<std::string> names, std::vector<std::string> derived_names) {
+ModelFamily::ValueWriter rereading_writer(std::shared_ptr<const std::string> text,
+                                          const std::string& file_name, const LoadLimits& limits,
+                                          const Structure& structure,
+                                          std::vector<std::string> names,
+                                          std::vector<std::string> derived_names) {
   auto own_tree = std::make_shared<const detail::YamlTree>(parse_tree(*text, file_name, limits));
-  auto expressions = std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
-  return [own_tree, expressions, file_name, structure](std::span<const double> parameters, std::span<double> values,
+  auto expressions =
+      std::make_shared<detail::ExpressionEvaluator>(std::move(names), std::move(derived_names));
+  return [own_tree, expressions, file_name, structure](std::span<const double> parameters,
+                                                       std::span<double> values,
                                                        std::vector<Diagnostic>& warnings) {
     Loader loader(file_name, expressions.get(), parameters);
     const Model member = loader.read(own_tree->root());
@@ -1849,7 +1889,8 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
     for (const auto& [name, value] : settings) unknown.push_back(name);
   std::vector<std::string> names;
   for (const auto& p : loader.parameters()) names.push_back(p.name);
-  if (!unknown.empty()) throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
+  if (!unknown.empty())
+    throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
   // The structure validates the model at the defaults; its defects join the loader's own.
   if (!loader.merge({}).empty()) throw InputError(loader.merge(find_defects(at_defaults)));
   std::optional<Structure> structure;

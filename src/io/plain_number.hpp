@@ -16,7 +16,8 @@ inline std::optional<double> plain_number(std::string_view text) {
   }
   double value = 0;
   const auto [stop, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || stop != text.data() + text.size() || !std::isfinite(value))
+  if (text.empty() || error != std::errc() || stop != text.data() + text.size() ||
+      !std::isfinite(value))
     return std::nullopt;
   return value;
 }

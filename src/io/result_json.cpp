@@ -191,9 +191,12 @@ void write_result(ResultWriter& out, const Result& result) {
               if (e.reduced_stiffness)
                 out.member("reduced_stiffness", [&] {
                   out.object([&] {
-                    for (const auto& [key, m] : {std::pair{"directions", &e.reduced_stiffness->directions},
-                                                 std::pair{"matrix", &e.reduced_stiffness->matrix}})
-                      out.member(key, [&, m = m] { out.list(m->rows(), [&](Eigen::Index r) { out.vector(m->row(r)); }); });
+                    for (const auto& [key, m] :
+                         {std::pair{"directions", &e.reduced_stiffness->directions},
+                          std::pair{"matrix", &e.reduced_stiffness->matrix}})
+                      out.member(key, [&, m = m] {
+                        out.list(m->rows(), [&](Eigen::Index r) { out.vector(m->row(r)); });
+                      });
                   });
                 });
               out.member("principal_stiffness", [&] {
@@ -203,29 +206,36 @@ void write_result(ResultWriter& out, const Result& result) {
                   out.member("translational", [&] {
                     out.principal(principal.translational, principal.translational_directions);
                   });
-                  out.member("rotational", [&] { out.principal(principal.rotational, principal.rotational_directions); });
+                  out.member("rotational", [&] {
+                    out.principal(principal.rotational, principal.rotational_directions);
+                  });
                 });
               });
               if (e.along_direction)
                 out.member("along_direction", [&] {
                   out.object([&] {
                     out.member("direction", [&] { out.vector(e.along_direction->direction); });
-                    out.member("translational", [&] { out.number(e.along_direction->translational); });
+                    out.member("translational",
+                               [&] { out.number(e.along_direction->translational); });
                     out.member("rotational", [&] { out.number(e.along_direction->rotational); });
                   });
                 });
               // Only where the model has self-weight loads (a robot block's `gravity:`).
-              if (e.deflection_gravity) out.member("deflection_gravity", [&] { vector(*e.deflection_gravity); });
+              if (e.deflection_gravity)
+                out.member("deflection_gravity", [&] { vector(*e.deflection_gravity); });
               // Only for an end effector with axes of its own (a robot frame's, `axes: frame`).
               if (e.in_own_axes)
                 out.member("in_own_axes", [&] {
                   out.object([&] {
                     const auto& in = *e.in_own_axes;
-                    out.member("axes", [&] { out.list(3, [&](Eigen::Index r) { out.vector(in.axes.row(r)); }); });
+                    out.member("axes", [&] {
+                      out.list(3, [&](Eigen::Index r) { out.vector(in.axes.row(r)); });
+                    });
                     out.member("compliance", or_null(out, in.compliance, mat6));
                     out.member("stiffness", or_null(out, in.stiffness, mat6));
                     out.member("deflection", or_null(out, in.deflection, vector));
-                    if (in.deflection_gravity) out.member("deflection_gravity", [&] { vector(*in.deflection_gravity); });
+                    if (in.deflection_gravity)
+                      out.member("deflection_gravity", [&] { vector(*in.deflection_gravity); });
                   });
                 });
             });
@@ -237,7 +247,8 @@ void write_result(ResultWriter& out, const Result& result) {
         for (const LinkResult& link : result.links)
           out.named(link.name, [&] {
             out.object([&] {
-              for (const auto& [name, end] : {std::pair{"from", &link.from}, std::pair{"to", &link.to}})
+              for (const auto& [name, end] :
+                   {std::pair{"from", &link.from}, std::pair{"to", &link.to}})
                 out.member(name, [&, end = end] {
                   out.object([&] {
                     out.member("deflection", or_null(out, end->deflection, vector));
@@ -255,15 +266,18 @@ void write_result(ResultWriter& out, const Result& result) {
             out.object([&] {
               // A two-end joint has one relative deflection, written as a flat list; a joint of
               // m > 2 ends has m − 1, written as a list of lists.
-              out.member("relative_deflection", or_null(out, joint.relative_deflection, [&](const std::vector<VecX>& q) {
+              out.member("relative_deflection",
+                         or_null(out, joint.relative_deflection, [&](const std::vector<VecX>& q) {
                            if (q.size() == 1)
                              out.vector(q.front());
                            else
-                             out.list(static_cast<Eigen::Index>(q.size()),
-                                      [&](Eigen::Index k) { out.vector(q[static_cast<std::size_t>(k)]); });
+                             out.list(static_cast<Eigen::Index>(q.size()), [&](Eigen::Index k) {
+                               out.vector(q[static_cast<std::size_t>(k)]);
+                             });
                          }));
               out.member("wrench", or_null(out, joint.wrench, vector));
-              if (joint.actuated || joint.effort) out.member("effort", or_null(out, joint.effort, vector));
+              if (joint.actuated || joint.effort)
+                out.member("effort", or_null(out, joint.effort, vector));
             });
           });
       });
@@ -271,7 +285,9 @@ void write_result(ResultWriter& out, const Result& result) {
     out.member("supports", [&] {
       out.object([&] {
         for (const SupportResult& s : result.supports)
-          out.named(s.name, [&] { out.object([&] { out.member("reaction", or_null(out, s.reaction, vector)); }); });
+          out.named(s.name, [&] {
+            out.object([&] { out.member("reaction", or_null(out, s.reaction, vector)); });
+          });
       });
     });
     out.member("report", [&] {

@@ -30,11 +30,11 @@ struct FlexibleLink {
 // What the robot block says, with the URDF read.
 struct RobotBlock {
   std::shared_ptr<const UrdfTree> tree;
-  int base = 0;                                   // a URDF link
-  std::vector<JointSpring> springs;               // per URDF joint; unused for fixed joints
+  int base = 0;                                       // a URDF link
+  std::vector<JointSpring> springs;                   // per URDF joint; unused for fixed joints
   std::vector<std::optional<FlexibleLink>> flexible;  // per URDF link
   std::optional<Vec3> gravity;
-  std::vector<SourceLocation> position_at;        // per URDF joint: where its position is given
+  std::vector<SourceLocation> position_at;  // per URDF joint: where its position is given
 };
 
 class RobotLayout {
@@ -50,11 +50,13 @@ class RobotLayout {
   // An end effector at the origin of URDF link `frame`, moved by `offset` in the frame's axes.
   // Returns what is wrong, if anything.
   // With `frame_axes`, its results are given in the frame's axes too.
-  std::optional<std::string> add_end_effector(std::string name, int frame, const std::optional<Vec3>& offset,
-                                              bool frame_axes, Origin origin, Model& model);
+  std::optional<std::string> add_end_effector(std::string name, int frame,
+                                              const std::optional<Vec3>& offset, bool frame_axes,
+                                              Origin origin, Model& model);
   // A load on URDF link `frame` at its origin moved by `offset` (frame axes); the wrench is in
   // world axes, or with `frame_axes` in the frame's.
-  std::optional<std::string> add_load(int frame, const Vec6& wrench, const std::optional<Vec3>& offset, bool frame_axes,
+  std::optional<std::string> add_load(int frame, const Vec6& wrench,
+                                      const std::optional<Vec3>& offset, bool frame_axes,
                                       Origin origin, Model& model);
 
   // Writes every number that depends on the pose (positions: one per URDF joint, fixed ones
@@ -70,7 +72,7 @@ class RobotLayout {
  private:
   struct PlacedPoint {
     std::size_t point;
-    int link;   // URDF link whose frame carries it
+    int link;    // URDF link whose frame carries it
     Vec3 local;  // in that frame
   };
   struct TurningJoint {
@@ -85,8 +87,8 @@ class RobotLayout {
   struct CarriedLoad {
     std::size_t load;
     int link;
-    Vec3 lever;    // from the loaded end to where the force acts, in the link's frame
-    Vec6 wrench;   // as given
+    Vec3 lever;   // from the loaded end to where the force acts, in the link's frame
+    Vec6 wrench;  // as given
     bool frame_axes = false;
   };
   struct TurningEffector {
@@ -96,7 +98,7 @@ class RobotLayout {
   struct ToolLink {
     std::string link;  // from the frame's end point to the tool centre point
     int frame;
-    Vec3 local;        // the tool centre point in the frame
+    Vec3 local;  // the tool centre point in the frame
     std::size_t effector;
   };
   struct FrameEnd {
@@ -105,13 +107,14 @@ class RobotLayout {
   };
 
   bool in_robot(int link) const { return included_[static_cast<std::size_t>(link)]; }
-  std::size_t add_point(Model& model, std::string name, int link, const Vec3& local, const SourceLocation& at);
+  std::size_t add_point(Model& model, std::string name, int link, const Vec3& local,
+                        const SourceLocation& at);
 
   std::shared_ptr<const UrdfTree> tree_;
   int base_ = 0;
-  std::vector<bool> included_;          // per URDF link: in the base's subtree
-  std::vector<FrameEnd> frame_ends_;    // per URDF link
-  std::vector<bool> leaf_;              // per URDF link
+  std::vector<bool> included_;        // per URDF link: in the base's subtree
+  std::vector<FrameEnd> frame_ends_;  // per URDF link
+  std::vector<bool> leaf_;            // per URDF link
   std::vector<SourceLocation> position_at_;
   std::vector<PlacedPoint> points_;
   std::vector<TurningJoint> joints_;

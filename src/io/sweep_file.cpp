@@ -17,7 +17,9 @@
 
 namespace stiffmsa {
 
-std::optional<double> parse_plain_number(std::string_view text) { return detail::plain_number(text); }
+std::optional<double> parse_plain_number(std::string_view text) {
+  return detail::plain_number(text);
+}
 
 namespace {
 
@@ -87,7 +89,7 @@ void append_text(std::string& out, const std::string& text) {
   out += '"';
 }
 
-const char* const kMeasureNames[] = {"k_trans_min", "k_trans_max", "k_rot_min",
+const char* const kMeasureNames[] = {"k_trans_min", "k_trans_max",      "k_rot_min",
                                      "k_rot_max",   "deflection_trans", "deflection_rot"};
 const char* const kMeasureUnits[] = {"N/m", "N/m", "N·m/rad", "N·m/rad", "m", "rad"};
 
@@ -117,12 +119,14 @@ PoseTable parse_pose_table(std::string_view text, const std::string& file_name) 
   std::size_t line_number = 0;
   std::size_t start = 0;
   std::vector<Diagnostic> defects;
-  const auto defect = [&](std::size_t line, int column, const std::string& key, std::string message) {
+  const auto defect = [&](std::size_t line, int column, const std::string& key,
+                          std::string message) {
     defects.push_back({{file_name, static_cast<int>(line), column}, key, std::move(message)});
   };
   while (start <= text.size()) {
     const auto end = text.find('\n', start);
-    const std::string_view line = text.substr(start, end == std::string_view::npos ? text.npos : end - start);
+    const std::string_view line =
+        text.substr(start, end == std::string_view::npos ? text.npos : end - start);
     start = end == std::string_view::npos ? text.size() + 1 : end + 1;
     ++line_number;
     const std::string content = trimmed(line);
@@ -131,23 +135,27 @@ PoseTable parse_pose_table(std::string_view text, const std::string& file_name) 
     if (table.parameters.empty()) {
       for (std::size_t k = 0; k < fields.size(); ++k) {
         if (fields[k].empty())
-          defect(line_number, 0, "", "column " + std::to_string(k + 1) + " of the header has no parameter name");
+          defect(line_number, 0, "",
+                 "column " + std::to_string(k + 1) + " of the header has no parameter name");
         for (std::size_t j = 0; j < k; ++j)
           if (!fields[k].empty() && fields[j] == fields[k])
-            defect(line_number, 0, fields[k], "the parameter '" + fields[k] + "' heads two columns");
+            defect(line_number, 0, fields[k],
+                   "the parameter '" + fields[k] + "' heads two columns");
       }
       table.parameters = std::move(fields);
       continue;
     }
     if (fields.size() != table.parameters.size()) {
       defect(line_number, 0, "",
-             "expected " + counted(table.parameters.size(), "value") + " (one per parameter of the header), got " +
-                 std::to_string(fields.size()));
+             "expected " + counted(table.parameters.size(), "value") +
+                 " (one per parameter of the header), got " + std::to_string(fields.size()));
       continue;
     }
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const auto value = detail::plain_number(fields[k]);
-      if (!value) defect(line_number, 0, table.parameters[k], "expected a finite number, got '" + fields[k] + "'");
+      if (!value)
+        defect(line_number, 0, table.parameters[k],
+               "expected a finite number, got '" + fields[k] + "'");
       table.values.push_back(value.value_or(kNaN));
     }
     if (defects.size() >= 20) break;  // a wrong file says so in a screenful
@@ -176,21 +184,25 @@ std::vector<SweepColumn> sweep_columns(const SweepResult& sweep, bool full) {
   for (std::size_t e = 0; e < sweep.end_effectors.size(); ++e) {
     const std::string& effector = sweep.end_effectors[e];
     for (int q = 0; q < 6; ++q)
-      columns.push_back({effector + "." + kMeasureNames[q], kMeasureUnits[q], static_cast<SweepQuantity>(q), e, 0, 0,
+      columns.push_back({effector + "." + kMeasureNames[q], kMeasureUnits[q],
+                         static_cast<SweepQuantity>(q), e, 0, 0,
                          q >= static_cast<int>(SweepQuantity::deflection_trans)});
     columns.push_back({effector + ".cond_trans", "", SweepQuantity::cond_trans, e, 0, 0, true});
     if (sweep.direction) {
-      columns.push_back({effector + ".k_trans_dir", "N/m", SweepQuantity::k_trans_dir, e, 0, 0, false});
-      columns.push_back({effector + ".k_rot_dir", "N·m/rad", SweepQuantity::k_rot_dir, e, 0, 0, false});
+      columns.push_back(
+          {effector + ".k_trans_dir", "N/m", SweepQuantity::k_trans_dir, e, 0, 0, false});
+      columns.push_back(
+          {effector + ".k_rot_dir", "N·m/rad", SweepQuantity::k_rot_dir, e, 0, 0, false});
     }
     if (!full) continue;
     for (const auto& [quantity, letter] :
          {std::pair{SweepQuantity::compliance, 'C'}, std::pair{SweepQuantity::stiffness, 'K'}})
       for (int row = 0; row < 6; ++row)
         for (int col = 0; col < 6; ++col)
-          columns.push_back({effector + "." + letter + std::to_string(row + 1) + std::to_string(col + 1),
-                             matrix_unit(quantity, row, col), quantity, e, row, col,
-                             quantity == SweepQuantity::compliance || row != col});
+          columns.push_back(
+              {effector + "." + letter + std::to_string(row + 1) + std::to_string(col + 1),
+               matrix_unit(quantity, row, col), quantity, e, row, col,
+               quantity == SweepQuantity::compliance || row != col});
   }
   return columns;
 }
@@ -203,7 +215,8 @@ std::optional<SweepColumn> find_sweep_column(const SweepResult& sweep, const std
 
 double column_value(const SweepResult& sweep, const SweepColumn& column, std::size_t pose) {
   const PoseResult& result = sweep.results[pose];
-  if (result.status != PoseStatus::ok || column.end_effector >= result.end_effectors.size()) return kNaN;
+  if (result.status != PoseStatus::ok || column.end_effector >= result.end_effectors.size())
+    return kNaN;
   const EndEffectorMeasures& m = result.end_effectors[column.end_effector];
   switch (column.quantity) {
     case SweepQuantity::k_trans_min: return m.principal.translational(0);
@@ -212,10 +225,13 @@ double column_value(const SweepResult& sweep, const SweepColumn& column, std::si
     case SweepQuantity::k_rot_max: return m.principal.rotational(2);
     case SweepQuantity::deflection_trans: return m.deflection_translation;
     case SweepQuantity::deflection_rot: return m.deflection_rotation;
-    case SweepQuantity::compliance: return m.compliance ? (*m.compliance)(column.row, column.col) : kNaN;
-    case SweepQuantity::stiffness: return m.stiffness ? (*m.stiffness)(column.row, column.col) : kNaN;
+    case SweepQuantity::compliance:
+      return m.compliance ? (*m.compliance)(column.row, column.col) : kNaN;
+    case SweepQuantity::stiffness:
+      return m.stiffness ? (*m.stiffness)(column.row, column.col) : kNaN;
     case SweepQuantity::cond_trans: return m.principal.translational_condition();
-    case SweepQuantity::k_trans_dir: return m.along_direction ? m.along_direction->translational : kNaN;
+    case SweepQuantity::k_trans_dir:
+      return m.along_direction ? m.along_direction->translational : kNaN;
     case SweepQuantity::k_rot_dir: return m.along_direction ? m.along_direction->rotational : kNaN;
   }
   return kNaN;
@@ -243,14 +259,16 @@ std::optional<std::size_t> worst_pose(const SweepResult& sweep, const SweepColum
   return worst;
 }
 
-SweepRows sweep_rows(const SweepResult& sweep, const std::vector<SweepColumn>& columns, std::size_t first_pose) {
+SweepRows sweep_rows(const SweepResult& sweep, const std::vector<SweepColumn>& columns,
+                     std::size_t first_pose) {
   SweepRows rows;
   rows.first_pose = first_pose;
   rows.parameter_count = sweep.poses.parameters.size();
   rows.column_count = columns.size();
   const std::size_t count = sweep.results.size();
-  rows.parameters.assign(sweep.poses.values.begin(),
-                         sweep.poses.values.begin() + static_cast<std::ptrdiff_t>(count * rows.parameter_count));
+  rows.parameters.assign(
+      sweep.poses.values.begin(),
+      sweep.poses.values.begin() + static_cast<std::ptrdiff_t>(count * rows.parameter_count));
   rows.statuses.reserve(count);
   rows.messages.reserve(count);
   rows.large_deflections.reserve(count);
@@ -264,7 +282,8 @@ SweepRows sweep_rows(const SweepResult& sweep, const std::vector<SweepColumn>& c
   return rows;
 }
 
-std::string sweep_csv_header(const std::vector<std::string>& parameters, const std::vector<SweepColumn>& columns) {
+std::string sweep_csv_header(const std::vector<std::string>& parameters,
+                             const std::vector<SweepColumn>& columns) {
   std::string out;
   for (const auto& p : parameters) {
     append_text(out, p);
@@ -315,7 +334,8 @@ SweepSummary::SweepSummary(std::vector<SweepColumn> columns)
 void SweepSummary::offer_worst(std::size_t column, Pose candidate) {
   auto& worst = worst_[column];
   if (!worst || is_worse(columns_[column], candidate.value, worst->value) ||
-      (!is_worse(columns_[column], worst->value, candidate.value) && candidate.index < worst->index))
+      (!is_worse(columns_[column], worst->value, candidate.value) &&
+       candidate.index < worst->index))
     worst = std::move(candidate);
 }
 
@@ -343,13 +363,18 @@ void SweepSummary::add(const SweepRows& rows) {
   }
   const auto pose_of = [&](std::size_t row, double value) {
     const bool told = rows.statuses[row] != PoseStatus::ok || rows.large_deflections[row] != 0;
-    return Pose{rows.first_pose + row, {rows.pose(row).begin(), rows.pose(row).end()}, value, rows.statuses[row],
+    return Pose{rows.first_pose + row,
+                {rows.pose(row).begin(), rows.pose(row).end()},
+                value,
+                rows.statuses[row],
                 told ? rows.messages[row] : std::string()};
   };
   if (block_failed) offer_first(first_failed_, pose_of(*block_failed, kNaN));
-  if (block_large_deflection) offer_first(first_large_deflection_, pose_of(*block_large_deflection, kNaN));
+  if (block_large_deflection)
+    offer_first(first_large_deflection_, pose_of(*block_large_deflection, kNaN));
   for (std::size_t column = 0; column < columns_.size(); ++column)
-    if (const auto row = block_worst[column]) offer_worst(column, pose_of(*row, rows.value(*row, column)));
+    if (const auto row = block_worst[column])
+      offer_worst(column, pose_of(*row, rows.value(*row, column)));
 }
 
 void SweepSummary::add(const SweepSummary& other) {
@@ -359,7 +384,8 @@ void SweepSummary::add(const SweepSummary& other) {
     if (other.worst_[column]) offer_worst(column, *other.worst_[column]);
   if (other.first_failed_) offer_first(first_failed_, *other.first_failed_);
   large_deflections_ += other.large_deflections_;
-  if (other.first_large_deflection_) offer_first(first_large_deflection_, *other.first_large_deflection_);
+  if (other.first_large_deflection_)
+    offer_first(first_large_deflection_, *other.first_large_deflection_);
 }
 
 namespace {
@@ -369,7 +395,9 @@ void put_size(std::string& out, std::size_t value) {
   out.append(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
-void put_double(std::string& out, double value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); }
+void put_double(std::string& out, double value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
 
 void put_pose(std::string& out, const SweepSummary::Pose& pose) {
   put_size(out, pose.index);
@@ -408,7 +436,8 @@ class Unpacker {
     for (double& v : p.parameters) v = number();
     p.value = number();
     const std::size_t status = size();
-    if (status >= kStatuses.size()) throw Error("a sweep summary passed between processes has an unknown status");
+    if (status >= kStatuses.size())
+      throw Error("a sweep summary passed between processes has an unknown status");
     p.status = static_cast<PoseStatus>(status);
     p.message = text(size());
     return p;
@@ -434,7 +463,8 @@ void serialize_rows(std::string& out, const SweepRows& rows) {
   for (double v : rows.parameters) put_double(out, v);
   for (auto status : rows.statuses) put_size(out, static_cast<std::size_t>(status));
   put_size(out, rows.large_deflections.size());
-  out.append(reinterpret_cast<const char*>(rows.large_deflections.data()), rows.large_deflections.size());
+  out.append(reinterpret_cast<const char*>(rows.large_deflections.data()),
+             rows.large_deflections.size());
   put_size(out, rows.messages.size());
   for (const auto& message : rows.messages) {
     put_size(out, message.size());
@@ -455,7 +485,8 @@ SweepRows deserialize_rows(std::string_view bytes) {
   for (double& v : rows.parameters) v = in.number();
   for (std::size_t row = 0; row < count; ++row) {
     const std::size_t status = in.size();
-    if (status >= kStatuses.size()) throw Error("sweep rows passed between processes have an unknown status");
+    if (status >= kStatuses.size())
+      throw Error("sweep rows passed between processes have an unknown status");
     rows.statuses.push_back(static_cast<PoseStatus>(status));
   }
   const std::string flags = in.text(in.size());
@@ -489,7 +520,8 @@ SweepSummary SweepSummary::deserialize(std::vector<SweepColumn> columns, std::st
   Unpacker in(bytes);
   summary.poses_ = in.size();
   for (std::size_t& count : summary.counts_) count = in.size();
-  if (in.size() != summary.worst_.size()) throw Error("a sweep summary passed between processes has other columns");
+  if (in.size() != summary.worst_.size())
+    throw Error("a sweep summary passed between processes has other columns");
   for (auto& worst : summary.worst_)
     if (in.size() != 0) worst = in.pose();
   if (in.size() != 0) summary.first_failed_ = in.pose();
@@ -498,17 +530,22 @@ SweepSummary SweepSummary::deserialize(std::vector<SweepColumn> columns, std::st
   return summary;
 }
 
-SweepCsvReader::SweepCsvReader(const std::filesystem::path& file, std::vector<std::string> parameters,
+SweepCsvReader::SweepCsvReader(const std::filesystem::path& file,
+                               std::vector<std::string> parameters,
                                std::vector<SweepColumn> columns)
-    : name_(file.string()), in_(file, std::ios::binary), parameters_(std::move(parameters)),
+    : name_(file.string()),
+      in_(file, std::ios::binary),
+      parameters_(std::move(parameters)),
       columns_(std::move(columns)) {
   std::error_code error;
-  if (!in_ || std::filesystem::is_directory(file, error)) throw IoError("cannot read the sweep rows '" + name_ + "'");
+  if (!in_ || std::filesystem::is_directory(file, error))
+    throw IoError("cannot read the sweep rows '" + name_ + "'");
   std::string header;
   const std::string expected = sweep_csv_header(parameters_, columns_);
   if (!next_record(header) || header + '\n' != expected)
     throw InputError({name_, 1, 0}, "",
-                     "the header is not the one this sweep writes (" + expected.substr(0, expected.size() - 1) + ")");
+                     "the header is not the one this sweep writes (" +
+                         expected.substr(0, expected.size() - 1) + ")");
 }
 
 bool SweepCsvReader::next_record(std::string& record) {
@@ -539,8 +576,8 @@ SweepRows SweepCsvReader::read(std::size_t first_pose, std::size_t count) {
     };
     const auto fields = split_fields(record);
     if (fields.size() != fields_per_row)
-      throw defect("", "expected " + std::to_string(fields_per_row) + " fields, got " + std::to_string(fields.size()) +
-                           " (a row cut short?)");
+      throw defect("", "expected " + std::to_string(fields_per_row) + " fields, got " +
+                           std::to_string(fields.size()) + " (a row cut short?)");
     const auto number = [&](const std::string& text, const std::string& key, bool may_be_empty) {
       if (text.empty() && may_be_empty) return kNaN;
       if (text == "inf" || text == "-inf") return text[0] == '-' ? -kInfinity : kInfinity;
@@ -551,10 +588,12 @@ SweepRows SweepCsvReader::read(std::size_t first_pose, std::size_t count) {
     for (std::size_t k = 0; k < parameters_.size(); ++k)
       rows.parameters.push_back(number(fields[k], parameters_[k], false));
     const auto status = pose_status_from_string(fields[parameters_.size()]);
-    if (!status) throw defect("status", "'" + fields[parameters_.size()] + "' is not a pose status");
+    if (!status)
+      throw defect("status", "'" + fields[parameters_.size()] + "' is not a pose status");
     rows.statuses.push_back(*status);
     rows.messages.push_back(fields[parameters_.size() + 1]);
-    rows.large_deflections.push_back(*status == PoseStatus::ok && rows.messages.back().starts_with(kLargeDeflectionWarning));
+    rows.large_deflections.push_back(*status == PoseStatus::ok &&
+                                     rows.messages.back().starts_with(kLargeDeflectionWarning));
     for (std::size_t c = 0; c < columns_.size(); ++c)
       rows.values.push_back(number(fields[parameters_.size() + 2 + c], columns_[c].name, true));
   }
@@ -562,7 +601,8 @@ SweepRows SweepCsvReader::read(std::size_t first_pose, std::size_t count) {
   return rows;
 }
 
-std::string sweep_summary_to_json(const SweepResult& sweep, bool full, const std::string& csv_file) {
+std::string sweep_summary_to_json(const SweepResult& sweep, bool full,
+                                  const std::string& csv_file) {
   SweepSummary summary(sweep_columns(sweep, full));
   summary.add(sweep_rows(sweep, summary.columns()));
   return sweep_summary_to_json(sweep, full, summary, csv_file);
@@ -589,7 +629,8 @@ std::string sweep_summary_to_json(const SweepResult& run, bool full, const Sweep
   for (const ParameterValue& p : run.fixed_parameters)
     fixed[p.name] = {{"value", p.value}, {"unit", p.unit}, {"set", p.set}};
   out["fixed_parameters"] = std::move(fixed);
-  if (run.direction) out["direction"] = {(*run.direction)(0), (*run.direction)(1), (*run.direction)(2)};
+  if (run.direction)
+    out["direction"] = {(*run.direction)(0), (*run.direction)(1), (*run.direction)(2)};
   out["end_effectors"] = run.end_effectors;
   out["full"] = full;
   json counts;

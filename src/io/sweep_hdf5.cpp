@@ -23,7 +23,9 @@ class Handle {
  public:
   Handle() = default;
   Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  Handle(Handle&& other) noexcept : id_(other.id_), close_(other.close_) { other.id_ = H5I_INVALID_HID; }
+  Handle(Handle&& other) noexcept : id_(other.id_), close_(other.close_) {
+    other.id_ = H5I_INVALID_HID;
+  }
   Handle& operator=(Handle&& other) noexcept {
     std::swap(id_, other.id_);
     std::swap(close_, other.close_);
@@ -50,11 +52,11 @@ std::string hdf5_error(const std::filesystem::path& file, const std::string& wha
 
 constexpr const char* kFormat = "stiffmsa-sweep/1";
 
-
 // Variable-length UTF-8 text, as h5py reads into str. Negative: HDF5 failed.
 hid_t make_text_type() {
   const hid_t type = H5Tcopy(H5T_C_S1);
-  if (type < 0 || H5Tset_size(type, H5T_VARIABLE) < 0 || H5Tset_cset(type, H5T_CSET_UTF8) < 0) return -1;
+  if (type < 0 || H5Tset_size(type, H5T_VARIABLE) < 0 || H5Tset_cset(type, H5T_CSET_UTF8) < 0)
+    return -1;
   return type;
 }
 
@@ -95,8 +97,8 @@ struct SweepHdf5Writer::File {
     Handle space(check(H5Screate_simple(1, &empty, &unlimited), "a dataspace"), H5Sclose);
     Handle properties(check(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose);
     check(H5Pset_chunk(properties.get(), 1, &kChunkRows), "chunking");
-    Dataset dataset{Handle(check(H5Dcreate2(file.get(), name.c_str(), type, space.get(), H5P_DEFAULT,
-                                            properties.get(), H5P_DEFAULT),
+    Dataset dataset{Handle(check(H5Dcreate2(file.get(), name.c_str(), type, space.get(),
+                                            H5P_DEFAULT, properties.get(), H5P_DEFAULT),
                                  "the dataset '" + name + "' (a name used twice?)"),
                            H5Dclose),
                     type};
@@ -106,17 +108,20 @@ struct SweepHdf5Writer::File {
 
   void attribute_text(hid_t owner, const std::string& name, const std::string& text) {
     Handle space(check(H5Screate(H5S_SCALAR), "a dataspace"), H5Sclose);
-    Handle attribute(check(H5Acreate2(owner, name.c_str(), text_type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+    Handle attribute(check(H5Acreate2(owner, name.c_str(), text_type.get(), space.get(),
+                                      H5P_DEFAULT, H5P_DEFAULT),
                            "the attribute '" + name + "'"),
                      H5Aclose);
     const char* data = text.c_str();
     check(H5Awrite(attribute.get(), text_type.get(), &data), "the attribute '" + name + "'");
   }
 
-  void attribute_texts(hid_t owner, const std::string& name, const std::vector<std::string>& texts) {
+  void attribute_texts(hid_t owner, const std::string& name,
+                       const std::vector<std::string>& texts) {
     const hsize_t count = texts.size();
     Handle space(check(H5Screate_simple(1, &count, nullptr), "a dataspace"), H5Sclose);
-    Handle attribute(check(H5Acreate2(owner, name.c_str(), text_type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+    Handle attribute(check(H5Acreate2(owner, name.c_str(), text_type.get(), space.get(),
+                                      H5P_DEFAULT, H5P_DEFAULT),
                            "the attribute '" + name + "'"),
                      H5Aclose);
     std::vector<const char*> data;
@@ -126,7 +131,8 @@ struct SweepHdf5Writer::File {
 
   void attribute_count(hid_t owner, const std::string& name, std::uint64_t value) {
     Handle space(check(H5Screate(H5S_SCALAR), "a dataspace"), H5Sclose);
-    Handle attribute(check(H5Acreate2(owner, name.c_str(), H5T_NATIVE_UINT64, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+    Handle attribute(check(H5Acreate2(owner, name.c_str(), H5T_NATIVE_UINT64, space.get(),
+                                      H5P_DEFAULT, H5P_DEFAULT),
                            "the attribute '" + name + "'"),
                      H5Aclose);
     check(H5Awrite(attribute.get(), H5T_NATIVE_UINT64, &value), "the attribute '" + name + "'");
@@ -136,28 +142,33 @@ struct SweepHdf5Writer::File {
     const hsize_t size = rows + count;
     check(H5Dset_extent(dataset.id.get(), &size), "extending a dataset");
     Handle file_space(check(H5Dget_space(dataset.id.get()), "a dataspace"), H5Sclose);
-    check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &rows, nullptr, &count, nullptr), "a selection");
+    check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &rows, nullptr, &count, nullptr),
+          "a selection");
     Handle memory_space(check(H5Screate_simple(1, &count, nullptr), "a dataspace"), H5Sclose);
-    check(H5Dwrite(dataset.id.get(), dataset.type, memory_space.get(), file_space.get(), H5P_DEFAULT, data),
+    check(H5Dwrite(dataset.id.get(), dataset.type, memory_space.get(), file_space.get(),
+                   H5P_DEFAULT, data),
           "writing rows (disk full?)");
   }
 };
 
-SweepHdf5Writer::SweepHdf5Writer(const std::filesystem::path& target, const std::vector<std::string>& parameters,
+SweepHdf5Writer::SweepHdf5Writer(const std::filesystem::path& target,
+                                 const std::vector<std::string>& parameters,
                                  const std::vector<std::string>& parameter_units,
                                  const std::vector<SweepColumn>& columns)
     : file_(std::make_unique<File>(target)) {
   // Errors are reported as IoError with our words, not as HDF5's stack on stderr.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   File& f = *file_;
-  f.file = Handle(f.check(H5Fcreate(f.temporary.temporary_path().c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+  f.file = Handle(f.check(H5Fcreate(f.temporary.temporary_path().c_str(), H5F_ACC_TRUNC,
+                                    H5P_DEFAULT, H5P_DEFAULT),
                           "cannot create it"),
                   H5Fclose);
   f.text_type = Handle(f.check(make_text_type(), "a string type"), H5Tclose);
   f.status_type = Handle(f.check(make_status_type(), "the status type"), H5Tclose);
   std::vector<std::string> names;
   for (std::size_t k = 0; k < parameters.size(); ++k) {
-    f.parameters.push_back(f.create(parameters[k], H5T_NATIVE_DOUBLE, k < parameter_units.size() ? parameter_units[k] : ""));
+    f.parameters.push_back(f.create(parameters[k], H5T_NATIVE_DOUBLE,
+                                    k < parameter_units.size() ? parameter_units[k] : ""));
     names.push_back(parameters[k]);
   }
   f.status = f.create("status", f.status_type.get(), "");
@@ -173,7 +184,9 @@ SweepHdf5Writer::SweepHdf5Writer(const std::filesystem::path& target, const std:
 
 SweepHdf5Writer::~SweepHdf5Writer() = default;
 
-const std::filesystem::path& SweepHdf5Writer::temporary_path() const { return file_->temporary.temporary_path(); }
+const std::filesystem::path& SweepHdf5Writer::temporary_path() const {
+  return file_->temporary.temporary_path();
+}
 
 void SweepHdf5Writer::append(const SweepRows& rows) {
   File& f = *file_;
@@ -204,7 +217,8 @@ void SweepHdf5Writer::commit(const std::string& summary_json, const SweepSummary
   f.attribute_text(f.file.get(), "summary", summary_json);
   f.attribute_count(f.file.get(), "poses", summary.poses());
   for (auto status : kPoseStatuses)
-    f.attribute_count(f.file.get(), std::string("status.") + to_string(status), summary.count(status));
+    f.attribute_count(f.file.get(), std::string("status.") + to_string(status),
+                      summary.count(status));
   f.parameters.clear();
   f.values.clear();
   f.status = {};
@@ -223,7 +237,8 @@ std::optional<std::vector<std::string>> attribute_texts(hid_t file, const char* 
   if (H5Aexists(file, name) <= 0) return std::nullopt;
   Handle attribute(H5Aopen(file, name, H5P_DEFAULT), H5Aclose);
   Handle stored_type(attribute.get() < 0 ? -1 : H5Aget_type(attribute.get()), H5Tclose);
-  if (stored_type.get() < 0 || H5Tget_class(stored_type.get()) != H5T_STRING || H5Tis_variable_str(stored_type.get()) <= 0)
+  if (stored_type.get() < 0 || H5Tget_class(stored_type.get()) != H5T_STRING ||
+      H5Tis_variable_str(stored_type.get()) <= 0)
     return std::nullopt;
   Handle space(H5Aget_space(attribute.get()), H5Sclose);
   Handle text_type(make_text_type(), H5Tclose);
@@ -262,24 +277,30 @@ struct SweepHdf5Reader::File {
     if (!sized) rows = size;
     sized = true;
     if (size != rows)
-      throw defect(dataset, "the dataset '" + dataset + "' has " + std::to_string(size) + " rows where the first has " +
-                                std::to_string(rows) + " (cut short?)");
+      throw defect(dataset, "the dataset '" + dataset + "' has " + std::to_string(size) +
+                                " rows where the first has " + std::to_string(rows) +
+                                " (cut short?)");
     return id;
   }
 
   // `count` rows of a dataset from the next unread row on, converted to `memory_type`.
-  void read(const Handle& dataset, hid_t memory_type, hsize_t count, void* data, const std::string& what) const {
+  void read(const Handle& dataset, hid_t memory_type, hsize_t count, void* data,
+            const std::string& what) const {
     Handle file_space(H5Dget_space(dataset.get()), H5Sclose);
     Handle memory_space(H5Screate_simple(1, &count, nullptr), H5Sclose);
     if (file_space.get() < 0 || memory_space.get() < 0 ||
-        H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &rows_read, nullptr, &count, nullptr) < 0 ||
-        H5Dread(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data) < 0)
-      throw defect(what, "cannot read rows " + std::to_string(rows_read + 1) + " to " + std::to_string(rows_read + count) +
-                             " of '" + what + "' (not of the type this sweep writes, or a damaged file)");
+        H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &rows_read, nullptr, &count,
+                            nullptr) < 0 ||
+        H5Dread(dataset.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT,
+                data) < 0)
+      throw defect(what, "cannot read rows " + std::to_string(rows_read + 1) + " to " +
+                             std::to_string(rows_read + count) + " of '" + what +
+                             "' (not of the type this sweep writes, or a damaged file)");
   }
 };
 
-SweepHdf5Reader::SweepHdf5Reader(const std::filesystem::path& path, const std::vector<std::string>& parameters,
+SweepHdf5Reader::SweepHdf5Reader(const std::filesystem::path& path,
+                                 const std::vector<std::string>& parameters,
                                  const std::vector<SweepColumn>& columns)
     : file_(std::make_unique<File>()) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
@@ -295,7 +316,9 @@ SweepHdf5Reader::SweepHdf5Reader(const std::filesystem::path& path, const std::v
     throw IoError("cannot read the sweep rows '" + f.name + "'");
   const auto format = attribute_texts(f.file.get(), "format");
   if (!format || format->size() != 1 || format->front() != kFormat)
-    throw f.defect("format", std::string("not the rows of a sweep (the root attribute `format` is not ") + kFormat + ")");
+    throw f.defect("format",
+                   std::string("not the rows of a sweep (the root attribute `format` is not ") +
+                       kFormat + ")");
   std::vector<std::string> expected = parameters;
   expected.insert(expected.end(), {"status", "message"});
   for (const auto& column : columns) expected.push_back(column.name);
@@ -312,7 +335,9 @@ SweepHdf5Reader::SweepHdf5Reader(const std::filesystem::path& path, const std::v
 
 SweepHdf5Reader::~SweepHdf5Reader() = default;
 
-std::size_t SweepHdf5Reader::rows_read() const { return static_cast<std::size_t>(file_->rows_read); }
+std::size_t SweepHdf5Reader::rows_read() const {
+  return static_cast<std::size_t>(file_->rows_read);
+}
 
 SweepRows SweepHdf5Reader::read(std::size_t first_pose, std::size_t count) {
   File& f = *file_;
@@ -326,8 +351,10 @@ SweepRows SweepHdf5Reader::read(std::size_t first_pose, std::size_t count) {
   std::vector<double> column(size);
   rows.parameters.resize(size * rows.parameter_count);
   for (std::size_t k = 0; k < f.parameters.size(); ++k) {
-    f.read(f.parameters[k], H5T_NATIVE_DOUBLE, n, column.data(), "parameter " + std::to_string(k + 1));
-    for (std::size_t row = 0; row < size; ++row) rows.parameters[row * rows.parameter_count + k] = column[row];
+    f.read(f.parameters[k], H5T_NATIVE_DOUBLE, n, column.data(),
+           "parameter " + std::to_string(k + 1));
+    for (std::size_t row = 0; row < size; ++row)
+      rows.parameters[row * rows.parameter_count + k] = column[row];
   }
   // Read through the enumeration's names: a code of another meaning cannot pass as a status.
   std::vector<std::int8_t> statuses(size);
@@ -344,7 +371,8 @@ SweepRows SweepHdf5Reader::read(std::size_t first_pose, std::size_t count) {
   rows.values.resize(size * rows.column_count);
   for (std::size_t c = 0; c < f.values.size(); ++c) {
     f.read(f.values[c], H5T_NATIVE_DOUBLE, n, column.data(), "column " + std::to_string(c + 1));
-    for (std::size_t row = 0; row < size; ++row) rows.values[row * rows.column_count + c] = column[row];
+    for (std::size_t row = 0; row < size; ++row)
+      rows.values[row * rows.column_count + c] = column[row];
   }
   f.rows_read += n;
   return rows;
@@ -353,12 +381,14 @@ SweepRows SweepHdf5Reader::read(std::size_t first_pose, std::size_t count) {
 std::optional<std::string> SweepHdf5Reader::summary_of(const std::filesystem::path& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   std::error_code error;
-  if (std::filesystem::is_directory(path, error) || H5Fis_hdf5(path.string().c_str()) <= 0) return std::nullopt;
+  if (std::filesystem::is_directory(path, error) || H5Fis_hdf5(path.string().c_str()) <= 0)
+    return std::nullopt;
   Handle file(H5Fopen(path.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (file.get() < 0) return std::nullopt;
   const auto format = attribute_texts(file.get(), "format");
   const auto summary = attribute_texts(file.get(), "summary");
-  if (!format || format->size() != 1 || format->front() != kFormat || !summary || summary->size() != 1)
+  if (!format || format->size() != 1 || format->front() != kFormat || !summary ||
+      summary->size() != 1)
     return std::nullopt;
   return summary->front();
 }

@@ -12,11 +12,15 @@ SweepHdf5Writer& writer_of(void* writer) { return *static_cast<SweepHdf5Writer*>
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const stiffmsa::detail::Hdf5Module* stiffmsa_hdf5_module() {
+extern "C" __attribute__((visibility("default"))) const stiffmsa::detail::Hdf5Module*
+stiffmsa_hdf5_module() {
   static const stiffmsa::detail::Hdf5Module module{
-      sizeof(stiffmsa::SweepRows), sizeof(stiffmsa::SweepSummary), sizeof(stiffmsa::SweepColumn),
+      sizeof(stiffmsa::SweepRows),
+      sizeof(stiffmsa::SweepSummary),
+      sizeof(stiffmsa::SweepColumn),
       [](const std::filesystem::path& target, const std::vector<std::string>& parameters,
-         const std::vector<std::string>& parameter_units, const std::vector<stiffmsa::SweepColumn>& columns) -> void* {
+         const std::vector<std::string>& parameter_units,
+         const std::vector<stiffmsa::SweepColumn>& columns) -> void* {
         return new SweepHdf5Writer(target, parameters, parameter_units, columns);
       },
       [](void* writer) { delete static_cast<SweepHdf5Writer*>(writer); },

@@ -23,12 +23,15 @@ struct Hdf5Module {
   std::size_t summary_size = sizeof(SweepSummary);
   std::size_t column_size = sizeof(SweepColumn);
   void* (*open)(const std::filesystem::path& target, const std::vector<std::string>& parameters,
-                const std::vector<std::string>& parameter_units, const std::vector<SweepColumn>& columns) = nullptr;
+                const std::vector<std::string>& parameter_units,
+                const std::vector<SweepColumn>& columns) = nullptr;
   void (*close)(void* writer) = nullptr;
   const std::filesystem::path& (*temporary_path)(const void* writer) = nullptr;
   void (*append)(void* writer, const SweepRows& rows) = nullptr;
-  void (*commit)(void* writer, const std::string& summary_json, const SweepSummary& summary) = nullptr;
-  void* (*open_reader)(const std::filesystem::path& file, const std::vector<std::string>& parameters,
+  void (*commit)(void* writer, const std::string& summary_json,
+                 const SweepSummary& summary) = nullptr;
+  void* (*open_reader)(const std::filesystem::path& file,
+                       const std::vector<std::string>& parameters,
                        const std::vector<SweepColumn>& columns) = nullptr;
   void (*close_reader)(void* reader) = nullptr;
   SweepRows (*read)(void* reader, std::size_t first_pose, std::size_t count) = nullptr;

@@ -27,14 +27,18 @@ json sweep_json(const SweepResult& sweep) {
   }
   json grid = json::array();
   for (const GridAxis& axis : sweep.poses.grid)
-    grid.push_back({{"parameter", axis.parameter}, {"start", axis.start}, {"stop", axis.stop}, {"count", axis.count}});
+    grid.push_back({{"parameter", axis.parameter},
+                    {"start", axis.start},
+                    {"stop", axis.stop},
+                    {"count", axis.count}});
 
   // The summary columns (principal stiffnesses, deflections); the 72 matrix entries of --full
   // are shown as ellipsoids instead.
   json columns = json::array();
   for (const SweepColumn& column : sweep_columns(sweep, false)) {
     std::vector<float> values(poses);
-    for (std::size_t i = 0; i < poses; ++i) values[i] = static_cast<float>(column_value(sweep, column, i));
+    for (std::size_t i = 0; i < poses; ++i)
+      values[i] = static_cast<float>(column_value(sweep, column, i));
     columns.push_back({{"name", column.name},
                        {"unit", column.unit},
                        {"worst_is_largest", column.worst_is_largest},
@@ -58,10 +62,13 @@ json sweep_json(const SweepResult& sweep) {
       const PoseResult& result = sweep.results[i];
       if (e >= result.end_effectors.size() || !result.end_effectors[e].compliance) continue;
       any_matrix = true;
-      const PrincipalAxes principal = principal_axes(result.end_effectors[e].compliance->topLeftCorner<3, 3>());
-      for (int k = 0; k < 3; ++k) axes[i * 12 + static_cast<std::size_t>(k)] = static_cast<float>(principal.compliance(k));
+      const PrincipalAxes principal =
+          principal_axes(result.end_effectors[e].compliance->topLeftCorner<3, 3>());
+      for (int k = 0; k < 3; ++k)
+        axes[i * 12 + static_cast<std::size_t>(k)] = static_cast<float>(principal.compliance(k));
       for (int k = 0; k < 9; ++k)
-        axes[i * 12 + 3 + static_cast<std::size_t>(k)] = static_cast<float>(principal.directions.data()[k]);
+        axes[i * 12 + 3 + static_cast<std::size_t>(k)] =
+            static_cast<float>(principal.directions.data()[k]);
     }
     ellipsoids.push_back(detail::base64_of(axes));
   }
@@ -81,9 +88,10 @@ json sweep_json(const SweepResult& sweep) {
 }  // namespace
 
 std::string sweep_view_html(const SweepResult& sweep) {
-  return detail::page_from_template(detail::sweep_view_template(),
-                                    sweep_json(sweep).dump(-1, ' ', false, json::error_handler_t::replace),
-                                    detail::sweep_view_js());
+  return detail::page_from_template(
+      detail::sweep_view_template(),
+      sweep_json(sweep).dump(-1, ' ', false, json::error_handler_t::replace),
+      detail::sweep_view_js());
 }
 
 void write_sweep_view(const SweepResult& sweep, const std::filesystem::path& file) {

@@ -68,7 +68,9 @@ struct XmlElement {
   bool mimic = false;
 };
 
-SourceLocation located(const std::string& file, const TiXmlBase& node) { return {file, node.Row(), node.Column()}; }
+SourceLocation located(const std::string& file, const TiXmlBase& node) {
+  return {file, node.Row(), node.Column()};
+}
 
 std::string attribute(const TiXmlElement& element, const char* name) {
   const char* value = element.Attribute(name);
@@ -92,7 +94,8 @@ class CollectingHandler : public console_bridge::OutputHandler {
 
 std::mutex urdfdom_mutex;
 
-urdf::ModelInterfaceSharedPtr parse_with_urdfdom(const std::string& text, std::vector<std::string>& errors) {
+urdf::ModelInterfaceSharedPtr parse_with_urdfdom(const std::string& text,
+                                                 std::vector<std::string>& errors) {
   const std::lock_guard lock(urdfdom_mutex);
   CollectingHandler handler;
   console_bridge::useOutputHandler(&handler);
@@ -123,7 +126,8 @@ class UrdfReader {
     document.Parse(text_.c_str());
     if (document.Error())
       throw InputError({file_, document.ErrorRow(), document.ErrorCol()}, kUrdfKey,
-                       std::string("the URDF is not well-formed XML (a URDF is an XML file whose root element is <robot>): ") +
+                       std::string("the URDF is not well-formed XML (a URDF is an XML file whose "
+                                   "root element is <robot>): ") +
                            document.ErrorDesc());
     const TiXmlElement* robot = document.RootElement();
     if (!robot || std::string(robot->Value()) != "robot")
@@ -136,14 +140,19 @@ class UrdfReader {
   }
 
  private:
-  void fail(const SourceLocation& at, std::string message) { defects_.push_back({at, kUrdfKey, std::move(message)}); }
+  void fail(const SourceLocation& at, std::string message) {
+    defects_.push_back({at, kUrdfKey, std::move(message)});
+  }
 
   void read_elements(const TiXmlElement& robot) {
-    for (const TiXmlElement* e = robot.FirstChildElement("link"); e; e = e->NextSiblingElement("link"))
+    for (const TiXmlElement* e = robot.FirstChildElement("link"); e;
+         e = e->NextSiblingElement("link"))
       links_.push_back({attribute(*e, "name"), located(file_, *e), {}, {}, {}, false});
-    for (const TiXmlElement* e = robot.FirstChildElement("joint"); e; e = e->NextSiblingElement("joint"))
-      joints_.push_back({attribute(*e, "name"), located(file_, *e), attribute(*e, "type"), child_link(*e, "parent"),
-                         child_link(*e, "child"), e->FirstChildElement("mimic") != nullptr});
+    for (const TiXmlElement* e = robot.FirstChildElement("joint"); e;
+         e = e->NextSiblingElement("joint"))
+      joints_.push_back({attribute(*e, "name"), located(file_, *e), attribute(*e, "type"),
+                         child_link(*e, "parent"), child_link(*e, "child"),
+                         e->FirstChildElement("mimic") != nullptr});
   }
 
   const XmlElement* link_named(const std::string& name) const {
@@ -164,8 +173,10 @@ class UrdfReader {
     if (links_.empty()) fail({file_, 1, 1}, "the URDF has no <link>");
     std::map<std::string, const XmlElement*> seen;
     for (const auto& l : links_) {
-      if (l.name.empty()) fail(l.location, "a <link> without a name");
-      else if (!seen.emplace(l.name, &l).second) fail(l.location, "a second link named '" + l.name + "'");
+      if (l.name.empty())
+        fail(l.location, "a <link> without a name");
+      else if (!seen.emplace(l.name, &l).second)
+        fail(l.location, "a second link named '" + l.name + "'");
     }
     std::map<std::string, const XmlElement*> parent_joint;
     std::map<std::string, const XmlElement*> joint_seen;
@@ -176,17 +187,23 @@ class UrdfReader {
         fail(j.location, "a <joint> without a name");
         continue;
       }
-      if (!joint_seen.emplace(j.name, &j).second) fail(j.location, "a second joint named '" + j.name + "'");
+      if (!joint_seen.emplace(j.name, &j).second)
+        fail(j.location, "a second joint named '" + j.name + "'");
       if (j.type == "floating" || j.type == "planar")
-        fail(j.location, what + " is " + j.type +
-                             ": stiffmsa reads revolute, continuous, prismatic and fixed joints (a " + j.type +
-                             " joint has no stiffness to give; model what holds it in the model file instead)");
+        fail(j.location,
+             what + " is " + j.type +
+                 ": stiffmsa reads revolute, continuous, prismatic and fixed joints (a " + j.type +
+                 " joint has no stiffness to give; model what holds it in the model file instead)");
       else if (std::find(known.begin(), known.end(), j.type) == known.end())
-        fail(j.location, what + " has the unknown type '" + j.type + "'" + suggestion(j.type, known, "types are"));
+        fail(j.location, what + " has the unknown type '" + j.type + "'" +
+                             suggestion(j.type, known, "types are"));
       if (j.mimic)
-        fail(j.location, what + " mimics another joint: stiffmsa does not read <mimic> (a coupled joint's "
-                                "stiffness is that of its drive; write the coupling as joints in the model file)");
-      for (const auto& [role, link] : {std::pair{"parent", j.parent}, std::pair{"child", j.child}}) {
+        fail(j.location,
+             what +
+                 " mimics another joint: stiffmsa does not read <mimic> (a coupled joint's "
+                 "stiffness is that of its drive; write the coupling as joints in the model file)");
+      for (const auto& [role, link] :
+           {std::pair{"parent", j.parent}, std::pair{"child", j.child}}) {
         if (link.empty())
           fail(j.location, what + " has no <" + std::string(role) + " link=\"...\"/>");
         else if (!link_named(link))
@@ -196,8 +213,8 @@ class UrdfReader {
       if (j.child.empty()) continue;
       if (const auto [other, is_new] = parent_joint.emplace(j.child, &j); !is_new)
         fail(j.location, "the URDF is not a tree: link '" + j.child + "' is the child of joint '" +
-                             other->second->name + "' (line " + std::to_string(other->second->location.line) +
-                             ") and of " + what);
+                             other->second->name + "' (line " +
+                             std::to_string(other->second->location.line) + ") and of " + what);
     }
     if (!defects_.empty()) return;
     std::vector<std::string> roots;
@@ -205,9 +222,10 @@ class UrdfReader {
       if (!parent_joint.count(l.name)) roots.push_back(l.name);
     if (roots.size() != 1) {
       fail(roots.empty() ? links_.front().location : link_named(roots[1])->location,
-           roots.empty() ? "the URDF is not a tree: its joints close a loop (every link has a parent)"
-                         : "the URDF is not a tree: it has several root links (" + comma_list(roots) +
-                               "); join them with joints, or describe each robot in a URDF of its own");
+           roots.empty()
+               ? "the URDF is not a tree: its joints close a loop (every link has a parent)"
+               : "the URDF is not a tree: it has several root links (" + comma_list(roots) +
+                     "); join them with joints, or describe each robot in a URDF of its own");
       return;
     }
     // One root and one parent per link: a loop is a part the root cannot reach.
@@ -218,15 +236,17 @@ class UrdfReader {
     if (reached.size() != links_.size())
       for (const auto& j : joints_)
         if (std::find(reached.begin(), reached.end(), j.child) == reached.end()) {
-          fail(j.location, "the URDF is not a tree: joint '" + j.name + "' is in a loop that the root link '" +
-                               roots.front() + "' does not reach");
+          fail(j.location, "the URDF is not a tree: joint '" + j.name +
+                               "' is in a loop that the root link '" + roots.front() +
+                               "' does not reach");
           return;
         }
   }
 
   // Where urdfdom's message names a joint or link in brackets ("Joint [j2] ..."), its line.
   SourceLocation location_in(const std::string& message) const {
-    for (std::size_t open = message.find('['); open != std::string::npos; open = message.find('[', open + 1)) {
+    for (std::size_t open = message.find('['); open != std::string::npos;
+         open = message.find('[', open + 1)) {
       const std::size_t close = message.find(']', open);
       if (close == std::string::npos) break;
       const std::string name = message.substr(open + 1, close - open - 1);
@@ -265,7 +285,8 @@ class UrdfReader {
       }
       if (parent_joint >= 0) {
         tree.joints[static_cast<std::size_t>(parent_joint)].child = index;
-        tree.links[static_cast<std::size_t>(tree.joints[static_cast<std::size_t>(parent_joint)].parent)]
+        tree.links[static_cast<std::size_t>(
+                       tree.joints[static_cast<std::size_t>(parent_joint)].parent)]
             .child_joints.push_back(parent_joint);
       }
       tree.links.push_back(std::move(link));
@@ -308,7 +329,8 @@ class UrdfReader {
 
 }  // namespace
 
-UrdfTree read_urdf(const std::filesystem::path& path, const SourceLocation& referenced_at, const std::string& key) {
+UrdfTree read_urdf(const std::filesystem::path& path, const SourceLocation& referenced_at,
+                   const std::string& key) {
   std::error_code error;
   if (!std::filesystem::exists(path, error))
     throw InputError(referenced_at, key, "the URDF file '" + path.string() + "' does not exist");
@@ -317,11 +339,13 @@ UrdfTree read_urdf(const std::filesystem::path& path, const SourceLocation& refe
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
-  if (!in) throw InputError(referenced_at, key, "cannot read the URDF file '" + path.string() + "'");
+  if (!in)
+    throw InputError(referenced_at, key, "cannot read the URDF file '" + path.string() + "'");
   return UrdfReader(path.string(), text.str()).read();
 }
 #else
-UrdfTree read_urdf(const std::filesystem::path&, const SourceLocation& referenced_at, const std::string& key) {
+UrdfTree read_urdf(const std::filesystem::path&, const SourceLocation& referenced_at,
+                   const std::string& key) {
   throw InputError(referenced_at, key,
                    "this build of stiffmsa reads no URDF files (built without urdfdom and TinyXML: "
                    "install liburdfdom-dev and libtinyxml-dev and build again)");

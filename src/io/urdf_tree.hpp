@@ -23,7 +23,9 @@ struct Placement {
     return {rotation * inner.rotation, rotation * inner.translation + translation};
   }
   Vec3 apply(const Vec3& x) const { return rotation * x + translation; }
-  Placement inverse() const { return {rotation.transpose(), -(rotation.transpose() * translation)}; }
+  Placement inverse() const {
+    return {rotation.transpose(), -(rotation.transpose() * translation)};
+  }
 };
 
 struct UrdfJoint {
@@ -31,8 +33,8 @@ struct UrdfJoint {
   UrdfJointType type = UrdfJointType::fixed;
   int parent = -1;  // link indices
   int child = -1;
-  Placement origin;  // the joint frame in the parent's frame at zero position
-  Vec3 axis = Vec3::UnitX();  // unit, in the joint frame (the child's frame)
+  Placement origin;                    // the joint frame in the parent's frame at zero position
+  Vec3 axis = Vec3::UnitX();           // unit, in the joint frame (the child's frame)
   std::optional<double> lower, upper;  // revolute and prismatic limits
   SourceLocation location;
 };
@@ -62,6 +64,7 @@ const char* to_string(UrdfJointType type);
 
 // Reads a URDF file. Throws InputError naming the file and line of what is wrong, or, where
 // the file cannot be read, `referenced_at` and `key`: the model file's `urdf:`.
-UrdfTree read_urdf(const std::filesystem::path& path, const SourceLocation& referenced_at, const std::string& key);
+UrdfTree read_urdf(const std::filesystem::path& path, const SourceLocation& referenced_at,
+                   const std::string& key);
 
 }  // namespace stiffmsa::detail

@@ -24,7 +24,8 @@ constexpr std::size_t kMostDeflectionSamples = 200'000;
 constexpr int kMostBeamSegments = 8;
 
 // Codes the page knows by these lists (sent with the data, so the page names them).
-const std::vector<std::string> kLinkKindNames = {"beam", "rigid", "matrix (CAD)", "compliance (CAD)"};
+const std::vector<std::string> kLinkKindNames = {"beam", "rigid", "matrix (CAD)",
+                                                 "compliance (CAD)"};
 const std::vector<std::string> kRoleNames = {"rigid", "passive", "elastic", "actuated"};
 
 int link_kind_code(const LinkKind& kind) { return static_cast<int>(kind.index()); }
@@ -37,7 +38,9 @@ int role_code(const Connection& c) {
 }
 
 std::vector<float> to_floats(const Vec3& v) { return {float(v.x()), float(v.y()), float(v.z())}; }
-json vector_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+json vector_json(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
 
 // Drawn width (local y) and height (local z) of a beam's section, and whether it is round.
 struct DrawnSection {
@@ -52,7 +55,8 @@ DrawnSection drawn_section(const Section& s) {
     case SectionShape::rect_tube: return {s.b, s.h, false};
     case SectionShape::generic: break;
   }
-  const double diameter = std::sqrt(4 * std::max(s.A, 0.0) / M_PI);  // the round section of that area
+  const double diameter =
+      std::sqrt(4 * std::max(s.A, 0.0) / M_PI);  // the round section of that area
   return {diameter, diameter, true};
 }
 
@@ -71,7 +75,8 @@ std::vector<float> drawn_axes(const Kinematics& k) {
     case JointType::planar: first = k.normal.normalized(); break;
     default: break;
   }
-  return {float(first.x()), float(first.y()), float(first.z()), float(second.x()), float(second.y()), float(second.z())};
+  return {float(first.x()),  float(first.y()),  float(first.z()),
+          float(second.x()), float(second.y()), float(second.z())};
 }
 
 template <typename Connected>
@@ -87,7 +92,10 @@ json connections_json(const std::vector<Connected>& items, const ModelPoints& in
     const auto a = drawn_axes(item.connection.kinematics);
     axes.insert(axes.end(), a.begin(), a.end());
   }
-  return {{"names", names}, {"types", types}, {"at", detail::base64_of(at)}, {"role", detail::base64_of(role)},
+  return {{"names", names},
+          {"types", types},
+          {"at", detail::base64_of(at)},
+          {"role", detail::base64_of(role)},
           {"axes", detail::base64_of(axes)}};
 }
 
@@ -112,8 +120,10 @@ json deformed_json(const Model& model, const Result* result, const ModelPoints& 
   json deformed = {{"solved", result != nullptr}, {"message", options.not_solved}};
   if (!result) return deformed;
   const std::size_t link_count = model.links.size();
-  const auto samples_per_link = static_cast<long>(kMostDeflectionSamples / std::max<std::size_t>(link_count, 1));
-  const int segments = options.beam_segments.value_or(static_cast<int>(std::clamp(samples_per_link - 1, 1L, long{kMostBeamSegments})));
+  const auto samples_per_link =
+      static_cast<long>(kMostDeflectionSamples / std::max<std::size_t>(link_count, 1));
+  const int segments = options.beam_segments.value_or(
+      static_cast<int>(std::clamp(samples_per_link - 1, 1L, long{kMostBeamSegments})));
   std::vector<float> displacement;
   displacement.reserve(link_count * static_cast<std::size_t>(segments + 1) * 3);
   std::vector<std::int32_t> known(link_count, 0);
@@ -124,14 +134,16 @@ json deformed_json(const Model& model, const Result* result, const ModelPoints& 
     const LinkResult& solved = i < result->links.size() ? result->links[i] : unsolved;
     const auto& from = end_deflection(solved, LinkEnd::from);
     const auto& to = end_deflection(solved, LinkEnd::to);
-    const int from_point = index.of_link_end(i, LinkEnd::from), to_point = index.of_link_end(i, LinkEnd::to);
+    const int from_point = index.of_link_end(i, LinkEnd::from),
+              to_point = index.of_link_end(i, LinkEnd::to);
     known[i] = from && to && from_point >= 0 && to_point >= 0;
     for (int s = 0; s <= segments; ++s) {
       Vec3 d = Vec3::Zero();
       if (known[i]) {
-        d = centre_line_motion(bends(link.kind), model.points[static_cast<std::size_t>(from_point)].position,
-                               model.points[static_cast<std::size_t>(to_point)].position, *from, *to,
-                               static_cast<double>(s) / segments)
+        d = centre_line_motion(bends(link.kind),
+                               model.points[static_cast<std::size_t>(from_point)].position,
+                               model.points[static_cast<std::size_t>(to_point)].position, *from,
+                               *to, static_cast<double>(s) / segments)
                 .displacement;
         largest = std::max(largest, d.norm());
       }
@@ -162,7 +174,8 @@ json end_effectors_json(const Model& model, const Result* result, const ModelPoi
         entry["compliance"] = vector_json(axes.compliance);
         json stiffness = json::array();
         for (int k = 0; k < 3; ++k)
-          stiffness.push_back(std::isfinite(axes.stiffness(k)) ? json(axes.stiffness(k)) : json(nullptr));
+          stiffness.push_back(std::isfinite(axes.stiffness(k)) ? json(axes.stiffness(k))
+                                                               : json(nullptr));
         entry["stiffness"] = stiffness;
         json directions = json::array();
         for (int k = 0; k < 3; ++k) directions.push_back(vector_json(axes.directions.col(k)));
@@ -205,7 +218,8 @@ json model_json(const Model& model, const Result* result, const ModelViewOptions
       const Vec3& b = model.points[static_cast<std::size_t>(to)].position;
       if ((b - a).norm() > 0) y_axis = beam_y_axis(a, b, beam->zref);
     }
-    sections.insert(sections.end(), {float(drawn.width), float(drawn.height), drawn.round ? 1.0f : 0.0f});
+    sections.insert(sections.end(),
+                    {float(drawn.width), float(drawn.height), drawn.round ? 1.0f : 0.0f});
     const auto f = to_floats(y_axis);
     y_axes.insert(y_axes.end(), f.begin(), f.end());
   }
@@ -265,18 +279,23 @@ std::string json_for_script_block(const std::string& json_text) {
 
 namespace detail {
 
-std::string page_from_template(std::string_view page_template, const std::string& json_text, std::string_view page_js) {
-  const auto script = [](std::string_view code) { return "<script>" + std::string(code) + "</script>\n"; };
+std::string page_from_template(std::string_view page_template, const std::string& json_text,
+                               std::string_view page_js) {
+  const auto script = [](std::string_view code) {
+    return "<script>" + std::string(code) + "</script>\n";
+  };
   const std::pair<std::string_view, std::string> parts[] = {
       {"<!--stiffmsa:style-->", "<style>" + std::string(viewer_css()) + "</style>"},
-      {"<!--stiffmsa:data-->",
-       "<script type=\"application/json\" id=\"stiffmsa-data\">" + json_for_script_block(json_text) + "</script>"},
-      {"<!--stiffmsa:scripts-->", script(three_js()) + script(orbit_controls_js()) + script(page_js)},
+      {"<!--stiffmsa:data-->", "<script type=\"application/json\" id=\"stiffmsa-data\">" +
+                                   json_for_script_block(json_text) + "</script>"},
+      {"<!--stiffmsa:scripts-->",
+       script(three_js()) + script(orbit_controls_js()) + script(page_js)},
   };
   std::string page(page_template);
   for (const auto& [marker, text] : parts) {
     const auto at = page.find(marker);
-    if (at == std::string::npos) throw std::logic_error("viewer template without " + std::string(marker));
+    if (at == std::string::npos)
+      throw std::logic_error("viewer template without " + std::string(marker));
     page.replace(at, marker.size(), text);
   }
   return page;
@@ -284,13 +303,17 @@ std::string page_from_template(std::string_view page_template, const std::string
 
 }  // namespace detail
 
-std::string model_view_html(const Model& model, const Result* result, const ModelViewOptions& options) {
+std::string model_view_html(const Model& model, const Result* result,
+                            const ModelViewOptions& options) {
   if (options.scale && !(std::isfinite(*options.scale) && *options.scale > 0))
-    throw UsageError("the deformation scale must be a positive number, got " + std::to_string(*options.scale));
+    throw UsageError("the deformation scale must be a positive number, got " +
+                     std::to_string(*options.scale));
   if (options.beam_segments && *options.beam_segments < 1)
     throw UsageError("the beam segments of the deformed shape must be at least 1");
   const json data = model_json(model, result, options);
-  return detail::page_from_template(detail::model_view_template(), data.dump(-1, ' ', false, json::error_handler_t::replace), detail::model_view_js());
+  return detail::page_from_template(detail::model_view_template(),
+                                    data.dump(-1, ' ', false, json::error_handler_t::replace),
+                                    detail::model_view_js());
 }
 
 void write_model_view(const Model& model, const Result* result, const ModelViewOptions& options,

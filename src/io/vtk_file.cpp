@@ -42,8 +42,9 @@ struct DataArray {
 };
 
 void append_array(std::string& out, const DataArray& array) {
-  out += "        <DataArray type=\"" + array.type + "\" Name=\"" + array.name + "\" NumberOfComponents=\"" +
-         std::to_string(array.components) + "\" format=\"ascii\">\n" + array.values + "\n        </DataArray>\n";
+  out += "        <DataArray type=\"" + array.type + "\" Name=\"" + array.name +
+         "\" NumberOfComponents=\"" + std::to_string(array.components) + "\" format=\"ascii\">\n" +
+         array.values + "\n        </DataArray>\n";
 }
 
 }  // namespace
@@ -55,8 +56,8 @@ std::string vtu_text(const Model& model, const Result& result, int beam_segments
   DataArray connectivity{"connectivity", "Int32", 1, {}}, offsets{"offsets", "Int32", 1, {}},
       types{"types", "Int32", 1, {}};
   DataArray link{"link", "Int32", 1, {}}, link_kind{"link_kind", "Int32", 1, {}},
-      wrench_from{"end_wrench_from", "Float64", 6, {}}, wrench_to{"end_wrench_to", "Float64", 6, {}},
-      cell_determined{"determined", "Int32", 1, {}};
+      wrench_from{"end_wrench_from", "Float64", 6, {}},
+      wrench_to{"end_wrench_to", "Float64", 6, {}}, cell_determined{"determined", "Int32", 1, {}};
   long point_count = 0, cell_count = 0;
   static const LinkResult unsolved;
   for (std::size_t i = 0; i < model.links.size(); ++i) {
@@ -73,7 +74,8 @@ std::string vtu_text(const Model& model, const Result& result, int beam_segments
       const Vec3 position = from + xi * (to - from);
       CentreLineMotion motion;
       if (known)
-        motion = centre_line_motion(bends(model.links[i].kind), from, to, *solved.from.deflection, *solved.to.deflection, xi);
+        motion = centre_line_motion(bends(model.links[i].kind), from, to, *solved.from.deflection,
+                                    *solved.to.deflection, xi);
       for (int k = 0; k < 3; ++k) {
         append_number(points.values, position(k));
         append_number(displacement.values, motion.displacement(k));
@@ -82,7 +84,8 @@ std::string vtu_text(const Model& model, const Result& result, int beam_segments
       point_determined.values += known ? "1 " : "0 ";
     }
     for (int s = 0; s < segments; ++s) {
-      connectivity.values += std::to_string(point_count + s) + ' ' + std::to_string(point_count + s + 1) + ' ';
+      connectivity.values +=
+          std::to_string(point_count + s) + ' ' + std::to_string(point_count + s + 1) + ' ';
       ++cell_count;
       offsets.values += std::to_string(2 * cell_count) + ' ';
       types.values += std::to_string(kVtkLine) + ' ';
@@ -99,14 +102,19 @@ std::string vtu_text(const Model& model, const Result& result, int beam_segments
   }
 
   std::string out = "<?xml version=\"1.0\"?>\n<!-- stiffmsa: model " + xml_escaped(model.name) +
-                    "; link_kind 0 beam, 1 rigid, 2 matrix, 3 compliance; end wrenches [F; M] applied to the link, "
+                    "; link_kind 0 beam, 1 rigid, 2 matrix, 3 compliance; end wrenches [F; M] "
+                    "applied to the link, "
                     "global axes; SI units -->\n";
-  out += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <UnstructuredGrid>\n";
-  out += "    <Piece NumberOfPoints=\"" + std::to_string(point_count) + "\" NumberOfCells=\"" + std::to_string(cell_count) + "\">\n";
+  out +=
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n  "
+      "<UnstructuredGrid>\n";
+  out += "    <Piece NumberOfPoints=\"" + std::to_string(point_count) + "\" NumberOfCells=\"" +
+         std::to_string(cell_count) + "\">\n";
   out += "      <PointData Vectors=\"displacement\">\n";
   for (const DataArray* a : {&displacement, &rotation, &point_determined}) append_array(out, *a);
   out += "      </PointData>\n      <CellData Scalars=\"link_kind\">\n";
-  for (const DataArray* a : {&link, &link_kind, &wrench_from, &wrench_to, &cell_determined}) append_array(out, *a);
+  for (const DataArray* a : {&link, &link_kind, &wrench_from, &wrench_to, &cell_determined})
+    append_array(out, *a);
   out += "      </CellData>\n      <Points>\n";
   append_array(out, points);
   out += "      </Points>\n      <Cells>\n";
@@ -116,10 +124,13 @@ std::string vtu_text(const Model& model, const Result& result, int beam_segments
 }
 
 std::string pvd_text(const std::vector<VtkCollectionEntry>& entries) {
-  std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+  std::string out =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" "
+      "byte_order=\"LittleEndian\">\n  <Collection>\n";
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    out += "    <DataSet timestep=\"" + std::to_string(i) + "\" part=\"0\" name=\"" + xml_escaped(entries[i].name) +
-           "\" file=\"" + xml_escaped(entries[i].file.generic_string()) + "\"/>\n";
+    out += "    <DataSet timestep=\"" + std::to_string(i) + "\" part=\"0\" name=\"" +
+           xml_escaped(entries[i].name) + "\" file=\"" +
+           xml_escaped(entries[i].file.generic_string()) + "\"/>\n";
   }
   out += "  </Collection>\n</VTKFile>\n";
   return out;
@@ -134,7 +145,8 @@ std::vector<fs::path> write_vtk(const Model& model, const Result& result, const 
   if (extension != ".pvd") {
     std::string message = "'";  // built in steps: GCC 12 warns wrongly (-Wrestrict) on "'" + string
     message += file.string();
-    message += "': a ParaView file must end in .vtu (one grid) or .pvd (a collection of load cases)";
+    message +=
+        "': a ParaView file must end in .vtu (one grid) or .pvd (a collection of load cases)";
     throw UsageError(message);
   }
   // The model's loads are its one load case.

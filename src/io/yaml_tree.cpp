@@ -20,7 +20,8 @@ namespace stiffmsa::detail {
 std::string nesting_too_deep_message(int max_depth, int deepest) {
   return "mappings and lists nest deeper here than the limit of " + std::to_string(max_depth) +
          " levels" + (deepest > 0 ? " (the file reaches " + std::to_string(deepest) + ")" : "") +
-         "; if the model is meant to nest this deep, raise the limit (LoadLimits::max_nesting_depth)";
+         "; if the model is meant to nest this deep, raise the limit "
+         "(LoadLimits::max_nesting_depth)";
 }
 
 namespace {
@@ -110,11 +111,8 @@ class YamlTreeBuilder {
   bool take(fy_event* event) {
     place_empty_nodes(event);
     switch (event->type) {
-      case FYET_DOCUMENT_END:
-        return true;
-      case FYET_SCALAR:
-        add(scalar(event), event->scalar.anchor);
-        return false;
+      case FYET_DOCUMENT_END: return true;
+      case FYET_SCALAR: add(scalar(event), event->scalar.anchor); return false;
       case FYET_ALIAS: {
         const YamlNode* repeated = alias(event);
         // Aliases that repeat aliases grow the values a reader walks exponentially in the
@@ -122,17 +120,16 @@ class YamlTreeBuilder {
         // budget proportional to its text.
         expanded_ = std::min(kUnbounded, expanded_ + repeated->expanded_);
         if (expanded_ > expansion_budget())
-          throw InputError(node_start(event->alias.anchor, nullptr, nullptr), "",
-                           "aliases repeat so much that the document, spelt out, would hold more than " +
-                               std::to_string(expansion_budget()) +
-                               " values; write the repeated parts out, or repeat less");
+          throw InputError(
+              node_start(event->alias.anchor, nullptr, nullptr), "",
+              "aliases repeat so much that the document, spelt out, would hold more than " +
+                  std::to_string(expansion_budget()) +
+                  " values; write the repeated parts out, or repeat less");
         add_existing(repeated);
         return false;
       }
       case FYET_SEQUENCE_START:
-      case FYET_MAPPING_START:
-        open(event);
-        return false;
+      case FYET_MAPPING_START: open(event); return false;
       case FYET_SEQUENCE_END:
       case FYET_MAPPING_END: {
         if (open_.empty()) return false;  // libfyaml pairs every end with its start
@@ -141,8 +138,7 @@ class YamlTreeBuilder {
         add_existing(done);
         return false;
       }
-      default:
-        return false;
+      default: return false;
     }
   }
 
@@ -158,12 +154,9 @@ class YamlTreeBuilder {
         return fy_token_scalar_style(token) == FYSS_SINGLE_QUOTED   ? '\''
                : fy_token_scalar_style(token) == FYSS_DOUBLE_QUOTED ? '"'
                                                                     : '\0';
-      case FYTT_ANCHOR:
-        return '&';
-      case FYTT_ALIAS:
-        return '*';
-      default:
-        return '\0';
+      case FYTT_ANCHOR: return '&';
+      case FYTT_ALIAS: return '*';
+      default: return '\0';
     }
   }
 
@@ -174,8 +167,8 @@ class YamlTreeBuilder {
     if (mark == nullptr) return std::nullopt;
     fy_mark start = *mark;
     if (start.input_pos == 0 || start.input_pos > text_.size()) return start;
-    if (fy_token_get_type(token) == FYTT_SCALAR &&
-        (fy_token_scalar_style(token) == FYSS_LITERAL || fy_token_scalar_style(token) == FYSS_FOLDED))
+    if (fy_token_get_type(token) == FYTT_SCALAR && (fy_token_scalar_style(token) == FYSS_LITERAL ||
+                                                    fy_token_scalar_style(token) == FYSS_FOLDED))
       return block_scalar_header(start).value_or(start);
     const char indicator = indicator_of(token);
     const bool indicator_before = indicator != '\0' && text_[start.input_pos - 1] == indicator;
@@ -234,8 +227,8 @@ class YamlTreeBuilder {
   }
 
   // An empty value (`key:` or `-` with nothing after it) or key (`: value`) has no text of its
-  // own. As messages have always placed it, it goes at what follows it: the `-`, `?` or `:` just before the
-  // next node, or else that node.
+  // own. As messages have always placed it, it goes at what follows it: the `-`, `?` or `:` just
+  // before the next node, or else that node.
   void place_empty_nodes(fy_event* event) {
     if (unplaced_.empty()) return;
     std::optional<fy_mark> next = start_of(fy_event_get_token(event));
@@ -288,16 +281,15 @@ class YamlTreeBuilder {
 
   void open(fy_event* event) {
     const bool is_mapping = event->type == FYET_MAPPING_START;
-    fy_token* start = is_mapping ? event->mapping_start.mapping_start
-                                 : event->sequence_start.sequence_start;
+    fy_token* start =
+        is_mapping ? event->mapping_start.mapping_start : event->sequence_start.sequence_start;
     fy_token* anchor = is_mapping ? event->mapping_start.anchor : event->sequence_start.anchor;
     fy_token* tag = is_mapping ? event->mapping_start.tag : event->sequence_start.tag;
     // A block collection has no start token: it starts where its first key or item does.
     SourceLocation at = node_start(start, anchor, tag);
     if (start == nullptr && anchor == nullptr && tag == nullptr)
       at = location_of(fy_event_start_mark(event));
-    YamlNode& node =
-        new_node(is_mapping ? YamlNode::Kind::mapping : YamlNode::Kind::sequence, at);
+    YamlNode& node = new_node(is_mapping ? YamlNode::Kind::mapping : YamlNode::Kind::sequence, at);
     if (static_cast<int>(open_.size()) >= max_depth_)
       throw InputError(at, "", nesting_too_deep_message(max_depth_));
     remember_anchor(anchor, node);
@@ -366,13 +358,15 @@ class YamlTreeBuilder {
   const std::string& file_;
   int max_depth_;
   YamlTree tree_;
-  std::vector<Open> open_;  // the collections being read, the innermost last
+  std::vector<Open> open_;           // the collections being read, the innermost last
   std::vector<YamlNode*> unplaced_;  // empty values that wait for what follows them
   std::unordered_map<std::string, const YamlNode*> anchors_;
   // Values of the document spelt out so far: nodes made, plus what every alias repeats.
   static constexpr std::uint64_t kUnbounded = std::uint64_t{1} << 62;
   std::uint64_t expanded_ = 0;
-  std::uint64_t expansion_budget() const { return 4 * static_cast<std::uint64_t>(text_.size()) + 1'000'000; }
+  std::uint64_t expansion_budget() const {
+    return 4 * static_cast<std::uint64_t>(text_.size()) + 1'000'000;
+  }
 };
 
 namespace {

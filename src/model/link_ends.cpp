@@ -21,7 +21,8 @@ ModelIndex::ModelIndex(const Model& model)
       if (p >= 0)
         ++first_end_[static_cast<std::size_t>(p)];
       else
-        ends_at_unknown_points_[*name].push_back(end_of_id(static_cast<int>(point_of_end_.size()) - 1));
+        ends_at_unknown_points_[*name].push_back(
+            end_of_id(static_cast<int>(point_of_end_.size()) - 1));
     }
   }
   // The counts summed up mark where each group ends; placing the ends last to first moves
@@ -42,8 +43,9 @@ int ModelIndex::link(std::string_view name) const { return links_.find(name); }
 
 std::span<const LinkEndRef> ModelIndex::ends_at(int point_position) const {
   const auto p = static_cast<std::size_t>(point_position);
-  return std::span<const LinkEndRef>(ends_).subspan(static_cast<std::size_t>(first_end_[p]),
-                                                    static_cast<std::size_t>(first_end_[p + 1] - first_end_[p]));
+  return std::span<const LinkEndRef>(ends_).subspan(
+      static_cast<std::size_t>(first_end_[p]),
+      static_cast<std::size_t>(first_end_[p + 1] - first_end_[p]));
 }
 
 std::span<const LinkEndRef> ModelIndex::ends_at(std::string_view point) const {
@@ -53,7 +55,8 @@ std::span<const LinkEndRef> ModelIndex::ends_at(std::string_view point) const {
   return it->second;
 }
 
-std::optional<LinkEndRef> ModelIndex::resolve(const std::string& point, const std::optional<std::string>& link_name,
+std::optional<LinkEndRef> ModelIndex::resolve(const std::string& point,
+                                              const std::optional<std::string>& link_name,
                                               std::string& problem) const {
   if (link_name) {
     const int index = link(*link_name);
@@ -68,7 +71,8 @@ std::optional<LinkEndRef> ModelIndex::resolve(const std::string& point, const st
       return std::nullopt;
     }
     if (from_here && to_here) {
-      problem = "link '" + *link_name + "' has both ends at point '" + point + "'; the end cannot be chosen";
+      problem = "link '" + *link_name + "' has both ends at point '" + point +
+                "'; the end cannot be chosen";
       return std::nullopt;
     }
     return LinkEndRef{index, from_here ? LinkEnd::from : LinkEnd::to};

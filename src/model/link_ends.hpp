@@ -55,7 +55,7 @@ class NameTable {
   // The slot that holds `name`, or the empty slot where it would go.
   static std::size_t index_of(std::string_view name, const std::vector<Slot>& slots) {
     const std::size_t mask = slots.size() - 1;
-    for (std::size_t i = std::hash<std::string_view>{}(name) & mask;; i = (i + 1) & mask)
+    for (std::size_t i = std::hash<std::string_view>{}(name)&mask;; i = (i + 1) & mask)
       if (slots[i].position < 0 || slots[i].name == name) return i;
   }
   void grow() {
@@ -86,7 +86,8 @@ class ModelIndex {
   std::span<const LinkEndRef> ends_at(int point_position) const;
   // The link end meant by `{at: point, link: name}` (name optional). Sets `problem` to a
   // sentence and returns nullopt when there is no such end or the choice is ambiguous.
-  std::optional<LinkEndRef> resolve(const std::string& point, const std::optional<std::string>& link_name,
+  std::optional<LinkEndRef> resolve(const std::string& point,
+                                    const std::optional<std::string>& link_name,
                                     std::string& problem) const;
 
  private:

@@ -26,8 +26,9 @@ std::string Diagnostic::to_string() const {
 
 namespace {
 std::string join_diagnostics(const std::vector<Diagnostic>& diagnostics) {
-  std::string text = diagnostics.size() == 1 ? "invalid model: " : "invalid model (" +
-                     std::to_string(diagnostics.size()) + " defects): ";
+  std::string text = diagnostics.size() == 1
+                         ? "invalid model: "
+                         : "invalid model (" + std::to_string(diagnostics.size()) + " defects): ";
   for (std::size_t i = 0; i < diagnostics.size(); ++i) {
     if (i > 0) text += "; ";
     text += diagnostics[i].to_string();
@@ -44,14 +45,16 @@ InputError::InputError(SourceLocation location, std::string key_path, std::strin
           Diagnostic{std::move(location), std::move(key_path), std::move(message)}}) {}
 
 namespace {
-std::string summary_and_details(const std::string& summary, const std::vector<std::string>& details) {
+std::string summary_and_details(const std::string& summary,
+                                const std::vector<std::string>& details) {
   std::string text = summary;
   for (const std::string& detail : details) text += "\n  " + detail;
   return text;
 }
 }  // namespace
 
-SingularModelError::SingularModelError(Cause cause, std::string summary, std::vector<std::string> details)
+SingularModelError::SingularModelError(Cause cause, std::string summary,
+                                       std::vector<std::string> details)
     : Error(summary_and_details(summary, details)),
       cause_(cause),
       summary_(std::move(summary)),
@@ -138,7 +141,8 @@ namespace {
 void require_one_direction(const Kinematics& kinematics, const char* what) {
   const int p = free_direction_count(kinematics);
   if (p != 1)
-    throw UsageError(std::string("a scalar ") + what + " is for a connection with one free direction; a " +
+    throw UsageError(std::string("a scalar ") + what +
+                     " is for a connection with one free direction; a " +
                      to_string(kinematics.type) + " one has " + std::to_string(p) + ": give " +
                      (what == std::string("stiffness") ? "a p×p matrix" : "p values"));
 }
@@ -252,14 +256,14 @@ LinkIndex Model::add_compliance_link(std::string link_name, std::string from, st
 }
 JointIndex Model::add_joint(std::string joint_name, std::string at,
                             std::vector<std::string> link_names, Connection connection) {
-  joints.push_back(Joint{std::move(joint_name), std::move(at), std::move(link_names),
-                         std::move(connection), {}});
+  joints.push_back(Joint{
+      std::move(joint_name), std::move(at), std::move(link_names), std::move(connection), {}});
   return {joints.size() - 1};
 }
 SupportIndex Model::add_support(std::string support_name, std::string at,
                                 std::vector<std::string> link_names, Connection connection) {
-  supports.push_back(Support{std::move(support_name), std::move(at), std::move(link_names),
-                             std::move(connection), {}});
+  supports.push_back(Support{
+      std::move(support_name), std::move(at), std::move(link_names), std::move(connection), {}});
   return {supports.size() - 1};
 }
 LoadIndex Model::add_load(std::string at, std::optional<std::string> link, const Vec6& wrench) {
@@ -299,7 +303,9 @@ const EndEffectorResult& Result::end_effector(std::string_view name) const {
   return named(end_effectors, name, "end effector");
 }
 const LinkResult& Result::link(std::string_view name) const { return named(links, name, "link"); }
-const JointResult& Result::joint(std::string_view name) const { return named(joints, name, "joint"); }
+const JointResult& Result::joint(std::string_view name) const {
+  return named(joints, name, "joint");
+}
 const SupportResult& Result::support(std::string_view name) const {
   return named(supports, name, "support");
 }

@@ -5,8 +5,8 @@
 // (same entities, kinds and optional values present) visit the same numbers in the same order.
 #include <algorithm>
 #include <optional>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 #include <variant>
 
 #include "stiffmsa/model.hpp"
@@ -18,18 +18,23 @@ struct SlotName {
   const char* collection = "";          // "points", "links", ...
   const std::string* entity = nullptr;  // its name; loads have none and are numbered
   std::size_t entity_index = 0;
-  const char* key = nullptr;            // within the entity; none for a point's coordinates
-  int rows = 0;                         // 0 for a scalar, 1 for a vector, 2 for a matrix
-  Eigen::Index matrix_rows = 0;         // of a matrix
-  Eigen::Index element = 0;             // column-major within the matrix or vector
+  const char* key = nullptr;     // within the entity; none for a point's coordinates
+  int rows = 0;                  // 0 for a scalar, 1 for a vector, 2 for a matrix
+  Eigen::Index matrix_rows = 0;  // of a matrix
+  Eigen::Index element = 0;      // column-major within the matrix or vector
 
   std::string str() const {
     std::string text = collection;
-    if (entity) text += "." + *entity;
-    else text += "[" + std::to_string(entity_index) + "]";
+    if (entity)
+      text += "." + *entity;
+    else
+      text += "[" + std::to_string(entity_index) + "]";
     if (key) text += std::string(".") + key;
-    if (rows == 1) text += "[" + std::to_string(element) + "]";
-    else if (rows > 1) text += "[" + std::to_string(element % matrix_rows) + "][" + std::to_string(element / matrix_rows) + "]";
+    if (rows == 1)
+      text += "[" + std::to_string(element) + "]";
+    else if (rows > 1)
+      text += "[" + std::to_string(element % matrix_rows) + "][" +
+              std::to_string(element / matrix_rows) + "]";
     return text;
   }
 };
@@ -103,7 +108,8 @@ void for_each_named_number(ModelRef& model, Visit&& visit) {
     each(c.kinematics.axis_b, universal ? "axes[1]" : "axis_b");
     each(c.kinematics.normal, "normal");
     // A custom joint has at most 6 free directions (validation refuses more).
-    static constexpr const char* free_row[] = {"free[0]", "free[1]", "free[2]", "free[3]", "free[4]", "free[5]"};
+    static constexpr const char* free_row[] = {"free[0]", "free[1]", "free[2]",
+                                               "free[3]", "free[4]", "free[5]"};
     for (std::size_t r = 0; r < c.kinematics.free_rows.size(); ++r)
       each(c.kinematics.free_rows[r], r < 6 ? free_row[r] : "free[>5]");
     maybe_dense(c.stiffness, "stiffness");

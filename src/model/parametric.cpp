@@ -25,8 +25,8 @@ namespace {
 // One value per parameter, or a UsageError that says how many.
 void check_value_count(const std::string& model, std::size_t parameters, std::size_t values) {
   if (values != parameters)
-    throw UsageError("the model '" + model + "' has " + counted(parameters, "parameter") + "; got " +
-                     counted(values, "value"));
+    throw UsageError("the model '" + model + "' has " + counted(parameters, "parameter") +
+                     "; got " + counted(values, "value"));
 }
 }  // namespace
 
@@ -52,19 +52,21 @@ Structure ModelFamily::structure() const {
 ModelFamily::ValueWriter ModelFamily::make_writer(const Structure& structure) const {
   const std::size_t count = parameters_.size(), slots = structure.value_count();
   const auto check_counts = [name = name_, count, slots](std::span<const double> parameters,
-                                                        std::span<double> values) {
+                                                         std::span<double> values) {
     check_value_count(name, count, parameters.size());
     if (values.size() != slots)
-      throw UsageError("the model '" + name + "' has " + counted(slots, "value slot") + "; got room for " +
-                       counted(values.size(), "value"));
+      throw UsageError("the model '" + name + "' has " + counted(slots, "value slot") +
+                       "; got room for " + counted(values.size(), "value"));
   };
   if (structure_)
-    return [check_counts, write = make_writer_()](std::span<const double> parameters, std::span<double> values,
+    return [check_counts, write = make_writer_()](std::span<const double> parameters,
+                                                  std::span<double> values,
                                                   std::vector<Diagnostic>& warnings) mutable {
       check_counts(parameters, values);
       write(parameters, values, warnings);
     };
-  return [check_counts, structure, member = member_](std::span<const double> parameters, std::span<double> values,
+  return [check_counts, structure, member = member_](std::span<const double> parameters,
+                                                     std::span<double> values,
                                                      std::vector<Diagnostic>& warnings) {
     check_counts(parameters, values);
     Model built = member(parameters);
@@ -90,7 +92,8 @@ Model ModelFamily::build(std::span<const double> values) const {
     member = member_(values);
     validate(member);
   }
-  for (std::size_t i = 0; i < values.size() && i < member.parameters.size(); ++i) member.parameters[i].value = values[i];
+  for (std::size_t i = 0; i < values.size() && i < member.parameters.size(); ++i)
+    member.parameters[i].value = values[i];
   return member;
 }
 

@@ -73,7 +73,8 @@ SectionProperties section_properties(const Section& s) {
       p.Iy = s.b * s.h * s.h * s.h / 12;
       p.Iz = s.h * s.b * s.b * s.b / 12;
       const double a = std::max(s.b, s.h), c = std::min(s.b, s.h);
-      p.J = a * c * c * c * (1.0 / 3.0 - 0.21 * (c / a) * (1 - std::pow(c, 4) / (12 * std::pow(a, 4))));
+      p.J = a * c * c * c *
+            (1.0 / 3.0 - 0.21 * (c / a) * (1 - std::pow(c, 4) / (12 * std::pow(a, 4))));
       p.Asy = p.Asz = 5.0 / 6.0 * p.A;
       break;
     }

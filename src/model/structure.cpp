@@ -18,7 +18,9 @@ Model validated(Model model) {
 }  // namespace
 
 Structure::Impl::Impl(Model validated_model)
-    : model(std::move(validated_model)), index(model), topology(detail::build_topology(model, index)) {
+    : model(std::move(validated_model)),
+      index(model),
+      topology(detail::build_topology(model, index)) {
   detail::for_each_number(model, [&](const double&) { ++value_count; });
 }
 
@@ -41,7 +43,8 @@ const std::vector<std::string>& Structure::Impl::names() const {
   return slot_names;
 }
 
-Structure::Structure(Model model) : impl_(std::make_shared<const Impl>(validated(std::move(model)))) {}
+Structure::Structure(Model model)
+    : impl_(std::make_shared<const Impl>(validated(std::move(model)))) {}
 
 const Model& Structure::model() const { return impl_->model; }
 std::size_t Structure::value_count() const { return impl_->value_count; }
@@ -64,18 +67,21 @@ std::vector<double> Structure::default_values() const {
 namespace {
 void require_value_count(std::size_t expected, std::size_t given) {
   if (given != expected)
-    throw UsageError("the structure has " + std::to_string(expected) + " value slots; got " + std::to_string(given) +
-                     " values");
+    throw UsageError("the structure has " + std::to_string(expected) + " value slots; got " +
+                     std::to_string(given) + " values");
 }
 }  // namespace
 
 std::vector<double> Structure::values_of(const Model& model) const {
   if (!detail::same_structure(model, impl_->model))
-    throw InputError({}, "",
-                     "the model's structure differs from that the analysis was set up for (in a sweep: the model "
-                     "at the parameters' defaults): an entity was added, removed, renamed or reconnected, changed "
-                     "its kind or which optional numbers it gives; one structure takes models of one topology "
-                     "that differ in their numbers only");
+    throw InputError(
+        {}, "",
+        "the model's structure differs from that the analysis was set up for (in a sweep: the "
+        "model "
+        "at the parameters' defaults): an entity was added, removed, renamed or reconnected, "
+        "changed "
+        "its kind or which optional numbers it gives; one structure takes models of one topology "
+        "that differ in their numbers only");
   std::vector<double> values;
   values.reserve(value_count());
   detail::for_each_number(model, [&](const double& v) { values.push_back(v); });
@@ -112,7 +118,8 @@ bool same_connection(const Connection& a, const Connection& b) {
   const auto dims = [](const std::optional<MatX>& m) {
     return m ? std::pair{m->rows(), m->cols()} : std::pair{Eigen::Index{-1}, Eigen::Index{-1}};
   };
-  return a.kinematics.type == b.kinematics.type && a.kinematics.free_rows.size() == b.kinematics.free_rows.size() &&
+  return a.kinematics.type == b.kinematics.type &&
+         a.kinematics.free_rows.size() == b.kinematics.free_rows.size() &&
          dims(a.stiffness) == dims(b.stiffness) && a.preload.has_value() == b.preload.has_value() &&
          (!a.preload || a.preload->size() == b.preload->size()) && a.is_actuated == b.is_actuated;
 }
@@ -123,9 +130,10 @@ bool same_link_kind(const LinkKind& a, const LinkKind& b) {
     const auto& other = std::get<BeamLink>(b);
     return beam->material.nu.has_value() == other.material.nu.has_value() &&
            beam->material.G.has_value() == other.material.G.has_value() &&
-           beam->section.shape == other.section.shape && beam->section.Asy.has_value() == other.section.Asy.has_value() &&
-           beam->section.Asz.has_value() == other.section.Asz.has_value() && beam->shear == other.shear &&
-           beam->zref.has_value() == other.zref.has_value();
+           beam->section.shape == other.section.shape &&
+           beam->section.Asy.has_value() == other.section.Asy.has_value() &&
+           beam->section.Asz.has_value() == other.section.Asz.has_value() &&
+           beam->shear == other.shear && beam->zref.has_value() == other.zref.has_value();
   }
   if (const auto* matrix = std::get_if<MatrixLink>(&a)) {
     const auto& other = std::get<MatrixLink>(b);
@@ -133,7 +141,8 @@ bool same_link_kind(const LinkKind& a, const LinkKind& b) {
   }
   if (const auto* compliance = std::get_if<ComplianceLink>(&a)) {
     const auto& other = std::get<ComplianceLink>(b);
-    return compliance->frame == other.frame && compliance->zref.has_value() == other.zref.has_value();
+    return compliance->frame == other.frame &&
+           compliance->zref.has_value() == other.zref.has_value();
   }
   return true;
 }
@@ -150,10 +159,12 @@ bool all_same(const std::vector<T>& a, const std::vector<T>& b, Same&& same) {
 
 bool same_structure(const Model& a, const Model& b) {
   return a.options.accept_idle_motions == b.options.accept_idle_motions &&
-         all_same(a.points, b.points, [](const Point& p, const Point& q) { return p.name == q.name; }) &&
+         all_same(a.points, b.points,
+                  [](const Point& p, const Point& q) { return p.name == q.name; }) &&
          all_same(a.links, b.links,
                   [](const Link& l, const Link& m) {
-                    return l.name == m.name && l.from == m.from && l.to == m.to && same_link_kind(l.kind, m.kind);
+                    return l.name == m.name && l.from == m.from && l.to == m.to &&
+                           same_link_kind(l.kind, m.kind);
                   }) &&
          all_same(a.joints, b.joints,
                   [](const Joint& j, const Joint& k) {
@@ -170,7 +181,8 @@ bool same_structure(const Model& a, const Model& b) {
                     return l.at == m.at && l.link == m.link && l.self_weight == m.self_weight;
                   }) &&
          all_same(a.end_effectors, b.end_effectors, [](const EndEffector& e, const EndEffector& f) {
-           return e.name == f.name && e.at == f.at && e.link == f.link && e.axes.has_value() == f.axes.has_value();
+           return e.name == f.name && e.at == f.at && e.link == f.link &&
+                  e.axes.has_value() == f.axes.has_value();
          });
 }
 

@@ -37,7 +37,8 @@ inline std::optional<std::string> nearest(std::string_view word,
   std::size_t best_distance = limit + 1;
   for (const auto& candidate : candidates) {
     // The length difference bounds the edit distance from below: skip what cannot be near.
-    const std::size_t length_gap = candidate.size() > word.size() ? candidate.size() - word.size() : word.size() - candidate.size();
+    const std::size_t length_gap = candidate.size() > word.size() ? candidate.size() - word.size()
+                                                                  : word.size() - candidate.size();
     if (length_gap >= best_distance) continue;
     const std::size_t d = edit_distance(word, candidate);
     if (d < best_distance && d < word.size()) {

@@ -196,7 +196,8 @@ class Checker {
 
   std::vector<Diagnostic> run() {
     check_names(model_.points, kPoints, [&](std::size_t i) {
-      return index_.names_repeat() && index_.point_position(model_.points[i].name) != static_cast<int>(i);
+      return index_.names_repeat() &&
+             index_.point_position(model_.points[i].name) != static_cast<int>(i);
     });
     for (std::size_t i = 0; i < model_.points.size(); ++i) check_point(i);
     check_names(model_.links, kLinks, [&](std::size_t i) {
@@ -223,11 +224,14 @@ class Checker {
     for (std::size_t i = 0; i < model_.points.size(); ++i) check_point(i);
     for (std::size_t i = 0; i < model_.links.size(); ++i) check_link(i);
     for (std::size_t i = 0; i < model_.joints.size(); ++i)
-      check_connection_values(subject_of(kJoints, model_.joints[i], i), model_.joints[i].connection);
+      check_connection_values(subject_of(kJoints, model_.joints[i], i),
+                              model_.joints[i].connection);
     for (std::size_t i = 0; i < model_.supports.size(); ++i)
-      check_connection_values(subject_of(kSupports, model_.supports[i], i), model_.supports[i].connection);
+      check_connection_values(subject_of(kSupports, model_.supports[i], i),
+                              model_.supports[i].connection);
     for (std::size_t i = 0; i < model_.loads.size(); ++i)
-      require_finite(Subject{"loads", nullptr, i, &model_.loads[i].origin}, "wrench", model_.loads[i].wrench);
+      require_finite(Subject{"loads", nullptr, i, &model_.loads[i].origin}, "wrench",
+                     model_.loads[i].wrench);
     return std::move(found_);
   }
 
@@ -259,15 +263,16 @@ class Checker {
 
   template <class Entity>
   void check_names(const std::vector<Entity>& entities, const Kind& kind) {
-    check_names(entities, kind, RepeatFinder(entities.size(), [&](std::size_t i) -> std::string_view {
-                  return entities[i].name;
-                }));
+    check_names(entities, kind,
+                RepeatFinder(entities.size(),
+                             [&](std::size_t i) -> std::string_view { return entities[i].name; }));
   }
 
   // Suggestions compare a name with every name of its kind; past the first few hundred unknown
   // references (a generated file gone wrong) the messages go on without them, so that
   // validation stays linear in the model's size.
-  std::string no_such(const Kind& kind, const std::string& name, const std::vector<std::string>& names) {
+  std::string no_such(const Kind& kind, const std::string& name,
+                      const std::vector<std::string>& names) {
     if (name.empty()) return std::string("a ") + kind.noun + " name is needed";
     if (names.empty())
       return std::string("no ") + kind.noun + " named '" + name + "'; the model has no " +
@@ -306,8 +311,7 @@ class Checker {
     if (!point_exists(s, "at", at)) return;
     if (link && !link_exists(s, "link", *link)) return;
     std::string problem;
-    if (!index_.resolve(at, link, problem))
-      report(s, link ? "link" : "at", problem);
+    if (!index_.resolve(at, link, problem)) report(s, link ? "link" : "at", problem);
   }
 
   // ---- values ----------------------------------------------------------------------------
@@ -352,7 +356,8 @@ class Checker {
   }
 
   template <class Derived>
-  void require_positive_definite(const Subject& s, const Key& key, const Eigen::MatrixBase<Derived>& m) {
+  void require_positive_definite(const Subject& s, const Key& key,
+                                 const Eigen::MatrixBase<Derived>& m) {
     if (!require_finite(s, key, m) || !require_symmetric(s, key, m)) return;
     const Spectrum spectrum = symmetric_spectrum(m);
     if (spectrum.smallest > kDefiniteTolerance * spectrum.largest_magnitude) return;
@@ -460,7 +465,8 @@ class Checker {
       report(s, "K",
              "K is not free-free: the link's rigid-body motions are not in its null "
              "space (‖K·R‖₂ = " +
-                 format_number(residual) + ", above " + shortest_text(kFreeFreeTolerance) + "·‖K‖₂·‖R‖₂ = " + format_number(bound) +
+                 format_number(residual) + ", above " + shortest_text(kFreeFreeTolerance) +
+                 "·‖K‖₂·‖R‖₂ = " + format_number(bound) +
                  "); such a matrix would tie the link to the ground");
   }
 
@@ -469,13 +475,10 @@ class Checker {
   void check_kinematics(const Subject& s, const Kinematics& k) {
     switch (k.type) {
       case JointType::rigid:
-      case JointType::spherical:
-        break;
+      case JointType::spherical: break;
       case JointType::revolute:
       case JointType::prismatic:
-      case JointType::cylindrical:
-        require_nonzero_vector(s, "axis", k.axis);
-        break;
+      case JointType::cylindrical: require_nonzero_vector(s, "axis", k.axis); break;
       case JointType::universal: {
         const bool a = require_nonzero_vector(s, "axes[0]", k.axis);
         const bool b = require_nonzero_vector(s, "axes[1]", k.axis_b);
@@ -483,12 +486,8 @@ class Checker {
           report(s, "axes", "the two axes of a universal joint must not be parallel");
         break;
       }
-      case JointType::planar:
-        require_nonzero_vector(s, "normal", k.normal);
-        break;
-      case JointType::custom:
-        check_custom_rows(s, k.free_rows);
-        break;
+      case JointType::planar: require_nonzero_vector(s, "normal", k.normal); break;
+      case JointType::custom: check_custom_rows(s, k.free_rows); break;
     }
   }
 
@@ -548,8 +547,9 @@ class Checker {
     }
     if (c.preload) {
       if (c.preload->size() != p)
-        report(s, "preload",
-               "preload must hold p values" + sized() + "; got " + std::to_string(c.preload->size()));
+        report(
+            s, "preload",
+            "preload must hold p values" + sized() + "; got " + std::to_string(c.preload->size()));
       else
         require_finite(s, "preload", *c.preload);
       if (c.is_actuated && !c.stiffness)
@@ -580,7 +580,8 @@ class Checker {
 
   void claim_listed_ends(const Subject& s, const std::string& at,
                          const std::vector<std::string>& links, const Owner& owner) {
-    const RepeatFinder repeats(links.size(), [&](std::size_t i) -> std::string_view { return links[i]; });
+    const RepeatFinder repeats(links.size(),
+                               [&](std::size_t i) -> std::string_view { return links[i]; });
     for (std::size_t i = 0; i < links.size(); ++i) {
       const Key key("links", i);
       if (repeats(i)) {
@@ -633,7 +634,8 @@ class Checker {
     for (std::size_t i = 0; i < model_.points.size(); ++i) {
       const Point& point = model_.points[i];
       // With every name once, point i is the one its name finds.
-      const auto ends = index_.names_repeat() ? index_.ends_at(point.name) : index_.ends_at(static_cast<int>(i));
+      const auto ends =
+          index_.names_repeat() ? index_.ends_at(point.name) : index_.ends_at(static_cast<int>(i));
       const auto named = [&](const detail::LinkEndRef& end) {
         return end_owner_[static_cast<std::size_t>(end.id())].noun != nullptr;
       };
@@ -643,9 +645,9 @@ class Checker {
       for (const auto& end : ends)
         if (!named(end)) unnamed.push_back(end_name(model_, end));
       report(subject_of(kPoints, point, i), "",
-               "at point '" + point.name + "' the link ends " + detail::comma_list(unnamed) +
-                   " are in no joint or support, while other link ends there are; add them to "
-                   "a joint or support");
+             "at point '" + point.name + "' the link ends " + detail::comma_list(unnamed) +
+                 " are in no joint or support, while other link ends there are; add them to "
+                 "a joint or support");
     }
   }
 
@@ -747,20 +749,24 @@ struct Finding {
   std::size_t others = 0;
 };
 
-void add_finding(std::vector<Finding>& findings, const Link& link, const std::string& key, std::string message) {
+void add_finding(std::vector<Finding>& findings, const Link& link, const std::string& key,
+                 std::string message) {
   for (Finding& f : findings)
     if (f.message == message) {
       ++f.others;
       return;
     }
-  findings.push_back({"links." + link.name + "." + key, locate(link.origin, key), std::move(message), 0});
+  findings.push_back(
+      {"links." + link.name + "." + key, locate(link.origin, key), std::move(message), 0});
 }
 
-void check_modulus(std::vector<Finding>& findings, const Link& link, const char* key, double value) {
+void check_modulus(std::vector<Finding>& findings, const Link& link, const char* key,
+                   double value) {
   if (value >= kLowestPlausibleModulus && value <= kHighestPlausibleModulus) return;
   const bool low = value < kLowestPlausibleModulus;
   add_finding(findings, link, std::string("material.") + key,
-              std::string(key) + " = " + shortest_text(value) + " Pa is " + (low ? "below" : "above") +
+              std::string(key) + " = " + shortest_text(value) + " Pa is " +
+                  (low ? "below" : "above") +
                   " the moduli of engineering materials (1e8 to 1e12 Pa): " +
                   (low ? "was it given in MPa or N/mm²? " : "was it given in another unit? ") +
                   "stiffmsa reads pascals (steel: E = 2.1e11 Pa)");
@@ -768,7 +774,8 @@ void check_modulus(std::vector<Finding>& findings, const Link& link, const char*
 
 // A beam is slender: a section metres wide and as wide as its link is long was likely given in
 // millimetres.
-void check_section_size(std::vector<Finding>& findings, const Link& link, const Section& section, double length) {
+void check_section_size(std::vector<Finding>& findings, const Link& link, const Section& section,
+                        double length) {
   if (!(length > 0)) return;
   for (const auto& dimension : detail::section_dimensions(section.shape)) {
     const std::string key = dimension.key;
@@ -778,9 +785,10 @@ void check_section_size(std::vector<Finding>& findings, const Link& link, const 
     const double width = outer ? value : key == "A" ? std::sqrt(value) : 0.0;
     if (width > kLargestPlausibleSectionSize && width >= length)
       add_finding(findings, link, "section." + key,
-                  key + " = " + shortest_text(value) + (outer ? " m" : " m²") + " gives a section " +
-                      (outer ? "" : "about " + shortest_text(width) + " m ") + "as wide as the link is long (" +
-                      shortest_text(length) + " m): was it given in millimetres? stiffmsa reads metres");
+                  key + " = " + shortest_text(value) + (outer ? " m" : " m²") +
+                      " gives a section " + (outer ? "" : "about " + shortest_text(width) + " m ") +
+                      "as wide as the link is long (" + shortest_text(length) +
+                      " m): was it given in millimetres? stiffmsa reads metres");
   }
 }
 
@@ -790,7 +798,8 @@ std::vector<Diagnostic> find_implausible_values(const Model& model) {
   return detail::find_implausible_values(model, detail::ModelIndex(model));
 }
 
-std::vector<Diagnostic> detail::find_implausible_values(const Model& model, const ModelIndex& index) {
+std::vector<Diagnostic> detail::find_implausible_values(const Model& model,
+                                                        const ModelIndex& index) {
   std::vector<Diagnostic> found;
   const double size = extent(model);
   if (size > kLargestPlausibleModelSize) {
@@ -798,7 +807,8 @@ std::vector<Diagnostic> detail::find_implausible_values(const Model& model, cons
     model_origin.location.file = model.source_file;
     found.push_back({model_origin.location, "points",
                      "the model is " + shortest_text(std::round(size)) +
-                         " m across (the diagonal of its points' box): were the coordinates given in millimetres? "
+                         " m across (the diagonal of its points' box): were the coordinates given "
+                         "in millimetres? "
                          "stiffmsa reads metres"});
   }
   std::vector<Finding> findings;
@@ -808,15 +818,18 @@ std::vector<Diagnostic> detail::find_implausible_values(const Model& model, cons
     if (!beam) continue;
     check_modulus(findings, link, "E", beam->material.E);
     if (beam->material.G) check_modulus(findings, link, "G", *beam->material.G);
-    const int from = index.point_of_end(2 * static_cast<int>(l)), to = index.point_of_end(2 * static_cast<int>(l) + 1);
+    const int from = index.point_of_end(2 * static_cast<int>(l)),
+              to = index.point_of_end(2 * static_cast<int>(l) + 1);
     if (from >= 0 && to >= 0)
       check_section_size(findings, link, beam->section,
                          (model.points[static_cast<std::size_t>(to)].position -
-                          model.points[static_cast<std::size_t>(from)].position).norm());
+                          model.points[static_cast<std::size_t>(from)].position)
+                             .norm());
   }
   for (Finding& f : findings) {
     if (f.others > 0)
-      f.message += " (and " + std::to_string(f.others) + (f.others == 1 ? " other link)" : " other links)");
+      f.message +=
+          " (and " + std::to_string(f.others) + (f.others == 1 ? " other link)" : " other links)");
     found.push_back({std::move(f.location), std::move(f.key_path), std::move(f.message)});
   }
   return found;

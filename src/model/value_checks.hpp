@@ -21,20 +21,16 @@ inline std::span<const SectionDimension> section_dimensions(SectionShape shape) 
   static constexpr SectionDimension circle[] = {{"D", &Section::D}};
   static constexpr SectionDimension tube[] = {{"D", &Section::D}, {"t", &Section::t}};
   static constexpr SectionDimension rect[] = {{"b", &Section::b}, {"h", &Section::h}};
-  static constexpr SectionDimension rect_tube[] = {{"b", &Section::b}, {"h", &Section::h}, {"t", &Section::t}};
+  static constexpr SectionDimension rect_tube[] = {
+      {"b", &Section::b}, {"h", &Section::h}, {"t", &Section::t}};
   static constexpr SectionDimension generic[] = {
       {"A", &Section::A}, {"Iy", &Section::Iy}, {"Iz", &Section::Iz}, {"J", &Section::J}};
   switch (shape) {
-    case SectionShape::circle:
-      return circle;
-    case SectionShape::tube:
-      return tube;
-    case SectionShape::rect:
-      return rect;
-    case SectionShape::rect_tube:
-      return rect_tube;
-    case SectionShape::generic:
-      return generic;
+    case SectionShape::circle: return circle;
+    case SectionShape::tube: return tube;
+    case SectionShape::rect: return rect;
+    case SectionShape::rect_tube: return rect_tube;
+    case SectionShape::generic: return generic;
   }
   return {};
 }

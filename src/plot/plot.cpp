@@ -294,7 +294,8 @@ constexpr double legend_offset = x_title_offset + label_line + 6;
 constexpr double subtitle_line = tick_size * 1.25 + 4;
 
 Frame frame_for(const std::string& title, const std::string& subtitle, bool legend) {
-  const double top = (title.empty() ? edge + 8 : edge + title_size * 1.25 + 14) + (subtitle.empty() ? 0 : subtitle_line);
+  const double top = (title.empty() ? edge + 8 : edge + title_size * 1.25 + 14) +
+                     (subtitle.empty() ? 0 : subtitle_line);
   return {0, top, 0, image_height - edge - legend_offset + 6 - (legend ? 6 + tick_line : 0)};
 }
 
@@ -380,9 +381,10 @@ void draw_axes(cairo_t* cr, const Frame& frame, Range x_range, const std::vector
   if (subtitle.empty()) return;
   set_font_to_fit(cr, subtitle, tick_size, image_width - 2 * edge);
   const double sub_half = text_width(cr, subtitle) / 2;
-  draw_text(cr, subtitle,
-            std::clamp((frame.left + frame.right) / 2, edge + sub_half, image_width - edge - sub_half),
-            edge + 2 + title_size * 1.25 + 4, 0.5, 1);
+  draw_text(
+      cr, subtitle,
+      std::clamp((frame.left + frame.right) / 2, edge + sub_half, image_width - edge - sub_half),
+      edge + 2 + title_size * 1.25 + 4, 0.5, 1);
 }
 
 // A black ring with a white outline around a flagged pose: it leaves the cell's colour or the
@@ -548,7 +550,8 @@ void draw_heatmap(cairo_t* cr, const Heatmap& plot) {
       }
   }
   if (any_missing || flags)
-    draw_legend(cr, frame, true, any_missing ? plot.no_value_label : "", flags ? plot.flagged_label : "");
+    draw_legend(cr, frame, true, any_missing ? plot.no_value_label : "",
+                flags ? plot.flagged_label : "");
   if (plot.marked) {
     const auto [ix, iy] = *plot.marked;
     draw_marker(cr, frame, frame.x(x_range, plot.x.values[ix]), frame.y(y_range, plot.y.values[iy]),
@@ -621,8 +624,10 @@ void draw_line_plot(cairo_t* cr, const LinePlot& plot) {
             titled(plot.quantity, plot.unit), plot.title, plot.subtitle);
   if (flags)
     for (std::size_t i = 0; i < xs.size(); ++i)
-      if (plot.flagged[i] && heights[i]) draw_ring(cr, frame.x(x_range, xs[i]), frame.y(y_range, *heights[i]), 5.5);
-  if (!legend.empty() || flags) draw_legend(cr, frame, false, legend, flags ? plot.flagged_label : "");
+      if (plot.flagged[i] && heights[i])
+        draw_ring(cr, frame.x(x_range, xs[i]), frame.y(y_range, *heights[i]), 5.5);
+  if (!legend.empty() || flags)
+    draw_legend(cr, frame, false, legend, flags ? plot.flagged_label : "");
   if (plot.marked && !marked_missing) {
     draw_marker(cr, frame, frame.x(x_range, xs[*plot.marked]),
                 frame.y(y_range, *heights[*plot.marked]), plot.marked_label);
@@ -670,7 +675,8 @@ void check_sizes(std::size_t values, std::size_t points, bool marked_inside, con
 
 void check_flags(std::size_t flags, std::size_t points, const fs::path& file) {
   if (flags != 0 && flags != points)
-    throw UsageError(cannot_write(file) + "there are " + counted(flags, "flag") + " for " + counted(points, "grid point"));
+    throw UsageError(cannot_write(file) + "there are " + counted(flags, "flag") + " for " +
+                     counted(points, "grid point"));
 }
 
 // Called by cairo with pieces of the file; exceptions must not cross its C frames.

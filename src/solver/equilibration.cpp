@@ -15,7 +15,7 @@ double inverse_sqrt_power_of_two(double m) {
   const auto biased = static_cast<int>((std::bit_cast<std::uint64_t>(m) >> 52) & 0x7ff);
   int exponent = biased - 1022;
   if (biased == 0) std::frexp(m, &exponent);  // subnormal
-  const int power = -(exponent >> 1);  // −⌊e/2⌋, in [−512, 537]
+  const int power = -(exponent >> 1);         // −⌊e/2⌋, in [−512, 537]
   return std::bit_cast<double>(static_cast<std::uint64_t>(power + 1023) << 52);
 }
 }  // namespace

@@ -106,8 +106,9 @@ class StiffnessCholesky final : public LinearSolver {
 
 }  // namespace
 
-std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& topology, const FramePlan& plan,
-                                         const EndWrenches& external, RowMajorMatX& x, double least_rcond) {
+std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& topology,
+                                         const FramePlan& plan, const EndWrenches& external,
+                                         RowMajorMatX& x, double least_rcond) {
   const Index n = 6 * static_cast<Index>(plan.nodes);
   const Index columns = external.columns();
   auto node_of = [&](int end) { return plan.node_of_end[static_cast<std::size_t>(end)]; };
@@ -133,8 +134,8 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
         if (row_node < 0 || column_node < 0) continue;
         for (Index i = 0; i < 6; ++i)
           for (Index j = 0; j < 6; ++j)
-            entries.emplace_back(static_cast<int>(6 * row_node + i), static_cast<int>(6 * column_node + j),
-                                 k12(6 * a + i, 6 * b + j));
+            entries.emplace_back(static_cast<int>(6 * row_node + i),
+                                 static_cast<int>(6 * column_node + j), k12(6 * a + i, 6 * b + j));
       }
   }
   SparseMatrix k(n, n);
@@ -159,7 +160,8 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   // F: the external wrenches at each node's ends; u = S·K̂⁻¹·S·F.
   MatX u = MatX::Zero(n, columns);
   for (int end = 0; end < topology.end_count(); ++end)
-    if (node_of(end) >= 0 && external.any_at(end)) u.middleRows<6>(6 * node_of(end)) += external.at(end);
+    if (node_of(end) >= 0 && external.any_at(end))
+      u.middleRows<6>(6 * node_of(end)) += external.at(end);
   u = scale.asDiagonal() * u;
   cholesky.solve(u);
   u = scale.asDiagonal() * u;

@@ -13,9 +13,9 @@
 // Condensing squares what the mixed system keeps apart: K's condition grows as the links get
 // shorter and more numerous (a 10 000-link chain's loses every digit, as bench/README.md
 // records), and a backward-stable Cholesky leaves a small residual however many digits it
-// lost, so the check alone cannot see it. The solve therefore estimates K's condition (Hager's estimate on
-// the factors, K scaled to a unit diagonal so that units do not count) and declines below
-// kFrameLeastRcond; the factorising solve then decides. Trees are solved on the tree before
+// lost, so the check alone cannot see it. The solve therefore estimates K's condition (Hager's
+// estimate on the factors, K scaled to a unit diagonal so that units do not count) and declines
+// below kFrameLeastRcond; the factorising solve then decides. Trees are solved on the tree before
 // this is tried.
 #include <optional>
 #include <vector>
@@ -28,14 +28,14 @@ namespace stiffmsa::detail {
 
 // Which link ends share a deflection: the value-independent part of a frame solve.
 struct FramePlan {
-  std::vector<int> node_of_end;  // per link end: its connection's node, −1 where a rigid support holds it
-  int nodes = 0;                 // connections that are not supports, 6 unknowns each
+  std::vector<int>
+      node_of_end;  // per link end: its connection's node, −1 where a rigid support holds it
+  int nodes = 0;    // connections that are not supports, 6 unknowns each
 };
 
 // The plan where the model is a frame as above with at least one rigid support and one node;
 // nullopt else.
 std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& blocks);
-
 
 struct FrameSolution {
   double reciprocal_condition = 0;  // of K, scaled by its diagonal (Hager's estimate)
@@ -46,8 +46,8 @@ struct FrameSolution {
 // with x unspecified, where the blocks are not those of a frame (a pose of other blocks than
 // the plan's), K is not positive definite or its reciprocal condition estimate is below
 // `least_rcond`.
-std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& topology, const FramePlan& plan,
-                                         const EndWrenches& external, RowMajorMatX& x,
-                                         double least_rcond = kFrameLeastRcond);
+std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& topology,
+                                         const FramePlan& plan, const EndWrenches& external,
+                                         RowMajorMatX& x, double least_rcond = kFrameLeastRcond);
 
 }  // namespace stiffmsa::detail

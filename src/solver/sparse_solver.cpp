@@ -27,7 +27,9 @@ class EigenSparseLU final : public LinearSolver {
   void solve(MatX& b) const override { b = lu_.solve(b); }
   void solve_transposed(MatX& b) const override {
     // SparseLU's transpose view is not const-qualified.
-    b = const_cast<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>&>(lu_).transpose().solve(b);
+    b = const_cast<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>&>(lu_)
+            .transpose()
+            .solve(b);
   }
   const char* name() const override { return "sparse_lu"; }
 
@@ -48,7 +50,8 @@ class UmfpackLU final : public LinearSolver {
     const int status = umfpack_di_symbolic(static_cast<int>(a.rows()), static_cast<int>(a.cols()),
                                            a.outerIndexPtr(), a.innerIndexPtr(), nullptr,
                                            &symbolic_, control_, nullptr);
-    if (status != UMFPACK_OK) throw Error("UMFPACK symbolic analysis failed (status " + std::to_string(status) + ")");
+    if (status != UMFPACK_OK)
+      throw Error("UMFPACK symbolic analysis failed (status " + std::to_string(status) + ")");
   }
   bool factorize(const SparseMatrix& a) override {
     if (numeric_) umfpack_di_free_numeric(&numeric_);
@@ -108,8 +111,10 @@ class KluLU final : public LinearSolver {
   void analyze(const SparseMatrix& a) override {
     release();
     n_ = static_cast<int>(a.rows());
-    symbolic_ = klu_analyze(n_, const_cast<int*>(a.outerIndexPtr()), const_cast<int*>(a.innerIndexPtr()), &common_);
-    if (!symbolic_) throw Error("KLU symbolic analysis failed (status " + std::to_string(common_.status) + ")");
+    symbolic_ = klu_analyze(n_, const_cast<int*>(a.outerIndexPtr()),
+                            const_cast<int*>(a.innerIndexPtr()), &common_);
+    if (!symbolic_)
+      throw Error("KLU symbolic analysis failed (status " + std::to_string(common_.status) + ")");
     reference_state_ = Reference::none_yet;
   }
   bool factorize(const SparseMatrix& a) override {
@@ -117,8 +122,9 @@ class KluLU final : public LinearSolver {
     int* const ai = const_cast<int*>(a.innerIndexPtr());
     double* const ax = const_cast<double*>(a.valuePtr());
     if (reference_state_ == Reference::fixed) {
-      reused_ = klu_refactor(ap, ai, ax, symbolic_, reference_, &common_) && common_.status == KLU_OK &&
-                multipliers_within_threshold() && klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_) &&
+      reused_ = klu_refactor(ap, ai, ax, symbolic_, reference_, &common_) &&
+                common_.status == KLU_OK && multipliers_within_threshold() &&
+                klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_) &&
                 common_.rgrowth * kMaxGrowthLoss >= reference_growth_;
       if (reused_) {
         active_ = reference_;
@@ -130,8 +136,9 @@ class KluLU final : public LinearSolver {
     reused_ = false;
     const bool ok = factorize_afresh(ap, ai, ax, reference_);
     if (reference_state_ == Reference::none_yet) {
-      reference_state_ = ok && klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_) ? Reference::fixed
-                                                                                           : Reference::unusable;
+      reference_state_ = ok && klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_)
+                             ? Reference::fixed
+                             : Reference::unusable;
       reference_growth_ = common_.rgrowth;
     }
     return ok;
@@ -158,9 +165,9 @@ class KluLU final : public LinearSolver {
     multipliers_.resize(entries);
     multiplier_rows_.resize(entries);
     multiplier_starts_.resize(static_cast<std::size_t>(n_) + 1);
-    if (!klu_extract(reference_, symbolic_, multiplier_starts_.data(), multiplier_rows_.data(), multipliers_.data(),
-                     nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
-                     &common_))
+    if (!klu_extract(reference_, symbolic_, multiplier_starts_.data(), multiplier_rows_.data(),
+                     multipliers_.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+                     nullptr, nullptr, nullptr, nullptr, &common_))
       return false;
     for (double l : multipliers_)
       if (!(std::abs(l) <= kMaxMultiplier)) return false;
@@ -253,7 +260,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind) {
     case SolverKind::klu: break;
 #endif
   }
-  throw UsageError(std::string("the solver '") + to_string(kind) + "' is not built into this stiffmsa");
+  throw UsageError(std::string("the solver '") + to_string(kind) +
+                   "' is not built into this stiffmsa");
 }
 
 FactorizedSystem::FactorizedSystem(SolverKind kind) : solver_(make_linear_solver(kind)) {}
@@ -296,7 +304,9 @@ bool FactorizedSystem::factorize(const SparseMatrix& a, double singular_rcond) {
 double estimate_reciprocal_condition(const LinearSolver& factors, const SparseMatrix& a) {
   const double inverse_norm = estimate_inverse_norm1(factors, a.rows());
   const double a_norm = norm_1(a);
-  return (std::isfinite(inverse_norm) && inverse_norm > 0 && a_norm > 0) ? 1.0 / (a_norm * inverse_norm) : 0.0;
+  return (std::isfinite(inverse_norm) && inverse_norm > 0 && a_norm > 0)
+             ? 1.0 / (a_norm * inverse_norm)
+             : 0.0;
 }
 
 double estimate_inverse_norm1(const LinearSolver& lu, Index n) {
@@ -306,7 +316,8 @@ double estimate_inverse_norm1(const LinearSolver& lu, Index n) {
   MatX start(n, 2);
   start.col(0).setConstant(1.0 / static_cast<double>(n));
   for (Index i = 0; i < n; ++i)
-    start(i, 1) = (i % 2 ? -1.0 : 1.0) * (1.0 + static_cast<double>(i) / static_cast<double>(std::max<Index>(n - 1, 1)));
+    start(i, 1) = (i % 2 ? -1.0 : 1.0) *
+                  (1.0 + static_cast<double>(i) / static_cast<double>(std::max<Index>(n - 1, 1)));
   lu.solve(start);
   const double alternative = 2.0 * start.col(1).lpNorm<1>() / (3.0 * static_cast<double>(n));
   if (!std::isfinite(alternative)) return INFINITY;
@@ -349,7 +360,8 @@ class SparseColumns {
   Index rows() const { return columns_.rows(); }
   double norm_inf(Index c) const {
     double largest = 0;
-    for (SparseMatrix::InnerIterator e(columns_, c); e; ++e) largest = std::max(largest, std::abs(e.value()));
+    for (SparseMatrix::InnerIterator e(columns_, c); e; ++e)
+      largest = std::max(largest, std::abs(e.value()));
     return largest;
   }
   // f(row, value) for every nonzero of column c.
@@ -367,7 +379,8 @@ namespace {
 // ‖r‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) from ‖r‖∞ (finite, ≥ 0).
 template <class X>
 double normwise(double residual_norm, double a_norm_inf, const X& x, double b_norm_inf) {
-  return normwise_backward_error(residual_norm, a_norm_inf, x.template lpNorm<Eigen::Infinity>(), b_norm_inf);
+  return normwise_backward_error(residual_norm, a_norm_inf, x.template lpNorm<Eigen::Infinity>(),
+                                 b_norm_inf);
 }
 
 // r = b − A·x accumulated in extended precision: refinement then converges to the solution as
@@ -375,7 +388,9 @@ double normwise(double residual_norm, double a_norm_inf, const X& x, double b_no
 class ExtendedResidual {
  public:
   explicit ExtendedResidual(const SparseMatrix& a)
-      : a_(a), sum_(static_cast<std::size_t>(a.rows())), magnitude_(static_cast<std::size_t>(a.rows())) {}
+      : a_(a),
+        sum_(static_cast<std::size_t>(a.rows())),
+        magnitude_(static_cast<std::size_t>(a.rows())) {}
 
   // Of column c of b.
   template <class X, class R>
@@ -405,7 +420,9 @@ class ExtendedResidual {
       const double size = std::abs(r(i));
       finite &= std::isfinite(size);
       largest = std::max(largest, size);
-      if (size > 0) error.componentwise = std::max(error.componentwise, magnitude_[k] > 0 ? size / magnitude_[k] : INFINITY);
+      if (size > 0)
+        error.componentwise =
+            std::max(error.componentwise, magnitude_[k] > 0 ? size / magnitude_[k] : INFINITY);
     }
     if (!finite) return {INFINITY, INFINITY};
     error.normwise = normwise(largest, a_norm_inf, x, b.norm_inf(c));
@@ -433,19 +450,23 @@ namespace {
 // of A updates k adjacent sums from k adjacent values, where k sparse products, one per
 // column, would each wait on their own read-modify-write chain.
 // Columns first .. first + x.cols() − 1 of B − A·X.
-RowMajorMatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x, const SparseColumns& b, Index first) {
+RowMajorMatX residuals(const SparseMatrix& a, const Eigen::Ref<const MatX>& x,
+                       const SparseColumns& b, Index first) {
   const RowMajorMatX x_rows = x;
   RowMajorMatX r = RowMajorMatX::Zero(x.rows(), x.cols());
-  for (Index c = 0; c < r.cols(); ++c) b.for_each(first + c, [&](Index i, double v) { r(i, c) = v; });
+  for (Index c = 0; c < r.cols(); ++c)
+    b.for_each(first + c, [&](Index i, double v) { r(i, c) = v; });
   for (Index j = 0; j < a.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator e(a, j); e; ++e) r.row(e.row()).noalias() -= e.value() * x_rows.row(j);
+    for (SparseMatrix::InnerIterator e(a, j); e; ++e)
+      r.row(e.row()).noalias() -= e.value() * x_rows.row(j);
   return r;
 }
 
 // Per column, ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞) with the residual in double. The residuals of
 // as many columns at once as fit in kResidualBlockEntries: all of a robot's, one at a time on
 // a long chain (where n×k more doubles would raise the peak memory by 134 MB).
-std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_norm_inf, const MatX& x, const SparseColumns& b) {
+std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_norm_inf,
+                                             const MatX& x, const SparseColumns& b) {
   constexpr Index kResidualBlockEntries = Index{1} << 20;
   const Index block = std::max<Index>(1, kResidualBlockEntries / std::max<Index>(1, x.rows()));
   std::vector<double> errors(static_cast<std::size_t>(x.cols()));
@@ -454,16 +475,18 @@ std::vector<double> normwise_backward_errors(const SparseMatrix& a, double a_nor
     const RowMajorMatX r = residuals(a, x.middleCols(first, count), b, first);
     for (Index c = first; c < first + count; ++c) {
       const double numerator = r.col(c - first).lpNorm<Eigen::Infinity>();
-      errors[static_cast<std::size_t>(c)] = std::isfinite(numerator) && x.col(c).allFinite()
-                                                ? normwise(numerator, a_norm_inf, x.col(c), b.norm_inf(c))
-                                                : INFINITY;
+      errors[static_cast<std::size_t>(c)] =
+          std::isfinite(numerator) && x.col(c).allFinite()
+              ? normwise(numerator, a_norm_inf, x.col(c), b.norm_inf(c))
+              : INFINITY;
     }
   }
   return errors;
 }
 }  // namespace
 
-double normwise_backward_error(double residual_norm, double a_norm_inf, double x_norm_inf, double b_norm_inf) {
+double normwise_backward_error(double residual_norm, double a_norm_inf, double x_norm_inf,
+                               double b_norm_inf) {
   if (residual_norm == 0) return 0.0;
   const double scale = a_norm_inf * x_norm_inf + b_norm_inf;
   return scale > 0 ? residual_norm / scale : INFINITY;
@@ -493,7 +516,8 @@ MatX FactorizedSystem::solve(MatX b, int refinement_steps, double& residual) con
   return x;
 }
 
-void FactorizedSystem::refine(const SparseColumns& b, int steps, MatX& x, std::vector<BackwardError>& error) const {
+void FactorizedSystem::refine(const SparseColumns& b, int steps, MatX& x,
+                              std::vector<BackwardError>& error) const {
   // Column by column, each with its own n-vectors: the residual, solved in place into the
   // correction; the next residual; the column before the step, so that a step that makes it
   // worse can be taken back. (An n×k residual block would save little solve time and cost

@@ -42,7 +42,8 @@ double estimate_reciprocal_condition(const LinearSolver& factors, const SparseMa
 struct Equilibration {
   VecX row, column;
 };
-Equilibration equilibrate(const SparseMatrix& a, const Equilibration* start = nullptr, int iterations = 8);
+Equilibration equilibrate(const SparseMatrix& a, const Equilibration* start = nullptr,
+                          int iterations = 8);
 
 struct BackwardError {
   double normwise = 0;       // ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞)
@@ -98,6 +99,7 @@ double relative_residual(const SparseMatrix& a, const MatX& x, const MatX& b);
 
 // That ratio from its norms (residual finite and ≥ 0): 0 for a zero residual, +inf where the
 // denominator vanishes and the residual does not.
-double normwise_backward_error(double residual_norm, double a_norm_inf, double x_norm_inf, double b_norm_inf);
+double normwise_backward_error(double residual_norm, double a_norm_inf, double x_norm_inf,
+                               double b_norm_inf);
 
 }  // namespace stiffmsa::detail

@@ -16,7 +16,8 @@ std::optional<TreeOrder> tree_order(const Topology& topology) {
   TreeOrder order;
   // Other supports close loops through the ground: they are cut (ElementBlock::cut_unknowns).
   for (int g = 0; g < group_count && order.root < 0; ++g)
-    if (topology.groups[static_cast<std::size_t>(g)].kind == ConnectionGroup::Kind::support) order.root = g;
+    if (topology.groups[static_cast<std::size_t>(g)].kind == ConnectionGroup::Kind::support)
+      order.root = g;
   if (order.root < 0 || group_count != topology.link_count + 1) return std::nullopt;
   std::vector<char> reached(static_cast<std::size_t>(group_count), 0);
   order.groups.reserve(static_cast<std::size_t>(group_count));
@@ -40,12 +41,14 @@ std::optional<TreeOrder> tree_order(const Topology& topology) {
       order.depth = std::max(order.depth, depth.back());
     }
   }
-  if (order.groups.size() != static_cast<std::size_t>(group_count)) return std::nullopt;  // not connected
+  if (order.groups.size() != static_cast<std::size_t>(group_count))
+    return std::nullopt;  // not connected
   return order;
 }
 
 bool passes_tree(const Blocks& blocks) {
-  return std::all_of(blocks.begin(), blocks.end(), [](const auto& block) { return block->passes_tree(); });
+  return std::all_of(blocks.begin(), blocks.end(),
+                     [](const auto& block) { return block->passes_tree(); });
 }
 
 EndWrenches load_cases(const Model& model, const Topology& topology) {
@@ -57,9 +60,11 @@ EndWrenches load_cases(const Model& model, const Topology& topology) {
 void load_cases_into(const Model& model, const Topology& topology, EndWrenches& cases) {
   cases.reset(topology.end_count(), 1 + 6 * static_cast<Index>(topology.effector_ends.size()));
   for (std::size_t i = 0; i < model.loads.size(); ++i)
-    if (!model.loads[i].wrench.isZero(0)) cases.add(topology.load_ends[i], kLoadCase, model.loads[i].wrench);
+    if (!model.loads[i].wrench.isZero(0))
+      cases.add(topology.load_ends[i], kLoadCase, model.loads[i].wrench);
   for (std::size_t e = 0; e < topology.effector_ends.size(); ++e)
-    for (int c = 0; c < 6; ++c) cases.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
+    for (int c = 0; c < 6; ++c)
+      cases.add(topology.effector_ends[e], 1 + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
 }
 
 namespace {
@@ -81,7 +86,8 @@ Index width(Index runtime) {
 template <int Columns>
 class ColumnMaxima {
  public:
-  explicit ColumnMaxima(Index columns) : largest_(Values::Zero(columns)), marks_(Values::Zero(columns)) {}
+  explicit ColumnMaxima(Index columns)
+      : largest_(Values::Zero(columns)), marks_(Values::Zero(columns)) {}
   // `rows` rows of the columns, stored by rows one after the other.
   void add(const double* values, Index rows) {
     if constexpr (Columns != Eigen::Dynamic) {
@@ -146,10 +152,13 @@ class PositionHash {
 
 class PatternHash final : public EquationWriter, public PositionHash {
  public:
-  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients, double) override {
+  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients,
+                        double) override {
     block(row, column, coefficients);
   }
-  void add_identity(Index row, Index column, Index size, double) override { identity(row, column, size); }
+  void add_identity(Index row, Index column, Index size, double) override {
+    identity(row, column, size);
+  }
 };
 
 // r = −A_block·x over one block's rows (written from row 0), the row sums of |A_block|, and
@@ -174,7 +183,8 @@ class BlockResidual final : public EquationWriter, public PositionHash {
   auto residual() { return residual_.topRows(rows_); }
   auto row_sums() const { return row_sums_.head(rows_); }
 
-  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients, double scale) override {
+  void add_coefficients(Index row, Index column, const CoefficientBlock& coefficients,
+                        double scale) override {
     block(row, column, coefficients);
     const Index rows = coefficients.rows(), columns = coefficients.cols();
     eigen_assert(row >= 0 && row + rows <= rows_ && column >= 0 && column + columns <= x_.rows());
@@ -214,7 +224,8 @@ class BlockResidual final : public EquationWriter, public PositionHash {
     if (scale == 0) return;
     nonzeros += size;
     row_sums_.segment(row, size).array() += std::abs(scale);
-    // The residual and x are separate buffers: one run of size·k values, as arrays that do not alias.
+    // The residual and x are separate buffers: one run of size·k values, as arrays that do not
+    // alias.
     const Index k = width<Columns>(x_.cols());
     Eigen::Map<Eigen::ArrayXd> out(residual_.data() + row * k, size * k);
     const Eigen::Map<const Eigen::ArrayXd> in(x_.data() + column * k, size * k);
@@ -245,8 +256,8 @@ Index most_equation_rows(const Blocks& blocks) {
 // at the link ends it holds (links hold none; connection group g is block link_count + g) and
 // its preload. False, with `rhs` untouched, where it is zero. `column` is scratch of the
 // block's rows at least.
-bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology, const EndWrenches& external,
-               VecX& column, RowMajorMatX& rhs) {
+bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology,
+               const EndWrenches& external, VecX& column, RowMajorMatX& rhs) {
   const ElementBlock& block = *blocks[k];
   const Index rows = block.equation_count();
   auto block_column = column.head(rows);
@@ -284,7 +295,7 @@ void size_rhs_buffers(VecX& column, RowMajorMatX& rhs, Index most_rows, Index co
 
 template <int Columns>
 BlockCheck check_blocks(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                       const EndWrenches& external, TreeScratch& scratch) {
+                        const EndWrenches& external, TreeScratch& scratch) {
   const Index columns = x.cols();
   const Index most_rows = most_equation_rows(blocks);
   BlockResidual<Columns> block_residual(x, most_rows, scratch.block_residual, scratch.row_sums);
@@ -311,10 +322,11 @@ BlockCheck check_blocks(const Blocks& blocks, const Topology& topology, const Ro
   check.pattern = block_residual.hash;
   x_norm.add(x.data(), x.rows());
   for (Index c = 0; c < columns; ++c) {
-    const bool finite = std::isfinite(a_norm(0)) && std::isfinite(x_norm(c)) && std::isfinite(rhs_norm(c)) &&
-                        std::isfinite(residual_norm(c));
+    const bool finite = std::isfinite(a_norm(0)) && std::isfinite(x_norm(c)) &&
+                        std::isfinite(rhs_norm(c)) && std::isfinite(residual_norm(c));
     const double error =
-        finite ? normwise_backward_error(residual_norm(c), a_norm(0), x_norm(c), rhs_norm(c)) : INFINITY;
+        finite ? normwise_backward_error(residual_norm(c), a_norm(0), x_norm(c), rhs_norm(c))
+               : INFINITY;
     if (!(error <= check.relative_residual)) check.relative_residual = error;
   }
   return check;
@@ -328,8 +340,9 @@ std::uint64_t pattern_fingerprint(const Blocks& blocks) {
   return hash.hash;
 }
 
-BlockCheck check_block_by_block(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external, TreeScratch& scratch) {
+BlockCheck check_block_by_block(const Blocks& blocks, const Topology& topology,
+                                const RowMajorMatX& x, const EndWrenches& external,
+                                TreeScratch& scratch) {
   // One end effector, 1 + 6 load cases, is the common case.
   if (x.cols() == 7) return check_blocks<7>(blocks, topology, x, external, scratch);
   return check_blocks<Eigen::Dynamic>(blocks, topology, x, external, scratch);
@@ -343,7 +356,8 @@ void release_if_large(RowMajorMatX& buffer) {
 }  // namespace
 
 void TreeScratch::release_large() {
-  for (RowMajorMatX* buffer : {&x, &x_low, &first_run, &first_run_low, &cut_rhs, &block_residual, &block_rhs})
+  for (RowMajorMatX* buffer :
+       {&x, &x_low, &first_run, &first_run_low, &cut_rhs, &block_residual, &block_rhs})
     release_if_large(*buffer);
 }
 
@@ -355,22 +369,24 @@ struct CutLayout {
   Index unknowns = 0;
 };
 
-CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& order, std::vector<Index>& first) {
+CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& order,
+                     std::vector<Index>& first) {
   CutLayout layout{first};
   layout.first.clear();
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
     layout.first.push_back(layout.unknowns);
-    layout.unknowns +=
-        blocks[static_cast<std::size_t>(link_count + order.groups[k])]->cut_unknowns(order.toward_root[k]);
+    layout.unknowns += blocks[static_cast<std::size_t>(link_count + order.groups[k])]->cut_unknowns(
+        order.toward_root[k]);
   }
   return layout;
 }
 
 // The two passes into x, with the cut unknowns' values of each column (null where nothing is
 // cut); x_low is scratch, used where `compensated`.
-void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
-                const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns, bool compensated,
-                RowMajorMatX& x, RowMajorMatX& x_low, RowMajorMatX& increment) {
+void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order,
+                const CutLayout& layout, const RowMajorMatX* cut_values,
+                const EndWrenches& external, Index unknowns, bool compensated, RowMajorMatX& x,
+                RowMajorMatX& x_low, RowMajorMatX& increment) {
   // Not zeroed: the passes set every link end's rows (both parts where compensated).
   x.resize(unknowns, external.columns());
   if (compensated) x_low.resize(unknowns, external.columns());
@@ -381,7 +397,9 @@ void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, co
     state.cut_first = layout.first[k];
     return *blocks[static_cast<std::size_t>(link_count + order.groups[k])];
   };
-  auto link_block = [&](int end) -> const ElementBlock& { return *blocks[static_cast<std::size_t>(end / 2)]; };
+  auto link_block = [&](int end) -> const ElementBlock& {
+    return *blocks[static_cast<std::size_t>(end / 2)];
+  };
   // Leaves first: a group's other ends got their wrenches from the links beyond them.
   for (std::size_t k = order.groups.size(); k-- > 1;) {
     const int end = order.toward_root[k];
@@ -396,7 +414,8 @@ void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, co
   }
   if (!compensated) return;
   x += x_low;
-  release_if_large(x_low);  // so that a long model's low parts do not add to the peak beyond the passes
+  release_if_large(
+      x_low);  // so that a long model's low parts do not add to the peak beyond the passes
 }
 
 // −A·x on chosen rows of a block, each added into a row of `out`: the cut rows alone, so that
@@ -404,7 +423,8 @@ void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order, co
 class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
  public:
   // `target` is scratch.
-  CutRowResidual(const RowMajorMatX& x, RowMajorMatX& out, Index most_rows, std::vector<Index>& target)
+  CutRowResidual(const RowMajorMatX& x, RowMajorMatX& out, Index most_rows,
+                 std::vector<Index>& target)
       : x_(x), out_(out), target_(target) {
     target_.resize(static_cast<std::size_t>(most_rows));
   }
@@ -431,8 +451,9 @@ class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
 
 // b − A·x on the cut rows of the cut blocks, in the order of the layout (m rows), into
 // scratch.cut_residuals.
-void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order, const RowMajorMatX& x,
-                   const EndWrenches& external, Index m, TreeScratch& scratch) {
+void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
+                   const RowMajorMatX& x, const EndWrenches& external, Index m,
+                   TreeScratch& scratch) {
   const Index most_rows = most_equation_rows(blocks);
   RowMajorMatX& values = scratch.cut_residuals;
   values.setZero(m, x.cols());
@@ -451,7 +472,8 @@ void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrd
     residual.start(rows, next);
     block.write_equations(0, residual);
     if (block_rhs(blocks, b, topology, external, column, rhs))
-      for (std::size_t i = 0; i < rows.size(); ++i) values.row(next + static_cast<Index>(i)) += rhs.row(rows[i]);
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        values.row(next + static_cast<Index>(i)) += rhs.row(rows[i]);
     next += static_cast<Index>(rows.size());
   }
   eigen_assert(next == m);
@@ -459,17 +481,18 @@ void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrd
 
 }  // namespace
 
-std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                                const EndWrenches& external, double least_rcond, TreeScratch& scratch,
-                                Index most_cut_unknowns, int compensated_from_depth) {
+std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
+                                const TreeOrder& order, const EndWrenches& external,
+                                double least_rcond, TreeScratch& scratch, Index most_cut_unknowns,
+                                int compensated_from_depth) {
   const bool compensated = order.depth >= compensated_from_depth;
   const int link_count = topology.link_count;
   const Index unknowns = topology.unknowns();
   const CutLayout layout = cut_layout(blocks, link_count, order, scratch.cut_first);
   const Index m = layout.unknowns;
   if (m == 0) {
-    run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, compensated, scratch.x,
-               scratch.x_low, scratch.increment);
+    run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, compensated,
+               scratch.x, scratch.x_low, scratch.increment);
     return 0;
   }
   if (m > most_cut_unknowns) return std::nullopt;
@@ -525,8 +548,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, 
   // Second run: the load cases with the cut unknowns solved.
   RowMajorMatX& cut_values = scratch.cut_values;
   cut_values = z;
-  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated, scratch.x,
-             scratch.x_low, scratch.increment);
+  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated,
+             scratch.x, scratch.x_low, scratch.increment);
   return m;
 }
 

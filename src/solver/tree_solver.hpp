@@ -31,10 +31,11 @@
 namespace stiffmsa::detail {
 
 struct TreeOrder {
-  int root = -1;                 // the first support's connection group
-  std::vector<int> groups;       // breadth first from the root, the root first
-  std::vector<int> toward_root;  // per entry of `groups`: its link end on the path to the root (−1 at the root)
-  int depth = 0;                 // the most links on a path from the root
+  int root = -1;            // the first support's connection group
+  std::vector<int> groups;  // breadth first from the root, the root first
+  std::vector<int>
+      toward_root;  // per entry of `groups`: its link end on the path to the root (−1 at the root)
+  int depth = 0;    // the most links on a path from the root
 };
 
 // The order of a tree solve; nullopt where the links and connection groups do not form a tree
@@ -100,8 +101,9 @@ struct TreeScratch {
 // to decide, where there are more than `most_cut_unknowns` cut unknowns or their system's
 // equilibrated reciprocal condition estimate is below `least_rcond` (a mechanism, a structure
 // held rigidly twice over, or nearly so); scratch.x then holds nothing of this model's.
-std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology, const TreeOrder& order,
-                                const EndWrenches& external, double least_rcond, TreeScratch& scratch,
+std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
+                                const TreeOrder& order, const EndWrenches& external,
+                                double least_rcond, TreeScratch& scratch,
                                 Index most_cut_unknowns = kMostCutUnknowns,
                                 int compensated_from_depth = kCompensatedFromDepth);
 
@@ -117,7 +119,8 @@ struct BlockCheck {
 std::uint64_t pattern_fingerprint(const Blocks& blocks);
 
 // `x` may be scratch.x: the check writes only the scratch's block buffers.
-BlockCheck check_block_by_block(const Blocks& blocks, const Topology& topology, const RowMajorMatX& x,
-                              const EndWrenches& external, TreeScratch& scratch);
+BlockCheck check_block_by_block(const Blocks& blocks, const Topology& topology,
+                                const RowMajorMatX& x, const EndWrenches& external,
+                                TreeScratch& scratch);
 
 }  // namespace stiffmsa::detail

@@ -31,8 +31,8 @@ int main() {
   // A force alone (the tip free to turn): 1 / C_yy. (K = C⁻¹ holds the turn, 12·E·I/L³.)
   const double got = 1 / (*compliance)(1, 1);
   const double relative = std::abs(got - expected) / expected;
-  std::printf("tip stiffness along y: %.12g N/m (3EI/L^3 = %.12g N/m, relative difference %.1e)\n", got,
-              expected, relative);
+  std::printf("tip stiffness along y: %.12g N/m (3EI/L^3 = %.12g N/m, relative difference %.1e)\n",
+              got, expected, relative);
   constexpr double kRoundOff = 1e-9;
   return relative <= kRoundOff ? 0 : 1;
 }

@@ -52,7 +52,8 @@ using ParameterSettings = std::map<std::string, double>;
 ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits = {},
                               const ParameterSettings& settings = {});
 ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
-                               const LoadLimits& limits = {}, const ParameterSettings& settings = {});
+                               const LoadLimits& limits = {},
+                               const ParameterSettings& settings = {});
 
 // A model as a plain model file (format stiffmsa/1, no parameters, no robot block), that reads
 // back to the same numbers: what `stiffmsa expand` writes. write_model_file() writes it whole

@@ -11,8 +11,8 @@
 namespace stiffmsa {
 
 struct PlotAxis {
-  std::string name;  // e.g. a parameter's name, "x"
-  std::string unit;  // e.g. "m"; empty: no unit shown
+  std::string name;            // e.g. a parameter's name, "x"
+  std::string unit;            // e.g. "m"; empty: no unit shown
   std::vector<double> values;  // the grid coordinates, ascending
 };
 

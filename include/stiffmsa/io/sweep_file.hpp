@@ -29,8 +29,17 @@ std::optional<double> parse_plain_number(std::string_view text);
 // per end effector E, E.k_trans_min … E.deflection_rot, E.cond_trans, with a direction
 // E.k_trans_dir and E.k_rot_dir, and with `full` E.C11 … E.K66.
 enum class SweepQuantity {
-  k_trans_min, k_trans_max, k_rot_min, k_rot_max, deflection_trans, deflection_rot,
-  compliance, stiffness, cond_trans, k_trans_dir, k_rot_dir,
+  k_trans_min,
+  k_trans_max,
+  k_rot_min,
+  k_rot_max,
+  deflection_trans,
+  deflection_rot,
+  compliance,
+  stiffness,
+  cond_trans,
+  k_trans_dir,
+  k_rot_dir,
 };
 struct SweepColumn {
   std::string name;  // e.g. "platform.k_trans_min"
@@ -75,7 +84,9 @@ struct SweepRows {
   std::span<const double> pose(std::size_t row) const {
     return {parameters.data() + row * parameter_count, parameter_count};
   }
-  double value(std::size_t row, std::size_t column) const { return values[row * column_count + column]; }
+  double value(std::size_t row, std::size_t column) const {
+    return values[row * column_count + column];
+  }
 };
 
 // The rows as bytes and back, for passing between processes of one machine type (MPI ranks).
@@ -83,10 +94,12 @@ void serialize_rows(std::string& out, const SweepRows& rows);
 SweepRows deserialize_rows(std::string_view bytes);
 
 // The rows of `sweep` (its poses being the whole sweep's from `first_pose` on).
-SweepRows sweep_rows(const SweepResult& sweep, const std::vector<SweepColumn>& columns, std::size_t first_pose = 0);
+SweepRows sweep_rows(const SweepResult& sweep, const std::vector<SweepColumn>& columns,
+                     std::size_t first_pose = 0);
 
 // The CSV's first line, and its rows (sweep_to_csv is the header followed by every row).
-std::string sweep_csv_header(const std::vector<std::string>& parameters, const std::vector<SweepColumn>& columns);
+std::string sweep_csv_header(const std::vector<std::string>& parameters,
+                             const std::vector<SweepColumn>& columns);
 void append_sweep_csv_rows(std::string& out, const SweepRows& rows);
 
 // A status from its name in the files ("free-motion").
@@ -161,8 +174,9 @@ class SweepCsvReader {
 bool is_worse(const SweepColumn& column, double a, double b);
 
 // The summary JSON of a sweep described by `run` (model, swept parameters, units, grid, end
-// effectors, fixed parameters, direction, warnings, threads, seconds; its results are not read). Pose indices are the whole sweep's;
-// CSV lines count from `csv_first_pose`, the first pose of the file the summary sits beside.
+// effectors, fixed parameters, direction, warnings, threads, seconds; its results are not read).
+// Pose indices are the whole sweep's; CSV lines count from `csv_first_pose`, the first pose of the
+// file the summary sits beside.
 std::string sweep_summary_to_json(const SweepResult& run, bool full, const SweepSummary& summary,
                                   const std::string& csv_file, std::size_t csv_first_pose = 0);
 

@@ -16,7 +16,8 @@ class SweepHdf5Writer {
  public:
   // The file appears at `target` whole at commit(), or not at all. Throws IoError.
   SweepHdf5Writer(const std::filesystem::path& target, const std::vector<std::string>& parameters,
-                  const std::vector<std::string>& parameter_units, const std::vector<SweepColumn>& columns);
+                  const std::vector<std::string>& parameter_units,
+                  const std::vector<SweepColumn>& columns);
   SweepHdf5Writer(const SweepHdf5Writer&) = delete;
   SweepHdf5Writer& operator=(const SweepHdf5Writer&) = delete;
   ~SweepHdf5Writer();

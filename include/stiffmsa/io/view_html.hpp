@@ -28,7 +28,8 @@ struct ModelViewOptions {
 
 // The page for a validated model and its result (nullptr: the model only). Throws UsageError
 // for a scale that is not positive and finite.
-std::string model_view_html(const Model& model, const Result* result, const ModelViewOptions& options = {});
+std::string model_view_html(const Model& model, const Result* result,
+                            const ModelViewOptions& options = {});
 
 // Writes that page whole or not at all. Throws IoError.
 void write_model_view(const Model& model, const Result* result, const ModelViewOptions& options,

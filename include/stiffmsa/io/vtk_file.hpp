@@ -17,7 +17,8 @@ namespace stiffmsa {
 constexpr int kVtkBeamSegments = 8;
 
 // The .vtu text of a model and its result.
-std::string vtu_text(const Model& model, const Result& result, int beam_segments = kVtkBeamSegments);
+std::string vtu_text(const Model& model, const Result& result,
+                     int beam_segments = kVtkBeamSegments);
 
 // One data set of a collection: a load case's name and its .vtu, relative to the .pvd.
 struct VtkCollectionEntry {
@@ -29,6 +30,7 @@ std::string pvd_text(const std::vector<VtkCollectionEntry>& entries);
 // Writes `file`, whole or not at all: a .vtu, or a .pvd with its .vtu beside it
 // (STEM-loads.vtu for the model's loads). Returns the files written. Throws UsageError for
 // another extension, IoError when a file cannot be written.
-std::vector<std::filesystem::path> write_vtk(const Model& model, const Result& result, const std::filesystem::path& file);
+std::vector<std::filesystem::path> write_vtk(const Model& model, const Result& result,
+                                             const std::filesystem::path& file);
 
 }  // namespace stiffmsa
