@@ -4,33 +4,12 @@
 
 #include <algorithm>
 
+#include "builders.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
 using namespace stiffmsa;
 
 namespace {
-
-Model arm(double elbow_x, double joint_stiffness) {
-  Model m;
-  const Material steel{2.1e11, 0.3, std::nullopt};
-  m.add_point("O", Vec3::Zero());
-  m.add_point("A", Vec3(0, 0, 0.4));
-  m.add_point("B", Vec3(elbow_x, 0.1, 0.5));
-  m.add_point("E", Vec3(elbow_x + 0.3, 0.0, 0.3));
-  m.add_beam("column", "O", "A", steel, Section::tube(0.1, 0.006));
-  m.add_beam("upper", "A", "B", steel, Section::tube(0.08, 0.005));
-  m.add_rigid_link("fore", "B", "E");
-  m.add_support("base", "O", {}, Connection::rigid());
-  m.add_joint("shoulder", "A", {"column", "upper"},
-              Connection::elastic(Kinematics::revolute(Vec3::UnitY()),
-                                  MatX::Constant(1, 1, joint_stiffness)));
-  m.add_joint("elbow", "B", {"upper", "fore"},
-              Connection::elastic(Kinematics::revolute(Vec3::UnitY()),
-                                  MatX::Constant(1, 1, 0.5 * joint_stiffness)));
-  m.add_load("E", std::nullopt, (Vec6() << 0, 0, -200, 0, 0, 0).finished());
-  m.add_end_effector("tool", "E");
-  return m;
-}
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -39,7 +18,7 @@ bool contains(const std::string& text, const std::string& part) {
 }  // namespace
 
 TEST(Structure, SlotsAreNamedByTheirKeys) {
-  const Structure structure(arm(0.3, 1e5));
+  const Structure structure(stiffmsa::testing::two_joint_arm(0.3, 1e5));
   const auto& names = structure.slot_names();
   ASSERT_EQ(names.size(), structure.value_count());
   EXPECT_EQ(names.front(), "points.O[0]");
@@ -59,13 +38,13 @@ TEST(Structure, SlotsAreNamedByTheirKeys) {
 // Every pose of the arm from values alone equals the fresh solve of its model, bit for bit, with
 // one workspace from pose to pose.
 TEST(Structure, PosesFromValuesEqualFreshSolves) {
-  const Structure structure(arm(0.3, 1e5));
+  const Structure structure(stiffmsa::testing::two_joint_arm(0.3, 1e5));
   for (SolverKind solver : {SolverKind::automatic, SolverKind::sparse_lu}) {
     SolveOptions options;
     options.solver = solver;
     Workspace workspace(structure);
     for (const auto& [x, k] : {std::pair{0.3, 1e5}, std::pair{0.5, 3e4}, std::pair{-0.2, 8e5}}) {
-      const Model posed = arm(x, k);
+      const Model posed = stiffmsa::testing::two_joint_arm(x, k);
       const Result from_values = solve(structure, workspace, structure.values_of(posed), options);
       const Result fresh = solve(posed, options);
       ASSERT_TRUE(from_values.end_effectors[0].compliance && fresh.end_effectors[0].compliance);
@@ -79,7 +58,7 @@ TEST(Structure, PosesFromValuesEqualFreshSolves) {
 // Per pose only values are checked, each defect at its key: a negative modulus, a spring that is
 // not positive definite, a zero axis, a zero-length beam.
 TEST(Structure, ValuesAreCheckedAtTheirKeys) {
-  const Structure structure(arm(0.3, 1e5));
+  const Structure structure(stiffmsa::testing::two_joint_arm(0.3, 1e5));
   Workspace workspace(structure);
   const auto defect_of = [&](const std::string& slot, double value) {
     std::vector<double> values = structure.default_values();
@@ -118,21 +97,22 @@ TEST(Structure, ValuesAreCheckedAtTheirKeys) {
 }
 
 TEST(Structure, AModelOfAnotherStructureIsRefused) {
-  const Structure structure(arm(0.3, 1e5));
-  Model renamed = arm(0.3, 1e5);
+  const Structure structure(stiffmsa::testing::two_joint_arm(0.3, 1e5));
+  Model renamed = stiffmsa::testing::two_joint_arm(0.3, 1e5);
   renamed.links[1].name = "upper_arm";
   EXPECT_THROW(structure.values_of(renamed), InputError);
-  Model other_kind = arm(0.3, 1e5);
+  Model other_kind = stiffmsa::testing::two_joint_arm(0.3, 1e5);
   other_kind.joints[0].connection.stiffness.reset();
   EXPECT_THROW(structure.values_of(other_kind), InputError);
   EXPECT_THROW(Structure(Model{}), InputError);  // validated when built: no links
 }
 
 TEST(Structure, AWorkspaceSolvesTheValuesOfItsOwnStructureOnly) {
-  const Structure structure(arm(0.3, 1e5)), other(arm(0.3, 1e5));
+  const Structure structure(stiffmsa::testing::two_joint_arm(0.3, 1e5)),
+      other(stiffmsa::testing::two_joint_arm(0.3, 1e5));
   Workspace workspace(structure);
   EXPECT_THROW(solve(other, workspace, other.default_values()), UsageError);
-  Workspace of_a_model(arm(0.3, 1e5));
+  Workspace of_a_model(stiffmsa::testing::two_joint_arm(0.3, 1e5));
   EXPECT_THROW(solve(of_a_model, structure.default_values()), UsageError);
   std::vector<double> too_few(structure.value_count() - 1);
   EXPECT_THROW(solve(workspace, too_few), UsageError);
@@ -141,9 +121,11 @@ TEST(Structure, AWorkspaceSolvesTheValuesOfItsOwnStructureOnly) {
 // A sweep is a function of a structure and value sets: solve_poses gives each pose what a
 // single solve of its values gives.
 TEST(Structure, SolvePosesMeasuresEachValueSet) {
-  const Structure structure(arm(0.3, 1e5));
+  const Structure structure(stiffmsa::testing::two_joint_arm(0.3, 1e5));
   std::vector<double> sets;
-  const std::vector<Model> posed{arm(0.3, 1e5), arm(0.45, 2e5), arm(0.6, 5e4)};
+  const std::vector<Model> posed{stiffmsa::testing::two_joint_arm(0.3, 1e5),
+                                 stiffmsa::testing::two_joint_arm(0.45, 2e5),
+                                 stiffmsa::testing::two_joint_arm(0.6, 5e4)};
   for (const Model& m : posed) {
     const auto values = structure.values_of(m);
     sets.insert(sets.end(), values.begin(), values.end());
@@ -167,11 +149,12 @@ TEST(Structure, SolvePosesMeasuresEachValueSet) {
 
 // A family of a plain function: members are its models; one of another structure is invalid.
 TEST(Structure, AFamilyOfAPlainFunction) {
-  const ModelFamily family("arm", {{"x", 0.3, "m", {}}, {"k", 1e5, "N m/rad", {}}},
-                           [](std::span<const double> p) { return arm(p[0], p[1]); });
+  const ModelFamily family(
+      "arm", {{"x", 0.3, "m", {}}, {"k", 1e5, "N m/rad", {}}},
+      [](std::span<const double> p) { return stiffmsa::testing::two_joint_arm(p[0], p[1]); });
   const Structure structure = family.structure();
   EXPECT_EQ(structure.values_of(family.build(std::vector<double>{0.4, 2e5})),
-            structure.values_of(arm(0.4, 2e5)));
+            structure.values_of(stiffmsa::testing::two_joint_arm(0.4, 2e5)));
   const SweepResult s = sweep(family, grid_poses({{"x", 0.2, 0.6, 3}}));
   ASSERT_EQ(s.results.size(), 3u);
   for (const PoseResult& r : s.results) EXPECT_EQ(r.status, PoseStatus::ok) << r.message;
