@@ -894,6 +894,21 @@ void add_gravity_deflections(const Result& weight, Result& result) {
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
 }
 
+// The solve of a checked model on its workspace: its results, the end effectors' deflection under
+// self-weight alone (same workspace: the weight-only model has the model's topology), and what
+// every result reports beside (results in own axes, the model's warnings, plausibility).
+Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
+                     const SolveOptions& options) {
+  Result result = solve_validated(workspace, model, options, false);
+  if (has_self_weight(model))
+    add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
+                            result);
+  add_results_in_own_axes(model, result);
+  add_model_warnings(model, result);
+  finish_result(model, index, options, result);
+  return result;
+}
+
 }  // namespace
 
 Result solve(const Model& model, const SolveOptions& options) {
@@ -922,20 +937,13 @@ Result solve(Workspace& workspace, std::span<const double> values, const SolveOp
   const Model& model = ws.member;
   auto defects = detail::find_value_defects(model, structure.impl().index);
   if (!defects.empty()) throw InputError(std::move(defects));
-  Result result = solve_validated(workspace, model, options, false);
-  if (has_self_weight(model))
-    add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
-                            result);
-  add_results_in_own_axes(model, result);
-  add_model_warnings(model, result);
-  finish_result(model, structure.impl().index, options, result);
-  return result;
+  return solve_checked(workspace, model, structure.impl().index, options);
 }
 
 Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,
              const SolveOptions& options) {
-  if (!detail::WorkspaceAccess::impl(workspace).structure ||
-      !(*detail::WorkspaceAccess::impl(workspace).structure == structure))
+  const auto& own_structure = detail::WorkspaceAccess::impl(workspace).structure;
+  if (!own_structure || !(*own_structure == structure))
     throw UsageError(
         "the workspace was built for another structure; build it as Workspace(structure)");
   return solve(workspace, values, options);
@@ -947,14 +955,7 @@ Result solve(Workspace& workspace, const Model& model, const SolveOptions& optio
   detail::validate(model, index);
   if (!(detail::build_topology(model, index) == detail::WorkspaceAccess::impl(workspace).topology))
     detail::throw_topology_changed();
-  Result result = solve_validated(workspace, model, options, false);
-  if (has_self_weight(model))
-    add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
-                            result);
-  add_results_in_own_axes(model, result);
-  add_model_warnings(model, result);
-  finish_result(model, index, options, result);
-  return result;
+  return solve_checked(workspace, model, index, options);
 }
 
 }  // namespace stiffmsa
