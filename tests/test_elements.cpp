@@ -49,7 +49,7 @@ Vec6 rigid_motion(const Vec3& u, const Vec3& w, const Vec3& p) {
 
 BeamLink sample_beam(bool shear) {
   BeamLink beam;
-  beam.material = Material{7.0e10, 0.33, std::nullopt};
+  beam.material = Material{7.0e10, 0.33, std::nullopt, std::nullopt};
   beam.section = Section::rect_tube(0.06, 0.09, 0.004);
   beam.shear = shear;
   beam.zref = Vec3(0.1, 0.3, 1.0);

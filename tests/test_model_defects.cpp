@@ -801,7 +801,8 @@ TEST(ModelDefects, ValidModelsHaveNoDefects) {
   m.add_point("O", Vec3::Zero());
   m.add_point("A", Vec3(0.5, 0, 0));
   m.add_point("E", Vec3(1.0, 0, 0));
-  m.add_beam("L1", "O", "A", Material{2.1e11, 0.3, std::nullopt}, Section::tube(0.08, 0.005));
+  m.add_beam("L1", "O", "A", Material{2.1e11, 0.3, std::nullopt, std::nullopt},
+             Section::tube(0.08, 0.005));
   m.add_rigid_link("L2", "A", "E");
   m.add_joint("J1", "A", {"L1", "L2"},
               Connection::actuated(Kinematics::revolute(Vec3(0, 0, 1)), 1e4).preloaded(2.0));

@@ -34,7 +34,7 @@ struct Cantilever {
   Cantilever() {
     model.add_point("O", Vec3::Zero());
     model.add_point("E", kLength * e);
-    model.add_beam("rod", "O", "E", Material{kYoungs, kPoisson, std::nullopt},
+    model.add_beam("rod", "O", "E", Material{kYoungs, kPoisson, std::nullopt, std::nullopt},
                    Section::circle(kDiameter));
     model.add_support("clamp", "O", {}, Connection::rigid());
     Vec6 wrench;

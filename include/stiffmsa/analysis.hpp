@@ -44,6 +44,10 @@ struct SolveOptions {
   // Also report every end effector's stiffness along this direction (global axes; any
   // length): EndEffectorResult::along_direction.
   std::optional<Vec3> direction;
+  // The analysis mode; unset: the model's own (ModelOptions::mode).
+  std::optional<AnalysisMode> mode;
+  // Also find every load case's critical load factor (Result::critical_load).
+  bool critical_load = false;
 
   // Throws UsageError with a sentence when an option is out of range.
   void validate() const;

@@ -37,6 +37,8 @@ struct Material {
   double E = 0;
   std::optional<double> nu;  // exactly one of nu or G
   std::optional<double> G;
+  // kg/m³: a beam of this material weighs density·A·g per metre under a load case's gravity.
+  std::optional<double> density;
 };
 
 enum class SectionShape { circle, tube, rect, rect_tube, generic };
@@ -171,6 +173,10 @@ struct Support {
   std::vector<std::string> links;  // empty: every link end at the point
   Connection connection;
   Origin origin;
+  // A settlement: the ground moves by [dx, dy, dz, rx, ry, rz] (global axes; rotations as a
+  // rotation vector) along the directions the support holds; zero along its free directions.
+  // It acts in every load case, as a load does (the reactions follow from it).
+  std::optional<Vec6> displacement;
 };
 
 // ---- loads and end effectors -------------------------------------------------------------
@@ -182,6 +188,36 @@ struct Load {
   // A robot link's weight (docs/urdf.md): the result also gives the end effectors' deflection
   // under these loads alone.
   bool self_weight = false;
+  Origin origin;
+};
+
+// A dead load along a link, global axes: a force per metre of undeformed length, varying
+// linearly from `from` at the link's `from` end to `to` at its `to` end (equal: uniform).
+struct DistributedLinkLoad {
+  Vec3 from = Vec3::Zero();
+  Vec3 to = Vec3::Zero();
+};
+// A force and a moment (global axes) at `position`, a fraction of the link's length from its
+// `from` end.
+struct PointLinkLoad {
+  Vec3 force = Vec3::Zero();
+  Vec3 moment = Vec3::Zero();
+  double position = 0;
+};
+struct LinkLoad {
+  std::string link;
+  std::variant<DistributedLinkLoad, PointLinkLoad> load;
+  Origin origin;
+};
+
+// A named set of loads (model file `load_cases:`). Every case is solved with one factorisation;
+// the model's own `loads`, `link_loads` and `gravity` are the unnamed case.
+struct LoadCase {
+  std::string name;
+  std::vector<Load> loads;
+  std::vector<LinkLoad> link_loads;
+  // m/s², global axes: the self-weight of every beam whose material has a density.
+  std::optional<Vec3> gravity;
   Origin origin;
 };
 
@@ -198,11 +234,19 @@ struct EndEffector {
 
 enum class LinkEnd { from = 0, to = 1 };
 
+// The linear analysis answers at the unloaded pose; the loaded mode finds each load case's
+// equilibrium in the deformed geometry and the tangent stiffness there (docs/theory.md).
+enum class AnalysisMode { linear, loaded };
+const char* to_string(AnalysisMode mode);
+std::optional<AnalysisMode> analysis_mode_from_string(std::string_view name);
+
 // Settings a model file may carry for its own analysis (top-level `options:`).
 struct ModelOptions {
   // Solve despite free motions that move no end effector (the spin of an S-P-S leg about its
   // own axis): the end-effector results do not depend on them.
   bool accept_idle_motions = false;
+  // Top-level `analysis: {mode: loaded}`; SolveOptions::mode overrides it.
+  AnalysisMode mode = AnalysisMode::linear;
 };
 
 // A parameter of a parametric model (parametric.hpp) at the value a model was built for.
@@ -226,6 +270,8 @@ using LinkIndex = EntityIndex<Link>;
 using JointIndex = EntityIndex<Joint>;
 using SupportIndex = EntityIndex<Support>;
 using LoadIndex = EntityIndex<Load>;
+using LinkLoadIndex = EntityIndex<LinkLoad>;
+using LoadCaseIndex = EntityIndex<LoadCase>;
 using EndEffectorIndex = EntityIndex<EndEffector>;
 
 struct Model {
@@ -244,7 +290,13 @@ struct Model {
   std::vector<Link> links;
   std::vector<Joint> joints;
   std::vector<Support> supports;
+  // The unnamed load case: `loads:`, loads along links and `gravity:` at the top level.
   std::vector<Load> loads;
+  std::vector<LinkLoad> link_loads;
+  std::optional<Vec3> gravity;  // m/s², global axes (self-weight of beams with a density)
+  // Named load cases (`load_cases:`). The top-level results are the unnamed case's where the
+  // model has one (any load, link load or gravity above) or no named case; else the first's.
+  std::vector<LoadCase> load_cases;
   std::vector<EndEffector> end_effectors;
   // What the reader noticed that does not make the model invalid (a robot's joint position
   // outside its limits); a solve reports them among its warnings.
@@ -271,6 +323,9 @@ struct Model {
   SupportIndex add_support(std::string name, std::string at, std::vector<std::string> links,
                            Connection connection);
   LoadIndex add_load(std::string at, std::optional<std::string> link, const Vec6& wrench);
+  LinkLoadIndex add_link_load(std::string link, const DistributedLinkLoad& load);
+  LinkLoadIndex add_link_load(std::string link, const PointLinkLoad& load);
+  LoadCaseIndex add_load_case(LoadCase load_case);
   EndEffectorIndex add_end_effector(std::string name, std::string at,
                                     std::optional<std::string> link = std::nullopt);
 
@@ -285,6 +340,10 @@ struct Model {
   const Support& support(SupportIndex i) const { return supports.at(i.value); }
   Load& load(LoadIndex i) { return loads.at(i.value); }
   const Load& load(LoadIndex i) const { return loads.at(i.value); }
+  LinkLoad& link_load(LinkLoadIndex i) { return link_loads.at(i.value); }
+  const LinkLoad& link_load(LinkLoadIndex i) const { return link_loads.at(i.value); }
+  LoadCase& load_case(LoadCaseIndex i) { return load_cases.at(i.value); }
+  const LoadCase& load_case(LoadCaseIndex i) const { return load_cases.at(i.value); }
   EndEffector& end_effector(EndEffectorIndex i) { return end_effectors.at(i.value); }
   const EndEffector& end_effector(EndEffectorIndex i) const { return end_effectors.at(i.value); }
 

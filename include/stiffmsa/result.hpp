@@ -1,6 +1,7 @@
 #pragma once
 // What an analysis returns. Everything is keyed by the user's names, in model order. A value
 // that the model does not determine (free motion, indeterminate internal wrench) is nullopt.
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -15,9 +16,19 @@ struct LinkEndResult {
   std::optional<Vec6> wrench;      // W applied to the link at this end
 };
 
+// Internal forces of a flexible link at a station: the wrench [N, Vy, Vz, T, My, Mz] in the
+// link's local axes that the part beyond the station exerts on the part before it (N > 0 is
+// tension; docs/theory.md §12).
+struct InternalForces {
+  double position = 0;  // a fraction of the length from the `from` end
+  Vec6 forces = Vec6::Zero();
+};
+
 struct LinkResult {
   std::string name;
   LinkEndResult from, to;
+  // Beams: at evenly spaced stations from end to end (and at point loads); empty otherwise.
+  std::vector<InternalForces> internal_forces;
 };
 
 struct JointResult {
@@ -115,8 +126,27 @@ struct SolveReport {
 inline constexpr std::string_view kLargeDeflectionWarning =
     "the deflections under the loads are too large for the linear method";
 
+// How a result was found: the linear method at the unloaded pose, or the loaded mode's
+// equilibrium reached in load steps and Newton iterations.
+struct AnalysisInfo {
+  AnalysisMode mode = AnalysisMode::linear;
+  int load_steps = 0;
+  int iterations = 0;
+};
+
+// The smallest positive multiplier λ of a load case's loads (from the unloaded state) at which
+// the structure buckles or reaches a limit point; no factor where none is positive.
+struct CriticalLoad {
+  std::optional<double> factor;
+  // The buckling mode in the user's terms ("link 'column' bends about its local y axis", …).
+  std::string mode;
+};
+
 struct Result {
   std::string model;
+  // The load case these results are of ("" for the model's unnamed case).
+  std::string load_case;
+  AnalysisInfo analysis;
   // The parameters of a model built from a family, at their values (Model::parameters, copied
   // by solve), so that a result tells which member it is. Empty otherwise.
   std::vector<ParameterValue> parameters;
@@ -129,6 +159,16 @@ struct Result {
   std::vector<JointResult> joints;
   std::vector<SupportResult> supports;
   SolveReport report;
+  // Computed where SolveOptions::critical_load asks for it.
+  std::optional<CriticalLoad> critical_load;
+  // Every named load case's results (their own load_cases empty), in model order. With the
+  // unnamed case absent the top-level results are a copy of the first's.
+  std::vector<Result> load_cases;
+  // In the loaded mode: the linear results of the same case, with the same layout.
+  std::shared_ptr<const Result> linear;
+
+  // The results of the load case of that name (NameError when there is none).
+  const Result& load_case_result(std::string_view name) const;
 
   // The result of the entity of that name; NameError (with the nearest name) when there is
   // none. The vectors above give them in model order.

@@ -218,7 +218,7 @@ void bind_model(py::module_& m) {
                        "An isotropic material: Young's modulus E (Pa) and exactly one of "
                        "Poisson's ratio nu or the shear modulus G (Pa).")
       .def(py::init([](double E, std::optional<double> nu, std::optional<double> G) {
-             return Material{E, nu, G};
+             return Material{E, nu, G, std::nullopt};
            }),
            py::arg("E"), py::arg("nu") = py::none(), py::arg("G") = py::none())
       .def_readwrite("E", &Material::E)

@@ -300,7 +300,7 @@ Result empty_result(const Model& model, const Workspace::Impl& ws) {
   result.joints.reserve(model.joints.size());
   result.supports.reserve(model.supports.size());
   result.end_effectors.reserve(model.end_effectors.size());
-  for (const auto& l : model.links) result.links.push_back({l.name, {}, {}});
+  for (const auto& l : model.links) result.links.push_back({l.name, {}, {}, {}});
   for (const auto& j : model.joints) {
     JointResult joint;
     joint.name = j.name;

@@ -1121,7 +1121,7 @@ void Loader::read_supports(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     Site site = read_site(named, true);
     model_.supports.push_back({named.key, std::move(site.at), std::move(site.links),
-                               std::move(site.connection), std::move(site.origin)});
+                               std::move(site.connection), std::move(site.origin), std::nullopt});
   }
 }
 

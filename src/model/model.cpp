@@ -262,13 +262,29 @@ JointIndex Model::add_joint(std::string joint_name, std::string at,
 }
 SupportIndex Model::add_support(std::string support_name, std::string at,
                                 std::vector<std::string> link_names, Connection connection) {
-  supports.push_back(Support{
-      std::move(support_name), std::move(at), std::move(link_names), std::move(connection), {}});
+  supports.push_back(Support{std::move(support_name),
+                             std::move(at),
+                             std::move(link_names),
+                             std::move(connection),
+                             {},
+                             std::nullopt});
   return {supports.size() - 1};
 }
 LoadIndex Model::add_load(std::string at, std::optional<std::string> link, const Vec6& wrench) {
   loads.push_back(Load{std::move(at), std::move(link), wrench, false, {}});
   return {loads.size() - 1};
+}
+LinkLoadIndex Model::add_link_load(std::string link_name, const DistributedLinkLoad& load) {
+  link_loads.push_back(LinkLoad{std::move(link_name), load, {}});
+  return {link_loads.size() - 1};
+}
+LinkLoadIndex Model::add_link_load(std::string link_name, const PointLinkLoad& load) {
+  link_loads.push_back(LinkLoad{std::move(link_name), load, {}});
+  return {link_loads.size() - 1};
+}
+LoadCaseIndex Model::add_load_case(LoadCase load_case) {
+  load_cases.push_back(std::move(load_case));
+  return {load_cases.size() - 1};
 }
 EndEffectorIndex Model::add_end_effector(std::string end_effector_name, std::string at,
                                          std::optional<std::string> link) {
@@ -301,6 +317,14 @@ constexpr std::array<std::pair<SolverUsed, const char*>, 7> kSolverUsedNames{{
 
 const EndEffectorResult& Result::end_effector(std::string_view name) const {
   return named(end_effectors, name, "end effector");
+}
+const Result& Result::load_case_result(std::string_view name) const {
+  for (const Result& r : load_cases)
+    if (r.load_case == name) return r;
+  std::vector<std::string> names;
+  names.reserve(load_cases.size());
+  for (const Result& r : load_cases) names.push_back(r.load_case);
+  throw NameError("load case", std::string(name), names);
 }
 const LinkResult& Result::link(std::string_view name) const { return named(links, name, "link"); }
 const JointResult& Result::joint(std::string_view name) const {
@@ -375,5 +399,14 @@ std::optional<SectionShape> section_shape_from_string(const std::string& s) {
   return value_of(kShapeNames, s);
 }
 const char* to_string(LinkEnd e) { return e == LinkEnd::from ? "from" : "to"; }
+
+const char* to_string(AnalysisMode mode) {
+  return mode == AnalysisMode::linear ? "linear" : "loaded";
+}
+std::optional<AnalysisMode> analysis_mode_from_string(std::string_view name) {
+  if (name == "linear") return AnalysisMode::linear;
+  if (name == "loaded") return AnalysisMode::loaded;
+  return std::nullopt;
+}
 
 }  // namespace stiffmsa
