@@ -2,9 +2,9 @@
 // JSON data inside a page that draws them with three.js (src/io/viewer/model_view.js).
 #include "stiffmsa/io/view_html.hpp"
 
-#include <map>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "io/view_assets.hpp"
