@@ -825,6 +825,97 @@ supports: {S: {type: rigid, at: O}}
                               "m.yaml"));
 }
 
+// ---- issue 22: loads along links, gravity, load cases, settlements, analysis -------------
+
+const std::string kFrameHead = R"(format: stiffmsa/1
+materials: {steel: {E: 2.1e11, nu: 0.3, density: 7850}}
+points: {O: [0, 0, 0], A: [1, 0, 0], E: [2, 0, 0]}
+links:
+  beam1: {type: beam, from: O, to: A, material: steel, section: {shape: circle, D: 0.05}}
+  cad: {type: compliance, from: A, to: E, C: [[1e-6, 0, 0, 0, 0, 0], [0, 1e-6, 0, 0, 0, 0], [0, 0, 1e-6, 0, 0, 0], [0, 0, 0, 1e-5, 0, 0], [0, 0, 0, 0, 1e-5, 0], [0, 0, 0, 0, 0, 1e-5]]}
+supports:
+  base: {type: rigid, at: O}
+)";
+
+TEST(ModelDefects, ALoadMixingPointAndLinkKeysNamesTheKeys) {
+  const auto defects = defects_of(kFrameHead + R"(loads:
+  - {at: A, link: beam1, wrench: [0, 0, 1, 0, 0, 0], force: [0, 0, 1], position: 0.5}
+)");
+  ASSERT_EQ(defects.size(), 1u) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "loads[0]",
+                         {"a load is either on a point", "along a link",
+                          "this one gives at, wrench with force, position"},
+                         10, 5));
+}
+
+TEST(ModelDefects, LinkLoadKeysAreChecked) {
+  const auto defects = defects_of(kFrameHead + R"(loads:
+  - {link: beam1, distributed: [0, 0]}
+  - {link: beam1, distributed: {from: [0, 0, 1]}}
+  - {link: beam1, distributed: {from: [0, 0, 1], to: [0, 0, 1], middle: [0, 0, 1]}}
+  - {link: beam1, distributed: 5}
+  - {link: beam1, distributed: [0, 0, 1], position: 0.5}
+  - {link: beam1, force: [0, 0, 1]}
+  - {link: beam1, force: [0, 0, 1], position: 0.5, momnet: [0, 0, 1]}
+  - {force: [0, 0, 1], position: 0.5}
+  - {link: beam1, force: [0, 0, 1, 0], position: half}
+)");
+  EXPECT_TRUE(has_defect(defects, "loads[0].distributed",
+                         {"expected 3 numbers [qx, qy, qz]", "got 2"}, 10, 32));
+  EXPECT_TRUE(has_defect(defects, "loads[1].distributed.to", {"missing key 'to'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[2].distributed.middle", {"unknown key 'middle'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[3].distributed",
+                         {"expected [qx, qy, qz] (uniform, N/m) or {from:", "got '5'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[4].position",
+                         {"key 'position' does not apply to a distributed load along a link",
+                          "valid keys are: link, distributed"}));
+  EXPECT_TRUE(has_defect(defects, "loads[5].position", {"missing key 'position'"}));
+  EXPECT_TRUE(
+      has_defect(defects, "loads[6].momnet", {"unknown key 'momnet'", "did you mean 'moment'?"}));
+  EXPECT_TRUE(has_defect(defects, "loads[7].link", {"missing key 'link'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[8].force", {"expected 3 numbers [Fx, Fy, Fz]", "got 4"}));
+  EXPECT_TRUE(has_defect(defects, "loads[8].position", {"expected a number", "'half'"}));
+}
+
+TEST(ModelDefects, NewTopLevelKeysAreChecked) {
+  const auto defects = defects_of(kFrameHead + R"(gravity: [0, -9.81]
+analysis: {mode: loded, load_steps: 2.5, steps: 3}
+load_cases:
+  a: 5
+  b: {loads: [], gravty: [0, 0, -9.81]}
+  c: {gravity: [0, 0, x]}
+  d: [{frame: tool, wrench: [0, 0, 1, 0, 0, 0]}]
+)");
+  EXPECT_TRUE(has_defect(defects, "gravity", {"expected 3 numbers [gx, gy, gz]", "got 2"}, 9, 10));
+  EXPECT_TRUE(has_defect(defects, "analysis.mode",
+                         {"unknown analysis mode 'loded'", "did you mean 'loaded'?"}, 10, 18));
+  EXPECT_TRUE(has_defect(defects, "analysis.load_steps",
+                         {"load_steps is a whole number of load steps", "got '2.5'"}));
+  EXPECT_TRUE(has_defect(defects, "analysis.steps", {"unknown key 'steps'"}));
+  EXPECT_TRUE(
+      has_defect(defects, "load_cases.a",
+                 {"expected a list of loads or {loads: [...], gravity: [gx, gy, gz]}", "got '5'"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.b.gravty",
+                         {"unknown key 'gravty'", "did you mean 'gravity'?"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.c.gravity[2]", {"expected a number", "'x'"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.d[0].frame",
+                         {"a load on a robot frame stands in the top-level `loads:` only"}));
+}
+
+TEST(ModelDefects, DensityAndDisplacementKeysAreChecked) {
+  const auto defects = defects_of(R"(format: stiffmsa/1
+points: {O: [0, 0, 0], A: [1, 0, 0]}
+links:
+  L: {type: beam, from: O, to: A, material: {E: 2.1e11, nu: 0.3, density: heavy}, section: {shape: circle, D: 0.05}}
+joints: {}
+supports:
+  S: {type: rigid, at: O, displacement: [0, 0, 1]}
+)");
+  EXPECT_TRUE(has_defect(defects, "links.L.material.density", {"expected a number", "'heavy'"}));
+  EXPECT_TRUE(has_defect(defects, "supports.S.displacement",
+                         {"expected 6 numbers [dx, dy, dz, rx, ry, rz]", "got 3"}, 7, 41));
+}
+
 }  // namespace
 }  // namespace stiffmsa
 
