@@ -7,6 +7,7 @@
 #include <string>
 
 #include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/structure.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -539,6 +540,30 @@ points: {O: [0, 0, 0], A: [1, 0, 0]}
 links: {L: {type: rigid, from: O, to: A}}
 )");
   EXPECT_EQ(linear.options.mode, AnalysisMode::linear);
+}
+
+// A written model reads back to the same model: the same structure, every number the same.
+TEST(ModelFile, AWrittenModelWithIssueTwentyTwoKeysReadsBackEqual) {
+  Model m = parse(kLoadedFrame);
+  m.options.load_steps.reset();  // written only where given
+  LoadCase empty;
+  empty.name = "nothing";
+  m.add_load_case(empty);
+  m.load_cases[0].loads[0].link = "beam2";
+  const std::string text = model_to_yaml(m);
+  const Model back = parse(text, "written.yaml");
+  const Structure structure(m);
+  EXPECT_EQ(structure.values_of(back), structure.default_values());
+  EXPECT_EQ(back.options.mode, AnalysisMode::loaded);
+  EXPECT_FALSE(back.options.load_steps.has_value());
+  ASSERT_EQ(back.load_cases.size(), 4u);
+  EXPECT_EQ(back.load_cases[0].loads[0].link, "beam2");
+  EXPECT_EQ(back.load_cases[3].name, "nothing");
+  EXPECT_TRUE(back.load_cases[3].loads.empty());
+  EXPECT_FALSE(back.load_cases[3].gravity.has_value());
+  EXPECT_EQ(model_to_yaml(back), text);
+  m.options.load_steps = 7;
+  EXPECT_EQ(parse(model_to_yaml(m), "written.yaml").options.load_steps, 7);
 }
 
 TEST(ModelFile, LoadsAFileFromDisk) {
