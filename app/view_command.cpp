@@ -96,6 +96,12 @@ int run_view(const ViewCommand& command) {
   ModelViewOptions options;
   options.scale = command.scale;
   options.parameters = parameter_texts(family, values);
+  if (!model.load_cases.empty())  // which case the deformed shape and arrows are of
+    options.parameters.push_back(
+        "load case: " + (!command.load_case.empty() ? command.load_case
+                         : model.loads.empty() && model.link_loads.empty() && !model.gravity
+                             ? model.load_cases.front().name
+                             : std::string("the unnamed one (loads:)")));
   // A model that cannot be solved is still worth seeing: a mechanism often shows why.
   const Model drawn = with_case_loads(model, command.load_case);
   std::optional<Result> result;

@@ -8,6 +8,7 @@
 #include "builders.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/stiffmsa.hpp"
+#include "stiffmsa/sweep.hpp"
 
 using namespace stiffmsa;
 using stiffmsa::testing::wrench;
@@ -163,6 +164,65 @@ TEST(LoadCases, UnknownCaseNameIsANameError) {
   m.add_load_case(case_of("beam", arm_with(2)));
   const Result r = solve(m);
   EXPECT_THROW(r.load_case_result("bean"), NameError);
+}
+
+}  // namespace
+
+namespace {
+
+// A cantilever of length L (a parameter) with two named cases, read from a file's text.
+ModelFamily swept_cantilever() {
+  return parse_model_family(R"(format: stiffmsa/1
+name: swept-cases
+parameters:
+  L: {default: 1.0, unit: m}
+materials:
+  steel: {E: 2.1e11, nu: 0.3, density: 7850}
+sections:
+  tube: {shape: tube, D: 0.06, t: 0.004}
+points:
+  root: [0, 0, 0]
+  tip: [L, 0, 0]
+links:
+  arm: {type: beam, from: root, to: tip, material: steel, section: tube}
+supports:
+  clamp: {type: rigid, at: root}
+load_cases:
+  push: [{at: tip, wrench: [0, 0, -100, 0, 0, 0]}]
+  snow: [{link: arm, distributed: [0, 0, -300]}]
+end_effectors:
+  tip: {at: tip}
+)",
+                            "swept-cases.yaml");
+}
+
+TEST(LoadCases, SweepRowsTakeTheNamedCase) {
+  const ModelFamily family = swept_cantilever();
+  const PoseTable poses = grid_poses({{"L", 0.8, 1.2, 3}});
+  for (const char* name : {"push", "snow"}) {
+    SweepOptions options;
+    options.load_case = name;
+    options.threads = 1;
+    const SweepResult s = sweep(family, poses, options);
+    ASSERT_EQ(s.results.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) {
+      ASSERT_EQ(s.results[i].status, PoseStatus::ok) << s.results[i].message;
+      const Result alone =
+          solve(family.build(std::vector<double>{poses.values[i]})).load_case_result(name);
+      EXPECT_NEAR(s.results[i].end_effectors[0].deflection_translation,
+                  alone.end_effectors[0].deflection->head<3>().norm(),
+                  1e-12 * alone.end_effectors[0].deflection->head<3>().norm())
+          << name;
+    }
+  }
+  SweepOptions unknown;
+  unknown.load_case = "rain";
+  try {
+    sweep(family, poses, unknown);
+    ADD_FAILURE() << "an unknown case was accepted";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("'push', 'snow'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -914,7 +914,9 @@ CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& 
   Problem problem(model, ws, options, topology_known);
   CaseSolve solved;
   CaseResults& results = solved.results;
-  results.assign(problem.cases.size(), empty_result(model, ws));
+  results.reserve(problem.cases.size());
+  results.push_back(empty_result(model, ws));  // a large model's result is copied only per case
+  while (results.size() < problem.cases.size()) results.push_back(results.front());
   for (std::size_t c = 0; c < problem.cases.size(); ++c) {
     results[c].load_case = problem.cases[c].name;
     solved.with_state.push_back(problem.cases[c].with_state);

@@ -107,6 +107,7 @@ class SupportBlock final : public ElementBlock {
                            VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
   bool has_preload() const override { return preload_.has_value() || settlement_.has_value(); }
+  std::optional<Vec6> settlement() const override { return settlement_; }
   const FreeDirections* directions() const override { return &directions_; }
   const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
   void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }

@@ -190,6 +190,9 @@ class ElementBlock {
   // frame, for the frame solve (solver/frame_solver.hpp); nullopt for a rigid link and for
   // connection blocks.
   virtual std::optional<Mat12> end_stiffness() const { return std::nullopt; }
+  // A support's settlement (the ground's prescribed motion, in every load case); nullopt for
+  // every other block.
+  virtual std::optional<Vec6> settlement() const { return std::nullopt; }
 
   // The tree solve: where links and connections form a tree with a support at its root, every
   // wrench follows from equilibrium, passed from the leaves to the root, and every deflection

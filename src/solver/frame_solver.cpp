@@ -117,10 +117,13 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   // A pose whose blocks are no frame's (a link made rigid, a weld made a hinge) is declined;
   // its pattern differs, which the factorising solve's assembler then refuses as a changed
   // topology.
-  // A support's settlement (its right-hand side) is left to the factorising solve too.
+  // A rigid support's settlement d: its ends move by d in every load case (the state columns).
+  std::vector<std::optional<Vec6>> settled(static_cast<std::size_t>(topology.end_count()));
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const ElementBlock& connection = *blocks[static_cast<std::size_t>(topology.link_count) + g];
-    if (!welds(connection) || connection.has_preload()) return std::nullopt;
+    if (!welds(connection)) return std::nullopt;
+    if (const std::optional<Vec6> d = connection.settlement())
+      for (int end : topology.groups[g].ends) settled[static_cast<std::size_t>(end)] = d;
   }
   std::vector<Mat12> link_stiffness;
   link_stiffness.reserve(static_cast<std::size_t>(topology.link_count));
@@ -160,11 +163,22 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   const double rcond = estimate_reciprocal_condition(cholesky, k);
   if (!(rcond >= least_rcond)) return std::nullopt;
 
-  // F: the external wrenches at each node's ends; u = S·K̂⁻¹·S·F.
+  // F: the external wrenches at each node's ends, less what the settled supports' motions d
+  // push on them (−K_nd·d, the coupling of §7.3's K to the held ends); u = S·K̂⁻¹·S·F.
   MatX u = MatX::Zero(n, columns);
   for (int end = 0; end < topology.end_count(); ++end)
     if (node_of(end) >= 0 && external.any_at(end))
       u.middleRows<6>(6 * node_of(end)) += external.at(end);
+  for (int l = 0; l < topology.link_count; ++l)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        const int row_node = node_of(2 * l + a);
+        const std::optional<Vec6>& d = settled[static_cast<std::size_t>(2 * l + b)];
+        if (row_node < 0 || !d) continue;
+        const Vec6 push =
+            link_stiffness[static_cast<std::size_t>(l)].block<6, 6>(6 * a, 6 * b) * *d;
+        for (Index c = 0; c < external.state_columns(); ++c) u.block<6, 1>(6 * row_node, c) -= push;
+      }
   u = scale.asDiagonal() * u;
   cholesky.solve(u);
   u = scale.asDiagonal() * u;
@@ -173,10 +187,13 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   x.resize(topology.unknowns(), columns);
   for (int end = 0; end < topology.end_count(); ++end) {
     auto deflection = x.middleRows<6>(deflection_column(end));
-    if (node_of(end) >= 0)
+    if (node_of(end) >= 0) {
       deflection = u.middleRows<6>(6 * node_of(end));
-    else
+    } else {
       deflection.setZero();
+      if (const std::optional<Vec6>& d = settled[static_cast<std::size_t>(end)])
+        for (Index c = 0; c < external.state_columns(); ++c) deflection.col(c) = *d;
+    }
   }
   for (int l = 0; l < topology.link_count; ++l) {
     const Mat12& k12 = link_stiffness[static_cast<std::size_t>(l)];

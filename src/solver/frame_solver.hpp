@@ -42,7 +42,8 @@ struct FrameSolution {
 };
 
 // Solves into x (unknowns × external.columns(), the mixed system's layout) the deflections
-// and wrenches under the external wrenches of each column (a frame holds no preload). Nullopt,
+// and wrenches under the external wrenches of each column (a frame holds no preload; a rigid
+// support's settlement moves its ends in the first external.state_columns() columns). Nullopt,
 // with x unspecified, where the blocks are not those of a frame (a pose of other blocks than
 // the plan's), K is not positive definite or its reciprocal condition estimate is below
 // `least_rcond`.

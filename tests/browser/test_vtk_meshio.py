@@ -83,6 +83,28 @@ def main():
         run = subprocess.run([args.cli, "solve", str(args.source / "examples/cantilever.yaml"), "--vtk",
                               str(folder / "out.vtk")], capture_output=True, text=True)
         check(run.returncode == 2 and ".vtu" in run.stderr, f"--vtk out.vtk is not refused: {run.stderr}")
+
+        # Load cases: the .vtu of the top level, one .vtu per case and their collection; each
+        # case's grid moves as that case's results say.
+        portal = args.source / "examples/portal-frame-load-cases.yaml"
+        run = subprocess.run([args.cli, "solve", str(portal), "--vtk", str(folder / "portal.vtu"), "--json",
+                              str(folder / "portal.json")], capture_output=True, text=True)
+        check(run.returncode == 0, f"solve portal --vtk: exit {run.returncode}: {run.stderr}")
+        datasets = ElementTree.parse(folder / "portal.pvd").getroot().findall("./Collection/DataSet")
+        names = [d.get("name") for d in datasets]
+        check(names == ["loads", "snow", "hoist", "weight"], f"portal.pvd names {names}")
+        result = json.loads((folder / "portal.json").read_text())
+        for dataset in datasets:
+            case = result if dataset.get("name") == "loads" else result["load_cases"][dataset.get("name")]
+            mesh = meshio.read(folder / dataset.get("file"))
+            lines = mesh.cells_dict["line"]
+            links = numpy.ravel(mesh.cell_data_dict["link"]["line"])
+            for k, (name, ends) in enumerate(case["link_ends"].items()):
+                last_point = lines[links == k][-1][1]
+                expected = numpy.array(ends["to"]["deflection"][:3])
+                got = mesh.point_data["displacement"][last_point]
+                check(numpy.abs(got - expected).max() <= 1e-12 * numpy.abs(expected).max(),
+                      f"portal case {dataset.get('name')}: link {name}: {got} against {expected}")
     if failures:
         return 1
     print("all VTK checks passed")
