@@ -143,8 +143,7 @@ py::dict link_load_dict(const LinkLoad& l) {
   py::dict d;
   d["link"] = l.link;
   if (const auto* q = std::get_if<DistributedLinkLoad>(&l.load)) {
-    d["distributed"] =
-        py::dict(py::arg("from") = list_of(q->from), py::arg("to") = list_of(q->to));
+    d["distributed"] = py::dict(py::arg("from") = list_of(q->from), py::arg("to") = list_of(q->to));
   } else if (const auto* p = std::get_if<PointLinkLoad>(&l.load)) {
     d["force"] = list_of(p->force);
     d["moment"] = list_of(p->moment);
@@ -210,8 +209,9 @@ std::string model_repr(const Model& m) {
          count_text(m.joints.size(), "joint", "joints") + ", " +
          count_text(m.supports.size(), "support", "supports") + ", " +
          count_text(m.loads.size() + m.link_loads.size(), "load", "loads") + ", " +
-         (m.load_cases.empty() ? ""
-                               : count_text(m.load_cases.size(), "load case", "load cases") + ", ") +
+         (m.load_cases.empty()
+              ? ""
+              : count_text(m.load_cases.size(), "load case", "load cases") + ", ") +
          count_text(m.end_effectors.size(), "end effector", "end effectors") + ">";
 }
 
@@ -279,7 +279,8 @@ LinkLoad make_link_load(std::string link, const py::object& load) {
 
 Load make_load(std::string at, py::object link, py::object wrench) {
   // (at, wrench) reads as well as (at, link, wrench), as Model.add_load takes it.
-  if (wrench.is_none() && !link.is_none() && !py::isinstance<py::str>(link)) std::swap(link, wrench);
+  if (wrench.is_none() && !link.is_none() && !py::isinstance<py::str>(link))
+    std::swap(link, wrench);
   if (wrench.is_none()) throw UsageError("load at '" + at + "': no wrench given");
   Load load;
   load.link = optional_name(link, "load at '" + at + "': link");
@@ -288,7 +289,9 @@ Load make_load(std::string at, py::object link, py::object wrench) {
   return load;
 }
 
-py::object optional_vec3_array(const std::optional<Vec3>& value) { return to_optional_array(value); }
+py::object optional_vec3_array(const std::optional<Vec3>& value) {
+  return to_optional_array(value);
+}
 
 }  // namespace
 
@@ -297,7 +300,9 @@ void bind_model(py::module_& m) {
                        "An isotropic material: Young's modulus E (Pa) and exactly one of "
                        "Poisson's ratio nu or the shear modulus G (Pa).")
       .def(py::init([](double E, std::optional<double> nu, std::optional<double> G,
-                       std::optional<double> density) { return Material{E, nu, G, density}; }),
+                       std::optional<double> density) {
+             return Material{E, nu, G, density};
+           }),
            py::arg("E"), py::arg("nu") = py::none(), py::arg("G") = py::none(), py::kw_only(),
            py::arg("density") = py::none())
       .def_readwrite("E", &Material::E)
@@ -348,10 +353,10 @@ void bind_model(py::module_& m) {
       "A force (N) and a moment (N·m), global axes, at `position`, a fraction of the link's "
       "length from its from end (0 to 1).")
       .def(py::init([](py::object force, py::object moment, double position) {
-             return PointLinkLoad{to_vec3(force, "PointLinkLoad force"),
-                                  moment.is_none() ? Vec3::Zero()
-                                                   : to_vec3(moment, "PointLinkLoad moment"),
-                                  position};
+             return PointLinkLoad{
+                 to_vec3(force, "PointLinkLoad force"),
+                 moment.is_none() ? Vec3::Zero() : to_vec3(moment, "PointLinkLoad moment"),
+                 position};
            }),
            py::arg("force"), py::arg("moment") = py::none(), py::kw_only(), py::arg("position"))
       .def_property(
@@ -436,8 +441,8 @@ void bind_model(py::module_& m) {
           },
           py::arg("link"), py::arg("load"), "As Model.add_link_load, in this case.")
       .def("__repr__", [](const LoadCase& c) {
-        return "<stiffmsa.LoadCase '" + c.name + "': " +
-               count_text(c.loads.size() + c.link_loads.size(), "load", "loads") +
+        return "<stiffmsa.LoadCase '" + c.name +
+               "': " + count_text(c.loads.size() + c.link_loads.size(), "load", "loads") +
                (c.gravity ? ", gravity" : "") + ">";
       });
 

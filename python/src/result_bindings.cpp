@@ -85,8 +85,8 @@ void bind_results(py::module_& m) {
       .def_property_readonly("forces",
                              [](const InternalForces& f) { return to_array(VecX(f.forces)); })
       .def("__repr__", [](const InternalForces& f) {
-        return "<stiffmsa.InternalForces at " + py::repr(py::float_(f.position)).cast<std::string>() +
-               ">";
+        return "<stiffmsa.InternalForces at " +
+               py::repr(py::float_(f.position)).cast<std::string>() + ">";
       });
 
   py::class_<LinkResult>(
