@@ -167,7 +167,8 @@ def _family_solve(self: ModelFamily, values: Optional[Mapping[str, float]] = Non
                   accept_idle_motions: bool = False, singular_rcond: float = _DEFAULTS.singular_rcond,
                   max_relative_residual: float = _DEFAULTS.max_relative_residual,
                   refinement_steps: int = _DEFAULTS.refinement_steps,
-                  warn_condition: float = _DEFAULTS.warn_condition, **parameters: float) -> Result:
+                  warn_condition: float = _DEFAULTS.warn_condition, mode: Union[None, str, AnalysisMode] = None,
+                  critical_load: bool = False, **parameters: float) -> Result:
     """Solve one member: ``family.solve(x=0.1, y=0.0)`` is ``solve(family.build(x=0.1, y=0.0))``.
 
     The options are :func:`solve`'s; a parameter named like an option is given in the mapping
@@ -175,7 +176,7 @@ def _family_solve(self: ModelFamily, values: Optional[Mapping[str, float]] = Non
     """
     return self._solve(_values(values, parameters),
                        _options(solver, accept_idle_motions, singular_rcond, max_relative_residual,
-                                refinement_steps, warn_condition))
+                                refinement_steps, warn_condition, mode, critical_load))
 
 
 def _with_defaults(self: ModelFamily, **values: float) -> ModelFamily:
@@ -189,7 +190,8 @@ def _sweep(self: ModelFamily, grid: Optional[Mapping[str, Tuple[float, float, in
            accept_idle_motions: bool = False, singular_rcond: float = _DEFAULTS.singular_rcond,
            max_relative_residual: float = _DEFAULTS.max_relative_residual,
            refinement_steps: int = _DEFAULTS.refinement_steps,
-           warn_condition: float = _DEFAULTS.warn_condition) -> SweepResult:
+           warn_condition: float = _DEFAULTS.warn_condition,
+           mode: Union[None, str, AnalysisMode] = None) -> SweepResult:
     """Solve the family at many poses, as ``stiffmsa sweep`` does, and return its rows.
 
     Give the poses either as ``grid={"x": (start, stop, count), "y": (...)}`` (every
@@ -207,7 +209,7 @@ def _sweep(self: ModelFamily, grid: Optional[Mapping[str, Tuple[float, float, in
     give an invalid model and :class:`UsageError` when a swept name is not a parameter.
     """
     options = _options(solver, accept_idle_motions, singular_rcond, max_relative_residual, refinement_steps,
-                       warn_condition)
+                       warn_condition, mode)
     return self._sweep(grid, poses, options, full, threads, progress)
 
 

@@ -171,3 +171,15 @@ def test_a_linear_result_of_the_unnamed_case_has_the_new_fields():
         assert 0 <= station.position <= 1 and station.forces.shape == (6,)
     with pytest.raises(stiffmsa.UsageError, match="there is no load case 'machining'"):
         result.load_case_result("machining")
+
+
+def test_family_solves_and_sweeps_take_the_mode(tmp_path):
+    path = tmp_path / "frame.yaml"
+    path.write_text(FRAME_FILE.replace("analysis: {mode: loaded, load_steps: 8}\n", ""))
+    family = stiffmsa.load_family(path)
+    result = family.solve(mode="linear")
+    assert result.analysis.mode == stiffmsa.AnalysisMode.linear
+    with pytest.raises(stiffmsa.UsageError, match="mode 'sideways'"):
+        family.solve(mode="sideways")
+    with pytest.raises(stiffmsa.UsageError, match="mode 'sideways'"):
+        family.sweep(poses={}, mode="sideways")
