@@ -1055,6 +1055,28 @@ TEST(ModelDefects, SettlementsAreCheckedPerPose) {
                          {"leaves the rotation about its axis [0, 0, 1] free"}));
 }
 
+// A density is valid at any positive value, but one typed in g/cm³ is a plausibility warning.
+TEST(ModelDefects, ImplausibleDensityIsAWarningNotADefect) {
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("A", Vec3(1, 0, 0));
+  m.add_beam("L", "O", "A", Material{2.1e11, 0.3, std::nullopt, 7.85}, Section::circle(0.05));
+  m.add_beam("M", "O", "A", Material{2.1e11, 0.3, std::nullopt, 7.85}, Section::circle(0.05));
+  m.add_beam("N", "O", "A", Material{2.1e11, 0.3, std::nullopt, 7850.0}, Section::circle(0.05));
+  m.add_joint("J", "A", {"L", "M", "N"}, Connection::rigid());
+  m.add_support("S", "O", {}, Connection::rigid());
+  EXPECT_TRUE(find_defects(m).empty()) << listing(find_defects(m));
+  const auto warnings = find_implausible_values(m);
+  ASSERT_EQ(warnings.size(), 1u) << listing(warnings);
+  EXPECT_TRUE(has_defect(warnings, "links.L.material.density",
+                         {"density = 7.85 kg/m³ is below the densities of engineering materials "
+                          "(50 to 25000 kg/m³): was it given in g/cm³ or t/m³?",
+                          "(and 1 other link)"}));
+  std::get<BeamLink>(m.links[2].kind).material.density = 7.85e6;
+  EXPECT_TRUE(has_defect(find_implausible_values(m), "links.N.material.density",
+                         {"is above the densities", "was it given in another unit?"}));
+}
+
 }  // namespace
 }  // namespace stiffmsa
 

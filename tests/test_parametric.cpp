@@ -130,6 +130,20 @@ end_effectors: {tip: {at: E}}
   EXPECT_TRUE(structure.find_slot("load_cases.along.link_loads[0].position").has_value());
 }
 
+// The loaded mode's load steps are a count, not a value of the model: a plain integer only.
+TEST(ParametricFile, LoadStepsAreAPlainCount) {
+  EXPECT_EQ(parse_model(with("supports:", "analysis: {mode: loaded, load_steps: 12}\nsupports:"),
+                        "p.yaml")
+                .options.load_steps,
+            12);
+  const std::string error =
+      first_error(with("supports:", "analysis: {load_steps: \"2 * F\"}\nsupports:"));
+  EXPECT_TRUE(contains(error,
+                       "analysis.load_steps: load_steps is a whole number of load steps "
+                       "(a positive integer, not an expression)"))
+      << error;
+}
+
 TEST(ParametricFile, DefaultsGiveTheModel) {
   const Model m = parse_model(kCantilever, "p.yaml");
   EXPECT_EQ(m.points[1].position, Vec3(0.25, 0, 0));

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -266,4 +267,33 @@ TEST(Structure, IssueTwentyTwoOptionalsAreStructure) {
   EXPECT_TRUE(refused([](Model& m) { m.link_loads[1].load = DistributedLinkLoad{}; }));
   EXPECT_TRUE(refused([](Model& m) { m.load_cases[0].loads[0].at = "O"; }));
   EXPECT_TRUE(refused([](Model& m) { m.options.mode = AnalysisMode::loaded; }));
+}
+
+// Per pose the new values are checked as the model's are: a position off the link, a density
+// that is not positive, a gravity or a load that is not finite.
+TEST(Structure, IssueTwentyTwoValuesAreCheckedPerPose) {
+  const Structure structure(loaded_beam());
+  EXPECT_TRUE(structure.find_value_defects(structure.default_values()).empty());
+  std::vector<double> values = structure.default_values();
+  const auto set = [&](const std::string& slot, double value) {
+    ASSERT_TRUE(structure.find_slot(slot)) << slot;
+    values[*structure.find_slot(slot)] = value;
+  };
+  set("link_loads[1].position", 1.5);
+  set("load_cases.heavy.link_loads[0].position", -0.5);
+  set("links.L.material.density", -1);
+  set("gravity[0]", std::numeric_limits<double>::infinity());
+  set("load_cases.along.link_loads[0].distributed.to[1]", std::nan(""));
+  const auto defects = structure.find_value_defects(values);
+  const auto has = [&](const std::string& path, const std::string& words) {
+    return std::any_of(defects.begin(), defects.end(), [&](const Diagnostic& d) {
+      return d.key_path == path && contains(d.message, words);
+    });
+  };
+  EXPECT_TRUE(has("link_loads[1].position", "in [0, 1] (got 1.5)"));
+  EXPECT_TRUE(has("load_cases.heavy.link_loads[0].position", "got -0.5"));
+  EXPECT_TRUE(has("links.L.material.density", "density must be a positive number"));
+  EXPECT_TRUE(has("gravity", "finite"));
+  EXPECT_TRUE(has("load_cases.along.link_loads[0].distributed.to", "finite"));
+  EXPECT_EQ(defects.size(), 5u);
 }

@@ -282,14 +282,18 @@ void bind_family(py::module_& m) {
            py::arg("singular_rcond") = SolveOptions{}.singular_rcond,
            py::arg("max_relative_residual") = SolveOptions{}.max_relative_residual,
            py::arg("refinement_steps") = SolveOptions{}.refinement_steps,
-           py::arg("warn_condition") = SolveOptions{}.warn_condition)
+           py::arg("warn_condition") = SolveOptions{}.warn_condition, py::kw_only(),
+           py::arg("mode") = py::none(), py::arg("critical_load") = false)
       .def_property_readonly("solver",
                              [](const SolveOptions& o) { return std::string(to_string(o.solver)); })
       .def_readonly("accept_idle_motions", &SolveOptions::accept_idle_motions)
       .def_readonly("singular_rcond", &SolveOptions::singular_rcond)
       .def_readonly("max_relative_residual", &SolveOptions::max_relative_residual)
       .def_readonly("refinement_steps", &SolveOptions::refinement_steps)
-      .def_readonly("warn_condition", &SolveOptions::warn_condition);
+      .def_readonly("warn_condition", &SolveOptions::warn_condition)
+      .def_readonly("mode", &SolveOptions::mode,
+                    "The analysis mode (AnalysisMode), or None for the model's own.")
+      .def_readonly("critical_load", &SolveOptions::critical_load);
 
   py::class_<Parameter>(m, "Parameter",
                         "A family's parameter: its name, default value and unit (may be '').")

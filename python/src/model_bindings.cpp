@@ -81,6 +81,8 @@ py::dict link_dict(const Link& link) {
           d["material"] = py::dict(py::arg("E") = kind.material.E,
                                    py::arg("nu") = optional_of(kind.material.nu),
                                    py::arg("G") = optional_of(kind.material.G));
+          // Issue 22's keys appear where given, so that older models' dicts are as they were.
+          if (kind.material.density) d["material"]["density"] = *kind.material.density;
           d["section"] = section_dict(kind.section);
           d["shear"] = kind.shear;
           d["zref"] = optional_list(kind.zref);
@@ -129,6 +131,35 @@ py::dict connection_dict(const std::string& at, const std::vector<std::string>& 
   return d;
 }
 
+py::dict load_dict(const Load& l) {
+  py::dict d(py::arg("at") = l.at, py::arg("link") = optional_of(l.link),
+             py::arg("wrench") = list_of(l.wrench));
+  if (l.self_weight) d["self_weight"] = true;
+  return d;
+}
+
+// As a model file writes a load along a link.
+py::dict link_load_dict(const LinkLoad& l) {
+  py::dict d;
+  d["link"] = l.link;
+  if (const auto* q = std::get_if<DistributedLinkLoad>(&l.load)) {
+    d["distributed"] = py::dict(py::arg("from") = list_of(q->from), py::arg("to") = list_of(q->to));
+  } else if (const auto* p = std::get_if<PointLinkLoad>(&l.load)) {
+    d["force"] = list_of(p->force);
+    d["moment"] = list_of(p->moment);
+    d["position"] = p->position;
+  }
+  return d;
+}
+
+// Point loads, then loads along links: one list, as in a model file.
+py::list loads_list(const std::vector<Load>& loads, const std::vector<LinkLoad>& link_loads) {
+  py::list list;
+  for (const auto& l : loads) list.append(load_dict(l));
+  for (const auto& l : link_loads) list.append(link_load_dict(l));
+  return list;
+}
+
 py::dict model_dict(const Model& model) {
   py::dict d, points, links, joints, supports, end_effectors;
   py::list loads;
@@ -138,11 +169,24 @@ py::dict model_dict(const Model& model) {
   for (const auto& l : model.links) links[py::str(l.name)] = link_dict(l);
   for (const auto& j : model.joints)
     joints[py::str(j.name)] = connection_dict(j.at, j.links, j.connection);
-  for (const auto& s : model.supports)
-    supports[py::str(s.name)] = connection_dict(s.at, s.links, s.connection);
-  for (const auto& l : model.loads)
-    loads.append(py::dict(py::arg("at") = l.at, py::arg("link") = optional_of(l.link),
-                          py::arg("wrench") = list_of(l.wrench)));
+  for (const auto& s : model.supports) {
+    py::dict support = connection_dict(s.at, s.links, s.connection);
+    if (s.displacement) support["displacement"] = list_of(*s.displacement);
+    supports[py::str(s.name)] = support;
+  }
+  loads = loads_list(model.loads, model.link_loads);
+  if (model.options.mode != AnalysisMode::linear || model.options.load_steps)
+    d["analysis"] = py::dict(py::arg("mode") = to_string(model.options.mode),
+                             py::arg("load_steps") = optional_of(model.options.load_steps));
+  if (model.gravity) d["gravity"] = list_of(*model.gravity);
+  if (!model.load_cases.empty()) {
+    py::dict cases;
+    for (const auto& c : model.load_cases)
+      cases[py::str(c.name)] =
+          py::dict(py::arg("loads") = loads_list(c.loads, c.link_loads),
+                   py::arg("gravity") = c.gravity ? py::object(list_of(*c.gravity)) : py::none());
+    d["load_cases"] = cases;
+  }
   for (const auto& e : model.end_effectors)
     end_effectors[py::str(e.name)] =
         py::dict(py::arg("at") = e.at, py::arg("link") = optional_of(e.link));
@@ -164,7 +208,10 @@ std::string model_repr(const Model& m) {
          ", " + count_text(m.links.size(), "link", "links") + ", " +
          count_text(m.joints.size(), "joint", "joints") + ", " +
          count_text(m.supports.size(), "support", "supports") + ", " +
-         count_text(m.loads.size(), "load", "loads") + ", " +
+         count_text(m.loads.size() + m.link_loads.size(), "load", "loads") + ", " +
+         (m.load_cases.empty()
+              ? ""
+              : count_text(m.load_cases.size(), "load case", "load cases") + ", ") +
          count_text(m.end_effectors.size(), "end effector", "end effectors") + ">";
 }
 
@@ -211,25 +258,192 @@ void set_zref(Link& kind, const py::object& zref, const std::string& name) {
   kind.zref = optional_vec3(zref, "link '" + name + "': zref");
 }
 
+AnalysisMode to_mode(const py::object& mode) {
+  if (py::isinstance<AnalysisMode>(mode)) return mode.cast<AnalysisMode>();
+  if (py::isinstance<py::str>(mode))
+    if (const auto parsed = analysis_mode_from_string(mode.cast<std::string>())) return *parsed;
+  throw UsageError("analysis mode " + py::repr(mode).cast<std::string>() +
+                   ": expected \"linear\" or \"loaded\" (or an AnalysisMode)");
+}
+
+// A load along a link from Python: a DistributedLinkLoad or a PointLinkLoad.
+LinkLoad make_link_load(std::string link, const py::object& load) {
+  if (py::isinstance<DistributedLinkLoad>(load))
+    return LinkLoad{std::move(link), load.cast<DistributedLinkLoad>(), {}};
+  if (py::isinstance<PointLinkLoad>(load))
+    return LinkLoad{std::move(link), load.cast<PointLinkLoad>(), {}};
+  throw UsageError("load along link '" + link +
+                   "': expected a DistributedLinkLoad or a PointLinkLoad, got " +
+                   py::repr(load).cast<std::string>());
+}
+
+Load make_load(std::string at, py::object link, py::object wrench) {
+  // (at, wrench) reads as well as (at, link, wrench), as Model.add_load takes it.
+  if (wrench.is_none() && !link.is_none() && !py::isinstance<py::str>(link))
+    std::swap(link, wrench);
+  if (wrench.is_none()) throw UsageError("load at '" + at + "': no wrench given");
+  Load load;
+  load.link = optional_name(link, "load at '" + at + "': link");
+  load.wrench = to_vec6(wrench, "load at '" + at + "': wrench");
+  load.at = std::move(at);
+  return load;
+}
+
+py::object optional_vec3_array(const std::optional<Vec3>& value) {
+  return to_optional_array(value);
+}
+
 }  // namespace
 
 void bind_model(py::module_& m) {
   py::class_<Material>(m, "Material",
                        "An isotropic material: Young's modulus E (Pa) and exactly one of "
                        "Poisson's ratio nu or the shear modulus G (Pa).")
-      .def(py::init([](double E, std::optional<double> nu, std::optional<double> G) {
-             return Material{E, nu, G, std::nullopt};
+      .def(py::init([](double E, std::optional<double> nu, std::optional<double> G,
+                       std::optional<double> density) {
+             return Material{E, nu, G, density};
            }),
-           py::arg("E"), py::arg("nu") = py::none(), py::arg("G") = py::none())
+           py::arg("E"), py::arg("nu") = py::none(), py::arg("G") = py::none(), py::kw_only(),
+           py::arg("density") = py::none())
       .def_readwrite("E", &Material::E)
       .def_readwrite("nu", &Material::nu)
       .def_readwrite("G", &Material::G)
+      .def_readwrite("density", &Material::density,
+                     "kg/m³, or None: a beam of this material weighs density·A·g per metre "
+                     "under a load case's gravity.")
       .def("__repr__", [](const Material& mat) {
         std::ostringstream out;
         out << "Material(E=" << mat.E;
         if (mat.nu) out << ", nu=" << *mat.nu;
         if (mat.G) out << ", G=" << *mat.G;
+        if (mat.density) out << ", density=" << *mat.density;
         return out.str() + ")";
+      });
+
+  py::enum_<AnalysisMode>(m, "AnalysisMode",
+                          "The linear analysis at the unloaded pose, or the loaded mode: each "
+                          "load case's equilibrium in the deformed geometry.")
+      .value("linear", AnalysisMode::linear)
+      .value("loaded", AnalysisMode::loaded);
+
+  py::class_<DistributedLinkLoad>(
+      m, "DistributedLinkLoad",
+      "A dead load along a link, global axes: a force per metre of undeformed length (N/m), "
+      "from `from_` at the link's from end varying linearly to `to` at its to end (uniform where "
+      "`to` is left out).")
+      .def(py::init([](py::object from, py::object to) {
+             const Vec3 start = to_vec3(from, "DistributedLinkLoad from_");
+             return DistributedLinkLoad{
+                 start, to.is_none() ? start : to_vec3(to, "DistributedLinkLoad to")};
+           }),
+           py::arg("from_"), py::arg("to") = py::none())
+      .def_property(
+          "from_", [](const DistributedLinkLoad& q) { return to_array(VecX(q.from)); },
+          [](DistributedLinkLoad& q, py::object v) { q.from = to_vec3(v, "from_"); })
+      .def_property(
+          "to", [](const DistributedLinkLoad& q) { return to_array(VecX(q.to)); },
+          [](DistributedLinkLoad& q, py::object v) { q.to = to_vec3(v, "to"); })
+      .def("__repr__", [](const DistributedLinkLoad& q) {
+        return "DistributedLinkLoad(from_=" + py::repr(list_of(q.from)).cast<std::string>() +
+               ", to=" + py::repr(list_of(q.to)).cast<std::string>() + ")";
+      });
+
+  py::class_<PointLinkLoad>(
+      m, "PointLinkLoad",
+      "A force (N) and a moment (N·m), global axes, at `position`, a fraction of the link's "
+      "length from its from end (0 to 1).")
+      .def(py::init([](py::object force, py::object moment, double position) {
+             return PointLinkLoad{
+                 to_vec3(force, "PointLinkLoad force"),
+                 moment.is_none() ? Vec3::Zero() : to_vec3(moment, "PointLinkLoad moment"),
+                 position};
+           }),
+           py::arg("force"), py::arg("moment") = py::none(), py::kw_only(), py::arg("position"))
+      .def_property(
+          "force", [](const PointLinkLoad& p) { return to_array(VecX(p.force)); },
+          [](PointLinkLoad& p, py::object v) { p.force = to_vec3(v, "force"); })
+      .def_property(
+          "moment", [](const PointLinkLoad& p) { return to_array(VecX(p.moment)); },
+          [](PointLinkLoad& p, py::object v) { p.moment = to_vec3(v, "moment"); })
+      .def_readwrite("position", &PointLinkLoad::position)
+      .def("__repr__", [](const PointLinkLoad& p) {
+        return "PointLinkLoad(force=" + py::repr(list_of(p.force)).cast<std::string>() +
+               ", moment=" + py::repr(list_of(p.moment)).cast<std::string>() +
+               ", position=" + py::repr(py::float_(p.position)).cast<std::string>() + ")";
+      });
+
+  py::class_<LinkLoad>(m, "LinkLoad",
+                       "A load along the link named `link`: a DistributedLinkLoad or a "
+                       "PointLinkLoad (`load`).")
+      .def(py::init(&make_link_load), py::arg("link"), py::arg("load"))
+      .def_readwrite("link", &LinkLoad::link)
+      .def_readwrite("load", &LinkLoad::load)
+      .def("__repr__", [](const LinkLoad& l) {
+        return "LinkLoad(" + py::repr(py::str(l.link)).cast<std::string>() + ", " +
+               py::repr(py::cast(l.load)).cast<std::string>() + ")";
+      });
+
+  py::class_<Load>(m, "Load",
+                   "A wrench [Fx, Fy, Fz, Mx, My, Mz] (N, N·m; global axes, moment about `at`) "
+                   "on the link end at point `at` (`link` names the link where several ends "
+                   "meet there).")
+      .def(py::init(&make_load), py::arg("at"), py::arg("link") = py::none(),
+           py::arg("wrench") = py::none())
+      .def_readwrite("at", &Load::at)
+      .def_readwrite("link", &Load::link)
+      .def_property(
+          "wrench", [](const Load& l) { return to_array(VecX(l.wrench)); },
+          [](Load& l, py::object v) { l.wrench = to_vec6(v, "wrench"); })
+      .def_readonly("self_weight", &Load::self_weight)
+      .def("__repr__", [](const Load& l) {
+        return "Load(" + py::repr(py::str(l.at)).cast<std::string>() +
+               (l.link ? ", link=" + py::repr(py::str(*l.link)).cast<std::string>() : "") +
+               ", wrench=" + py::repr(list_of(l.wrench)).cast<std::string>() + ")";
+      });
+
+  py::class_<LoadCase>(
+      m, "LoadCase",
+      "A named set of loads (a model file's `load_cases:`): loads on points, loads along "
+      "links and a gravity (m/s², global axes; the beams whose material has a density weigh).")
+      .def(py::init([](std::string name, std::vector<Load> loads, std::vector<LinkLoad> link_loads,
+                       py::object gravity) {
+             LoadCase c;
+             c.name = std::move(name);
+             c.loads = std::move(loads);
+             c.link_loads = std::move(link_loads);
+             c.gravity = optional_vec3(gravity, "load case '" + c.name + "': gravity");
+             return c;
+           }),
+           py::arg("name"), py::arg("loads") = std::vector<Load>{},
+           py::arg("link_loads") = std::vector<LinkLoad>{}, py::kw_only(),
+           py::arg("gravity") = py::none())
+      .def_readwrite("name", &LoadCase::name)
+      .def_readwrite("loads", &LoadCase::loads, "The loads on points (a copy: assign to change).")
+      .def_readwrite("link_loads", &LoadCase::link_loads,
+                     "The loads along links (a copy: assign to change).")
+      .def_property(
+          "gravity", [](const LoadCase& c) { return optional_vec3_array(c.gravity); },
+          [](LoadCase& c, py::object g) {
+            c.gravity = optional_vec3(g, "load case '" + c.name + "': gravity");
+          },
+          "m/s², global axes, or None.")
+      .def(
+          "add_load",
+          [](LoadCase& c, std::string at, py::object link, py::object wrench) {
+            c.loads.push_back(make_load(std::move(at), std::move(link), std::move(wrench)));
+          },
+          py::arg("at"), py::arg("link") = py::none(), py::arg("wrench") = py::none(),
+          "As Model.add_load, in this case.")
+      .def(
+          "add_link_load",
+          [](LoadCase& c, std::string link, const py::object& load) {
+            c.link_loads.push_back(make_link_load(std::move(link), load));
+          },
+          py::arg("link"), py::arg("load"), "As Model.add_link_load, in this case.")
+      .def("__repr__", [](const LoadCase& c) {
+        return "<stiffmsa.LoadCase '" + c.name +
+               "': " + count_text(c.loads.size() + c.link_loads.size(), "load", "loads") +
+               (c.gravity ? ", gravity" : "") + ">";
       });
 
   py::class_<Section>(
@@ -414,6 +628,25 @@ void bind_model(py::module_& m) {
           [](const Model& model) { return model.options.accept_idle_motions; },
           [](Model& model, bool accept) { model.options.accept_idle_motions = accept; },
           "The model's own `options: {accept_idle_motions}`.")
+      .def_property(
+          "mode", [](const Model& model) { return model.options.mode; },
+          [](Model& model, const py::object& mode) { model.options.mode = to_mode(mode); },
+          "The model's own analysis mode (`analysis: {mode}`): AnalysisMode.linear or .loaded "
+          "(\"linear\" or \"loaded\" are taken too); solve(mode=...) overrides it.")
+      .def_property(
+          "load_steps", [](const Model& model) { return model.options.load_steps; },
+          [](Model& model, std::optional<int> steps) { model.options.load_steps = steps; },
+          "The loaded mode's number of load steps (`analysis: {load_steps}`), or None.")
+      .def_property(
+          "gravity", [](const Model& model) { return optional_vec3_array(model.gravity); },
+          [](Model& model, py::object g) { model.gravity = optional_vec3(g, "model gravity"); },
+          "The unnamed load case's gravity (m/s², global axes), or None.")
+      .def_property_readonly(
+          "link_loads", [](const Model& model) { return model.link_loads; },
+          "The unnamed case's loads along links (copies), in model order.")
+      .def_property_readonly(
+          "load_cases", [](const Model& model) { return model.load_cases; },
+          "The named load cases (copies), in model order.")
       .def_property_readonly(
           "source_file", [](const Model& model) { return model.source_file; },
           "The file the model was read from ('' for a model built in code).")
@@ -527,15 +760,21 @@ void bind_model(py::module_& m) {
       .def(
           "add_support",
           [](Model& model, std::string name, std::string at, py::object links,
-             const Connection& connection) {
-            model.add_support(name, std::move(at), to_names(links, "support '" + name + "': links"),
-                              connection);
+             const Connection& connection, py::object displacement) {
+            const auto support = model.add_support(
+                name, std::move(at), to_names(links, "support '" + name + "': links"), connection);
+            if (!displacement.is_none())
+              model.support(support).displacement =
+                  to_vec6(displacement, "support '" + name + "': displacement");
           },
           py::arg("name"), py::arg("at"), py::arg("links") = py::list(),
-          py::arg("connection") = Connection::rigid(),
+          py::arg("connection") = Connection::rigid(), py::kw_only(),
+          py::arg("displacement") = py::none(),
           "A support connecting link ends at point `at` to the ground (every link end there when "
           "`links` is "
-          "empty); rigid unless `connection` says otherwise.")
+          "empty); rigid unless `connection` says otherwise. `displacement` [dx, dy, dz, rx, ry, "
+          "rz] (m, rad; global axes) is a settlement of the directions it holds, in every load "
+          "case.")
       .def(
           "add_load",
           [](Model& model, std::string at, py::object link, py::object wrench) {
@@ -551,6 +790,16 @@ void bind_model(py::module_& m) {
           "end at point "
           "`at` (name the link where several ends meet there). add_load(at, wrench) is accepted "
           "too.")
+      .def(
+          "add_link_load",
+          [](Model& model, std::string link, const py::object& load) {
+            model.link_loads.push_back(make_link_load(std::move(link), load));
+          },
+          py::arg("link"), py::arg("load"),
+          "A load along the link (the unnamed case): a DistributedLinkLoad or a PointLinkLoad.")
+      .def(
+          "add_load_case", [](Model& model, const LoadCase& c) { model.add_load_case(c); },
+          py::arg("load_case"), "A named load case (a copy of it).")
       .def(
           "add_end_effector",
           [](Model& model, std::string name, std::string at, py::object link) {

@@ -105,8 +105,21 @@ py::array_t<double> to_array(const MatX& matrix) {
 
 SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
                            double singular_rcond, double max_relative_residual,
-                           int refinement_steps, double warn_condition) {
+                           int refinement_steps, double warn_condition, const py::object& mode,
+                           bool critical_load) {
   SolveOptions options;
+  if (py::isinstance<AnalysisMode>(mode)) {
+    options.mode = mode.cast<AnalysisMode>();
+  } else if (!mode.is_none()) {
+    const auto parsed = py::isinstance<py::str>(mode)
+                            ? analysis_mode_from_string(mode.cast<std::string>())
+                            : std::nullopt;
+    if (!parsed)
+      throw UsageError("mode " + py::repr(mode).cast<std::string>() +
+                       ": expected \"linear\", \"loaded\" or None (the model's own)");
+    options.mode = parsed;
+  }
+  options.critical_load = critical_load;
   const auto kind = solver_kind_from_string(solver);
   if (!kind)
     throw UsageError("solver '" + solver + "': expected one of auto, sparse_lu, umfpack, klu");

@@ -76,11 +76,27 @@ void bind_results(py::module_& m) {
       .def_property_readonly("wrench",
                              [](const LinkEndResult& e) { return to_optional_array(e.wrench); });
 
+  py::class_<InternalForces>(
+      m, "InternalForces",
+      "A flexible link's internal forces at a station: `position` (a fraction of the length from "
+      "the from end) and `forces` [N, Vy, Vz, T, My, Mz] (6,), local axes, the wrench the part "
+      "beyond the station exerts on the part before it (N > 0 is tension).")
+      .def_readonly("position", &InternalForces::position)
+      .def_property_readonly("forces",
+                             [](const InternalForces& f) { return to_array(VecX(f.forces)); })
+      .def("__repr__", [](const InternalForces& f) {
+        return "<stiffmsa.InternalForces at " +
+               py::repr(py::float_(f.position)).cast<std::string>() + ">";
+      });
+
   py::class_<LinkResult>(
       m, "LinkResult", "A link's two ends, `from_` and `to` (link['from'] and link['to'] as well).")
       .def_readonly("name", &LinkResult::name)
       .def_readonly("from_", &LinkResult::from)
       .def_readonly("to", &LinkResult::to)
+      .def_readonly("internal_forces", &LinkResult::internal_forces,
+                    "Beams: the internal forces at stations from end to end (a list of "
+                    "InternalForces); empty for other links.")
       .def("__getitem__",
            [](const LinkResult& link, const std::string& end) {
              if (end == "from") return link.from;
@@ -134,12 +150,56 @@ void bind_results(py::module_& m) {
         return std::string(text);
       });
 
+  py::class_<AnalysisInfo>(m, "AnalysisInfo",
+                           "How a result was found: its mode (AnalysisMode) and, in the loaded "
+                           "mode, the load steps and Newton iterations it took.")
+      .def_readonly("mode", &AnalysisInfo::mode)
+      .def_readonly("load_steps", &AnalysisInfo::load_steps)
+      .def_readonly("iterations", &AnalysisInfo::iterations)
+      .def("__repr__", [](const AnalysisInfo& a) {
+        return std::string("<stiffmsa.AnalysisInfo ") + to_string(a.mode) + ", " +
+               std::to_string(a.load_steps) + " load steps, " + std::to_string(a.iterations) +
+               " iterations>";
+      });
+
+  py::class_<CriticalLoad>(
+      m, "CriticalLoad",
+      "The smallest positive multiplier of a load case's loads at which the structure buckles or "
+      "reaches a limit point (`factor`, None where none is positive) and its mode in words.")
+      .def_readonly("factor", &CriticalLoad::factor)
+      .def_readonly("mode", &CriticalLoad::mode)
+      .def("__repr__", [](const CriticalLoad& c) {
+        return "<stiffmsa.CriticalLoad " +
+               (c.factor ? py::repr(py::float_(*c.factor)).cast<std::string>() : "None") + ">";
+      });
+
   py::class_<Result>(
       m, "Result",
       "Everything a solve found, keyed by the model's names: end_effectors, links, joints, "
       "supports (dicts of name to result), the system size and the report. to_dict() is the "
       "result file's content.")
       .def_readonly("model", &Result::model)
+      .def_readonly("load_case", &Result::load_case,
+                    "The load case these results are of ('' for the model's unnamed case).")
+      .def_readonly("analysis", &Result::analysis)
+      .def_readonly("critical_load", &Result::critical_load,
+                    "The CriticalLoad, where solve(critical_load=True) asked for it; else None.")
+      .def_property_readonly(
+          "load_cases",
+          [](const Result& r) {
+            py::dict named;
+            for (const auto& c : r.load_cases) named[py::str(c.load_case)] = py::cast(c);
+            return named;
+          },
+          "Every named load case's results (a Result each), by name, in model order.")
+      .def_property_readonly(
+          "linear",
+          [](const Result& r) { return r.linear ? py::cast(Result(*r.linear)) : py::none(); },
+          "In the loaded mode, the linear results of the same case (a Result); else None.")
+      .def("load_case_result", &Result::load_case_result, py::arg("name"),
+           py::return_value_policy::copy,
+           "The results of the load case of that name; UsageError naming the nearest name when "
+           "there is none.")
       .def_readonly("system", &Result::system)
       .def_property_readonly("end_effectors",
                              [](const Result& r) { return by_name(r.end_effectors); })

@@ -24,16 +24,25 @@ from typing import Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _core
 from ._core import (
+    AnalysisInfo,
+    AnalysisMode,
     Connection,
+    CriticalLoad,
+    DistributedLinkLoad,
     EndEffectorResult,
+    InternalForces,
     JointResult,
     Kinematics,
     LinkEndResult,
+    LinkLoad,
     LinkResult,
+    Load,
+    LoadCase,
     Material,
     Model,
     ModelFamily,
     Parameter,
+    PointLinkLoad,
     PrincipalStiffness,
     Result,
     Section,
@@ -48,11 +57,12 @@ from ._core import (
 from .errors import Diagnostic, Error, InputError, IoError, SingularModelError, UsageError
 
 __all__ = [
-    "Connection", "Diagnostic", "EndEffectorResult", "Error", "InputError", "IoError", "JointResult",
-    "Kinematics", "LinkEndResult", "LinkResult", "Material", "Model", "ModelFamily", "Parameter",
-    "PrincipalStiffness", "Result", "Section", "SingularModelError", "SolveOptions", "SolveReport",
-    "SupportResult", "SweepResult", "SystemSize", "UsageError", "check", "load_family", "load_model",
-    "principal_stiffness", "solve",
+    "AnalysisInfo", "AnalysisMode", "Connection", "CriticalLoad", "Diagnostic", "DistributedLinkLoad",
+    "EndEffectorResult", "Error", "InputError", "InternalForces", "IoError", "JointResult", "Kinematics",
+    "LinkEndResult", "LinkLoad", "LinkResult", "Load", "LoadCase", "Material", "Model", "ModelFamily",
+    "Parameter", "PointLinkLoad", "PrincipalStiffness", "Result", "Section", "SingularModelError",
+    "SolveOptions", "SolveReport", "SupportResult", "SweepResult", "SystemSize", "UsageError", "check",
+    "load_family", "load_model", "principal_stiffness", "solve",
 ]
 
 __version__: str = _core.__version__
@@ -63,10 +73,11 @@ _DEFAULTS = SolveOptions()
 
 
 def _options(solver: str, accept_idle_motions: bool, singular_rcond: float, max_relative_residual: float,
-             refinement_steps: int, warn_condition: float) -> SolveOptions:
+             refinement_steps: int, warn_condition: float, mode: Union[None, str, AnalysisMode] = None,
+             critical_load: bool = False) -> SolveOptions:
     return SolveOptions(solver=solver, accept_idle_motions=accept_idle_motions, singular_rcond=singular_rcond,
                         max_relative_residual=max_relative_residual, refinement_steps=refinement_steps,
-                        warn_condition=warn_condition)
+                        warn_condition=warn_condition, mode=mode, critical_load=critical_load)
 
 
 def _values(values: Optional[Mapping[str, float]], parameters: Mapping[str, float]) -> Dict[str, float]:
@@ -92,7 +103,8 @@ def solve(model: Model, solver: str = "auto", accept_idle_motions: bool = False,
           singular_rcond: float = _DEFAULTS.singular_rcond,
           max_relative_residual: float = _DEFAULTS.max_relative_residual,
           refinement_steps: int = _DEFAULTS.refinement_steps,
-          warn_condition: float = _DEFAULTS.warn_condition) -> Result:
+          warn_condition: float = _DEFAULTS.warn_condition,
+          mode: Union[None, str, AnalysisMode] = None, critical_load: bool = False) -> Result:
     """Solve a model: the compliance, stiffness and deflection of every end effector, the link
     ends' deflections and wrenches, the joints' relative deflections and wrenches and the
     supports' reactions (a :class:`Result`, the content of ``stiffmsa solve --json``).
@@ -103,13 +115,15 @@ def solve(model: Model, solver: str = "auto", accept_idle_motions: bool = False,
     end effector (the spin of a leg about its own axis). The other options are the C++
     ``SolveOptions``': the reciprocal condition below which the system is singular, the largest
     relative residual accepted, the iterative refinement steps, and the condition above which a
-    warning is given.
+    warning is given. ``mode``: ``"linear"`` or ``"loaded"`` (an :class:`AnalysisMode` too), or
+    ``None`` for the model's own (``Model.mode``); ``critical_load=True`` also finds every load
+    case's critical load factor (``Result.critical_load``).
 
     Raises :class:`InputError` for an invalid model and :class:`SingularModelError` for a
     mechanism (its ``details`` name the free motions).
     """
     return _core._solve(model, _options(solver, accept_idle_motions, singular_rcond, max_relative_residual,
-                                        refinement_steps, warn_condition))
+                                        refinement_steps, warn_condition, mode, critical_load))
 
 
 def load_family(path: PathLike, **values: float) -> ModelFamily:
@@ -153,7 +167,8 @@ def _family_solve(self: ModelFamily, values: Optional[Mapping[str, float]] = Non
                   accept_idle_motions: bool = False, singular_rcond: float = _DEFAULTS.singular_rcond,
                   max_relative_residual: float = _DEFAULTS.max_relative_residual,
                   refinement_steps: int = _DEFAULTS.refinement_steps,
-                  warn_condition: float = _DEFAULTS.warn_condition, **parameters: float) -> Result:
+                  warn_condition: float = _DEFAULTS.warn_condition, mode: Union[None, str, AnalysisMode] = None,
+                  critical_load: bool = False, **parameters: float) -> Result:
     """Solve one member: ``family.solve(x=0.1, y=0.0)`` is ``solve(family.build(x=0.1, y=0.0))``.
 
     The options are :func:`solve`'s; a parameter named like an option is given in the mapping
@@ -161,7 +176,7 @@ def _family_solve(self: ModelFamily, values: Optional[Mapping[str, float]] = Non
     """
     return self._solve(_values(values, parameters),
                        _options(solver, accept_idle_motions, singular_rcond, max_relative_residual,
-                                refinement_steps, warn_condition))
+                                refinement_steps, warn_condition, mode, critical_load))
 
 
 def _with_defaults(self: ModelFamily, **values: float) -> ModelFamily:
@@ -175,7 +190,8 @@ def _sweep(self: ModelFamily, grid: Optional[Mapping[str, Tuple[float, float, in
            accept_idle_motions: bool = False, singular_rcond: float = _DEFAULTS.singular_rcond,
            max_relative_residual: float = _DEFAULTS.max_relative_residual,
            refinement_steps: int = _DEFAULTS.refinement_steps,
-           warn_condition: float = _DEFAULTS.warn_condition) -> SweepResult:
+           warn_condition: float = _DEFAULTS.warn_condition,
+           mode: Union[None, str, AnalysisMode] = None) -> SweepResult:
     """Solve the family at many poses, as ``stiffmsa sweep`` does, and return its rows.
 
     Give the poses either as ``grid={"x": (start, stop, count), "y": (...)}`` (every
@@ -193,7 +209,7 @@ def _sweep(self: ModelFamily, grid: Optional[Mapping[str, Tuple[float, float, in
     give an invalid model and :class:`UsageError` when a swept name is not a parameter.
     """
     options = _options(solver, accept_idle_motions, singular_rcond, max_relative_residual, refinement_steps,
-                       warn_condition)
+                       warn_condition, mode)
     return self._sweep(grid, poses, options, full, threads, progress)
 
 

@@ -908,6 +908,10 @@ namespace {
 // small.
 constexpr double kLowestPlausibleModulus = 1e8;    // Pa
 constexpr double kHighestPlausibleModulus = 1e12;  // Pa
+// Engineering solids weigh from stiff foams (about 50 kg/m³) to tungsten alloys and osmium
+// (under 25 000 kg/m³); a density typed in g/cm³ or t/m³ is 1000 times too small.
+constexpr double kLowestPlausibleDensity = 50;      // kg/m³
+constexpr double kHighestPlausibleDensity = 25000;  // kg/m³
 // Robots and machine frames measure metres, frames of buildings tens of them; a model hundreds
 // of "metres" across is more likely drawn in millimetres.
 constexpr double kLargestPlausibleModelSize = 100;  // m
@@ -946,6 +950,16 @@ void check_modulus(std::vector<Finding>& findings, const Link& link, const char*
                   " the moduli of engineering materials (1e8 to 1e12 Pa): " +
                   (low ? "was it given in MPa or N/mm²? " : "was it given in another unit? ") +
                   "stiffmsa reads pascals (steel: E = 2.1e11 Pa)");
+}
+
+void check_density(std::vector<Finding>& findings, const Link& link, double density) {
+  if (density >= kLowestPlausibleDensity && density <= kHighestPlausibleDensity) return;
+  const bool low = density < kLowestPlausibleDensity;
+  add_finding(findings, link, "material.density",
+              "density = " + shortest_text(density) + " kg/m³ is " + (low ? "below" : "above") +
+                  " the densities of engineering materials (50 to 25000 kg/m³): " +
+                  (low ? "was it given in g/cm³ or t/m³? " : "was it given in another unit? ") +
+                  "stiffmsa reads kg/m³ (steel: density = 7850)");
 }
 
 // A beam is slender: a section metres wide and as wide as its link is long was likely given in
@@ -994,6 +1008,7 @@ std::vector<Diagnostic> detail::find_implausible_values(const Model& model,
     if (!beam) continue;
     check_modulus(findings, link, "E", beam->material.E);
     if (beam->material.G) check_modulus(findings, link, "G", *beam->material.G);
+    if (beam->material.density) check_density(findings, link, *beam->material.density);
     const int from = index.point_of_end(2 * static_cast<int>(l)),
               to = index.point_of_end(2 * static_cast<int>(l) + 1);
     if (from >= 0 && to >= 0)
