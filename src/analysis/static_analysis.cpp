@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
+#include "analysis/critical_load.hpp"
 #include "analysis/free_motion.hpp"
 #include "analysis/plausibility.hpp"
 #include "analysis/workspace_access.hpp"
@@ -894,12 +895,28 @@ void add_gravity_deflections(const Result& weight, Result& result) {
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
 }
 
+// The critical load factor of the case `result` holds (analysis/critical_load.hpp), where asked,
+// with the blocks the solve used (the rods' spins held where it held them).
+void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
+                       Result& result) {
+  if (!options.critical_load) return;
+  const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+  const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
+  const Workspace::Impl& used =
+      accept_idle && options.solver == SolverKind::automatic && ws.spin_locked ? *ws.spin_locked
+                                                                               : ws;
+  result.critical_load =
+      detail::critical_load(model, used.topology, used.spin_locks, options, result,
+                            detail::loads_at_ends(model, used.topology), result.report.notes);
+}
+
 // The solve of a checked model on its workspace: its results, the end effectors' deflection under
 // self-weight alone (same workspace: the weight-only model has the model's topology), and what
 // every result reports beside (results in own axes, the model's warnings, plausibility).
 Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
                      const SolveOptions& options) {
   Result result = solve_validated(workspace, model, options, false);
+  add_critical_load(workspace, model, options, result);
   if (has_self_weight(model))
     add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
                             result);
@@ -915,6 +932,7 @@ Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
   Result result = solve_validated(workspace, model, options, true);
+  add_critical_load(workspace, model, options, result);
   if (has_self_weight(model)) {
     const Model weight = self_weight_only(model);
     Workspace weight_workspace(weight);
