@@ -310,7 +310,7 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
   for (Index k = 0; k < n; ++k)
     if (k % 6 >= 3) weight(k) = length;
   const MatX m =
-      -weight.asDiagonal() * flexibility * load_stiffness * weight.cwiseInverse().asDiagonal();
+      weight.asDiagonal() * (-flexibility * load_stiffness) * weight.cwiseInverse().asDiagonal();
   Eigen::EigenSolver<MatX> eigen(m, true);
   const auto& mu = eigen.eigenvalues();
   const double largest = mu.cwiseAbs().maxCoeff();
