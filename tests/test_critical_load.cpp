@@ -9,9 +9,12 @@
 #include <numbers>
 #include <string>
 
+#include "analysis/critical_load.hpp"
+#include "assembly/topology.hpp"
 #include "builders.hpp"
 #include "elements/free_directions.hpp"
 #include "elements/geometric_load_terms.hpp"
+#include "stiffmsa/io/result_file.hpp"
 #include "stiffmsa/stiffmsa.hpp"
 
 namespace stiffmsa {
@@ -152,6 +155,47 @@ TEST(CriticalLoad, FactorScalesAsOneOverTheLoad) {
 
 TEST(CriticalLoad, NotComputedUnlessAsked) {
   EXPECT_FALSE(solve(column(4, End::pinned, End::pinned, -1000.0)).critical_load.has_value());
+}
+
+// The result file gives the factor and its mode where asked, null where none is positive, and
+// nothing where not asked (the files of models that do not ask stay as they were).
+TEST(CriticalLoad, ResultFileGivesTheFactorAndItsMode) {
+  const Result buckles = solve(column(2, End::clamped, End::free, -1000.0), with_critical_load());
+  ASSERT_TRUE(buckles.critical_load && buckles.critical_load->factor);
+  const std::string text = result_to_json(buckles);
+  EXPECT_NE(text.find("\"critical_load_factor\": "), std::string::npos);
+  EXPECT_NE(text.find("\"critical_load_mode\": \"" + buckles.critical_load->mode + "\""),
+            std::string::npos);
+  const std::string tension =
+      result_to_json(solve(column(2, End::clamped, End::free, +1000.0), with_critical_load()));
+  EXPECT_NE(tension.find("\"critical_load_factor\": null"), std::string::npos);
+  const std::string unasked = result_to_json(solve(column(2, End::clamped, End::free, -1000.0)));
+  EXPECT_EQ(unasked.find("critical_load"), std::string::npos);
+}
+
+// Each load case gets its own factor from its own loads; with no unnamed case the top level's
+// is the first case's. (The case results are solved here as models of their own, as the load
+// cases' solve gives them.)
+TEST(CriticalLoad, EveryLoadCaseGetsItsOwnFactor) {
+  Model model = column(8, End::clamped, End::free, 0.0);
+  model.loads.clear();
+  for (const auto& [name, force] : {std::pair{"push", -1000.0}, std::pair{"pull", 1000.0}}) {
+    LoadCase load_case;
+    load_case.name = name;
+    load_case.loads.push_back({"P8", std::nullopt, wrench(0, 0, force), false, {}});
+    model.add_load_case(load_case);
+  }
+  Result result = solve(column(8, End::clamped, End::free, -1000.0));
+  result.load_cases = {result, solve(column(8, End::clamped, End::free, +1000.0))};
+  detail::add_critical_loads(model, detail::build_topology(model), {}, with_critical_load(),
+                             result);
+  const double push = critical_factor(column(8, End::clamped, End::free, -1000.0));
+  ASSERT_TRUE(result.load_cases[0].critical_load && result.load_cases[0].critical_load->factor);
+  EXPECT_EQ(*result.load_cases[0].critical_load->factor, push);
+  ASSERT_TRUE(result.load_cases[1].critical_load);
+  EXPECT_FALSE(result.load_cases[1].critical_load->factor);
+  ASSERT_TRUE(result.critical_load && result.critical_load->factor);
+  EXPECT_EQ(*result.critical_load->factor, push);
 }
 
 // Greenhill: a clamped–free column under its own weight q per metre buckles at

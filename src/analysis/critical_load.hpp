@@ -28,4 +28,12 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const Result& result, const std::vector<Vec6>& end_loads,
                            std::vector<std::string>& notes);
 
+// Result::critical_load of `result` and of each of its load cases (Result::load_cases, those
+// of Model::load_cases in order): each case's factor from its own loads. The top level's is the
+// unnamed case's where the model has one (any load, load along a link or gravity) or no named
+// case, else a copy of the first case's, as the top-level results are.
+void add_critical_loads(const Model& model, const Topology& topology,
+                        const std::vector<SpinLock>& locks, const SolveOptions& options,
+                        Result& result);
+
 }  // namespace stiffmsa::detail

@@ -895,8 +895,8 @@ void add_gravity_deflections(const Result& weight, Result& result) {
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
 }
 
-// The critical load factor of the case `result` holds (analysis/critical_load.hpp), where asked,
-// with the blocks the solve used (the rods' spins held where it held them).
+// The critical load factors of the result's load cases (analysis/critical_load.hpp), where
+// asked, with the blocks the solve used (the rods' spins held where it held them).
 void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
                        Result& result) {
   if (!options.critical_load) return;
@@ -905,9 +905,7 @@ void add_critical_load(Workspace& workspace, const Model& model, const SolveOpti
   const Workspace::Impl& used =
       accept_idle && options.solver == SolverKind::automatic && ws.spin_locked ? *ws.spin_locked
                                                                                : ws;
-  result.critical_load =
-      detail::critical_load(model, used.topology, used.spin_locks, options, result,
-                            detail::loads_at_ends(model, used.topology), result.report.notes);
+  detail::add_critical_loads(model, used.topology, used.spin_locks, options, result);
 }
 
 // The solve of a checked model on its workspace: its results, the end effectors' deflection under
