@@ -198,6 +198,30 @@ TEST(CriticalLoad, EveryLoadCaseGetsItsOwnFactor) {
   EXPECT_EQ(*result.critical_load->factor, push);
 }
 
+// Above kMostDenseNodes nodes the eigenproblem is solved by Arnoldi's iteration: the same factor
+// as every eigenvalue of the dense problem (1e-10), here for a column of 150 beams (906
+// unknowns), and Euler's load.
+TEST(CriticalLoad, ArnoldiIterationFindsTheDenseFactor) {
+  const Model model = column(150, End::pinned, End::pinned, -1000.0);
+  const Result result = solve(model);
+  const detail::Topology topology = detail::build_topology(model);
+  std::vector<std::string> notes;
+  auto factor = [&](detail::EigenMethod method) {
+    const CriticalLoad critical =
+        detail::critical_load(model, topology, {}, with_critical_load(), result,
+                              detail::loads_at_ends(model, topology), notes, method);
+    EXPECT_TRUE(critical.factor);
+    return critical.factor.value_or(0.0);
+  };
+  const double dense = factor(detail::EigenMethod::dense);
+  const double iterative = factor(detail::EigenMethod::iterative);
+  EXPECT_NEAR(iterative / dense, 1.0, 1e-10);
+  EXPECT_NEAR(dense * 1000.0 / euler(1.0), 1.0, 1e-8);
+  EXPECT_TRUE(notes.empty());
+  // The same, automatically: 151 nodes are beyond the dense bound.
+  EXPECT_EQ(critical_factor(model), iterative);
+}
+
 // Greenhill: a clamped–free column under its own weight q per metre buckles at
 // qL³/EI = 7.837347… (9/4 · j², j the first zero of J₋₁/₃). The weight is lumped at the nodes
 // (qL/n inside, qL/2n at each end), which converges as h².

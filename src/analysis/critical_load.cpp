@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -225,6 +226,77 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
   return text.str();
 }
 
+// The eigenvalue μ = 1/λ of the critical load and its vector; `converged` false where an
+// iteration stopped at its last estimate.
+struct RightmostEigen {
+  double value = 0;
+  VecX vector;
+  bool converged = true;
+};
+
+// The largest real positive eigenvalue among `values`: real within kRealEigenvalue, positive
+// beyond kLeastLoadEigenvalue of the largest magnitude; none where there is none.
+std::optional<Index> rightmost_real(const Eigen::VectorXcd& values) {
+  if (values.size() == 0) return std::nullopt;
+  const double largest = values.cwiseAbs().maxCoeff();
+  std::optional<Index> best;
+  for (Index i = 0; i < values.size(); ++i) {
+    const double re = values(i).real(), im = values(i).imag();
+    if (!(re > kLeastLoadEigenvalue * largest) || std::abs(im) > kRealEigenvalue * std::abs(re))
+      continue;
+    if (!best || re > values(*best).real()) best = i;
+  }
+  return best;
+}
+
+// The rightmost real positive eigenvalue of the n×n operator `apply` by Arnoldi's method: the
+// Krylov space of a fixed start vector (the operator applied to a smooth vector, so that it lies
+// in the operator's range) is grown, orthogonalised twice by Gram–Schmidt, and the Ritz values of
+// its Hessenberg matrix are checked every 10 steps; the pair is taken where its residual
+// h_{j+1,j}·|y_j| is below kArnoldiTolerance of the largest Ritz value, or where the space is
+// invariant. At most kMostArnoldiSteps steps; then the last estimate, not converged. The
+// rightmost eigenvalue is an extreme point of the spectrum, which Krylov spaces find first.
+std::optional<RightmostEigen> rightmost_by_arnoldi(const std::function<VecX(const VecX&)>& apply,
+                                                   Index n) {
+  const Index most = std::min<Index>(n, kMostArnoldiSteps);
+  VecX start(n);
+  for (Index i = 0; i < n; ++i) start(i) = 1.0 + 0.5 * std::sin(0.7 * static_cast<double>(i));
+  start = apply(start);
+  if (!(start.norm() > 0)) return std::nullopt;
+  MatX basis(n, most + 1);
+  MatX hessenberg = MatX::Zero(most + 1, most);
+  basis.col(0) = start.normalized();
+  std::optional<RightmostEigen> estimate;
+  for (Index j = 0; j < most; ++j) {
+    VecX w = apply(basis.col(j));
+    const double applied = w.norm();
+    for (int pass = 0; pass < 2; ++pass) {
+      const VecX c = basis.leftCols(j + 1).transpose() * w;
+      w -= basis.leftCols(j + 1) * c;
+      hessenberg.col(j).head(j + 1) += c;
+    }
+    hessenberg(j + 1, j) = w.norm();
+    const Index steps = j + 1;
+    const bool invariant = !(hessenberg(j + 1, j) > kArnoldiTolerance * applied);
+    if (!invariant) basis.col(j + 1) = w / hessenberg(j + 1, j);
+    if (!invariant && steps % 10 != 0 && steps != most) continue;
+    Eigen::EigenSolver<MatX> ritz(hessenberg.topLeftCorner(steps, steps), true);
+    const std::optional<Index> best = rightmost_real(ritz.eigenvalues());
+    if (!best) {
+      if (invariant) return std::nullopt;
+      continue;
+    }
+    const VecX y = ritz.eigenvectors().col(*best).real().normalized();
+    const double value = ritz.eigenvalues()(*best).real();
+    const double residual = std::abs(hessenberg(j + 1, j) * y(steps - 1));
+    const bool converged =
+        invariant || residual <= kArnoldiTolerance * ritz.eigenvalues().cwiseAbs().maxCoeff();
+    estimate = RightmostEigen{value, basis.leftCols(steps) * y, converged};
+    if (converged || invariant) return estimate;
+  }
+  return estimate;
+}
+
 }  // namespace
 
 std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
@@ -237,7 +309,7 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,
                            const Result& result, const std::vector<Vec6>& end_loads,
-                           std::vector<std::string>& notes) {
+                           std::vector<std::string>& notes, EigenMethod method) {
   const Blocks blocks = make_blocks(model, topology, locks);
   std::vector<LoadTerm> terms;
   if (!gather_load_terms(model, topology, blocks, result, end_loads, terms)) {
@@ -280,52 +352,75 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
         "(a mechanism, or a structure held rigidly more than once)");
     return {};
   }
-  // F: the deflections of the nodes under a unit wrench at each node, a batch of columns at a
-  // time (a large model's n right-hand sides of its whole system would not fit at once).
-  MatX flexibility(n, n);
-  constexpr Index kBatch = 60;
-  double residual = 0;
-  for (Index first = 0; first < n; first += kBatch) {
-    const Index count = std::min(kBatch, n - first);
-    MatX rhs = MatX::Zero(topology.unknowns(), count);
-    for (Index c = 0; c < count; ++c) {
-      VecX column = VecX::Zero(topology.unknowns());
-      assembler.add_wrench(blocks, topology, node_ends[static_cast<std::size_t>((first + c) / 6)],
-                           Vec6::Unit((first + c) % 6), column);
-      rhs.col(c) = column;
-    }
-    double batch_residual = 0;
-    const MatX x = system.solve(std::move(rhs), options.refinement_steps, batch_residual);
-    residual = std::max(residual, batch_residual);
-    for (std::size_t k = 0; k < node_ends.size(); ++k)
-      flexibility.block(6 * static_cast<Index>(k), first, 6, count) =
-          x.middleRows<6>(deflection_column(node_ends[k]));
-  }
-  // Δt = F·(−λ·K_L·Δt): the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ
-  // are μ = 0 here, below kLeastLoadEigenvalue of the largest |μ|.
-  // In units where rotations are weighed by the model's size (S·M·S⁻¹, S = diag(1, 1, 1, ℓ, ℓ, ℓ)
-  // per node), so that every entry is a pure number of like size: the same eigenvalues.
+  // The eigenproblem Δt = F·(−λ·K_L·Δt), F the nodes' deflections under unit wrenches at the
+  // nodes: the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ are μ = 0 here,
+  // below kLeastLoadEigenvalue of the largest |μ|. In units where rotations are weighed by the
+  // model's size (S·M·S⁻¹, S = diag(1, 1, 1, ℓ, ℓ, ℓ) per node), so that every entry is a pure
+  // number of like size: the same eigenvalues.
   const double length = characteristic_length(model);
   VecX weight = VecX::Ones(n);
   for (Index k = 0; k < n; ++k)
     if (k % 6 >= 3) weight(k) = length;
-  const MatX m =
-      weight.asDiagonal() * (-flexibility * load_stiffness) * weight.cwiseInverse().asDiagonal();
-  Eigen::EigenSolver<MatX> eigen(m, true);
-  const auto& mu = eigen.eigenvalues();
-  const double largest = mu.cwiseAbs().maxCoeff();
-  Index best = -1;
-  for (Index i = 0; i < mu.size(); ++i) {
-    const double re = mu(i).real(), im = mu(i).imag();
-    if (!(re > kLeastLoadEigenvalue * largest) || std::abs(im) > kRealEigenvalue * std::abs(re))
-      continue;
-    if (best < 0 || re > mu(best).real()) best = i;
+  double residual = 0;
+  // The nodes' deflections under wrenches at the nodes, a column each.
+  auto deflections_under = [&](const MatX& wrenches) {
+    MatX rhs = MatX::Zero(topology.unknowns(), wrenches.cols());
+    VecX column(topology.unknowns());
+    for (Index c = 0; c < wrenches.cols(); ++c) {
+      column.setZero();
+      for (std::size_t k = 0; k < node_ends.size(); ++k) {
+        const Vec6 w = wrenches.col(c).segment<6>(6 * static_cast<Index>(k));
+        if (!w.isZero(0)) assembler.add_wrench(blocks, topology, node_ends[k], w, column);
+      }
+      rhs.col(c) = column;
+    }
+    double solve_residual = 0;
+    const MatX x = system.solve(std::move(rhs), options.refinement_steps, solve_residual);
+    residual = std::max(residual, solve_residual);
+    MatX d(n, wrenches.cols());
+    for (std::size_t k = 0; k < node_ends.size(); ++k)
+      d.middleRows<6>(6 * static_cast<Index>(k)) = x.middleRows<6>(deflection_column(node_ends[k]));
+    return d;
+  };
+  std::optional<RightmostEigen> rightmost;
+  if (method == EigenMethod::dense ||
+      (method == EigenMethod::automatic && n <= kMostDenseNodes * 6)) {
+    // F a batch of unit wrenches at a time (a large model's n right-hand sides of its whole
+    // system would not fit at once); then every eigenvalue of the dense n×n matrix.
+    MatX flexibility(n, n);
+    constexpr Index kBatch = 60;
+    for (Index first = 0; first < n; first += kBatch) {
+      const Index count = std::min(kBatch, n - first);
+      flexibility.middleCols(first, count) =
+          deflections_under(MatX::Identity(n, n).middleCols(first, count));
+    }
+    const MatX m =
+        weight.asDiagonal() * (-flexibility * load_stiffness) * weight.cwiseInverse().asDiagonal();
+    Eigen::EigenSolver<MatX> eigen(m, true);
+    const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
+    if (best)
+      rightmost = RightmostEigen{eigen.eigenvalues()(*best).real(),
+                                 eigen.eigenvectors().col(*best).real(), true};
+  } else {
+    // Arnoldi's method on the operator itself, one solve per step (shift-invert at λ = 0: the
+    // factorisation of K is F).
+    rightmost = rightmost_by_arnoldi(
+        [&](const VecX& v) {
+          const MatX d =
+              deflections_under(-(load_stiffness * weight.cwiseInverse().asDiagonal() * v));
+          return VecX(weight.asDiagonal() * d.col(0));
+        },
+        n);
+    if (rightmost && !rightmost->converged)
+      notes.push_back(
+          "the critical load factor's iteration did not converge; the factor given is its last "
+          "estimate");
   }
-  if (best < 0) return {};
+  if (!rightmost) return {};
   CriticalLoad critical;
-  critical.factor = 1 / mu(best).real();
+  critical.factor = 1 / rightmost->value;
   // The whole mode: the deflections under the load terms' wrenches at the nodes.
-  const VecX shape = weight.cwiseInverse().asDiagonal() * eigen.eigenvectors().col(best).real();
+  const VecX shape = weight.cwiseInverse().asDiagonal() * rightmost->vector;
   const VecX wrenches = -load_stiffness * shape;
   VecX rhs = VecX::Zero(topology.unknowns());
   for (std::size_t k = 0; k < node_ends.size(); ++k)

@@ -23,10 +23,14 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology);
 // tension, no load at all). Where it cannot be found (the unloaded system is singular, a wrench
 // of the linear solution is undetermined), no factor either, and `notes` gets the reason.
 // `locks`: the spin locks the solve held (Topology's find_spin_locks).
+// `method`: how the condensed eigenproblem is solved (theory.md §13.3): all its eigenvalues
+// densely up to kMostDenseNodes nodes, else Arnoldi's iteration; the tests ask for either.
+enum class EigenMethod { automatic, dense, iterative };
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,
                            const Result& result, const std::vector<Vec6>& end_loads,
-                           std::vector<std::string>& notes);
+                           std::vector<std::string>& notes,
+                           EigenMethod method = EigenMethod::automatic);
 
 // Result::critical_load of `result` and of each of its load cases (Result::load_cases, those
 // of Model::load_cases in order): each case's factor from its own loads. The top level's is the
