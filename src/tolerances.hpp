@@ -83,9 +83,9 @@ inline constexpr double kRealEigenvalue = 1e-8;
 // λ), not a critical load factor beyond 10¹⁰ times the smallest.
 inline constexpr double kLeastLoadEigenvalue = 1e-10;
 // Up to this many nodes (6 unknowns each) the condensed eigenproblem is solved densely, every
-// eigenvalue at once (a column of 100 beams: ~1 s); beyond, by Arnoldi's iteration, whose cost
-// grows with the model, not with its cube.
-inline constexpr int kMostDenseNodes = 100;
+// eigenvalue at once; beyond, by Arnoldi's iteration, whose cost grows with the model, not with
+// its cube (bench/README.md: a column of 100 beams, 1.2 s densely, 0.03 s so).
+inline constexpr int kMostDenseNodes = 30;
 // Arnoldi's iteration stops where the Ritz pair's residual is below this fraction of the
 // largest Ritz value (and a new direction below it is no new direction).
 inline constexpr double kArnoldiTolerance = 1e-13;
