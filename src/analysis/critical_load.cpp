@@ -203,6 +203,9 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     if (!by_phrase.count(key)) order.push_back(key);
     by_phrase[key].push_back(&part);
   }
+  // A frame's mode has many parts: the three largest phrases say where it is.
+  constexpr std::size_t kPhrases = 3;
+  if (order.size() > kPhrases) order.resize(kPhrases);
   std::ostringstream text;
   for (std::size_t i = 0; i < order.size(); ++i) {
     const std::vector<const ModePart*>& group = by_phrase[order[i]];
