@@ -2,9 +2,10 @@
 // The load-dependent stiffness of links carried as levers and of joints: what the finite
 // rotations of a link's chord and of a joint's free directions do to the wrenches they transmit
 // (theory.md §13.2), the ∂(Jᵀ·F)/∂q of the loaded-mode papers written element by element. The
-// convention is the beam's geometric stiffness's (beam_geometric.hpp): at the reference wrenches
-// the wrenches an element's ends receive change by K_L·Δt beside the linear ones, K_T = K + K_L,
-// global axes, deflections of link ends [Δp; Δφ], moments about each end's own point.
+// convention is the beam's geometric stiffness's (beam_geometric.hpp), K_T = K + K_L: at the
+// reference wrenches, the wrench the connections (theory.md §4) see at a link end is the one the
+// link's own rows (§3) hold plus K_L·Δt; so −K_L·Δt acts on the linear system as a load at the
+// link ends. Global axes, deflections of link ends [Δp; Δφ], moments about each end's point.
 #include <vector>
 
 #include "elements/free_directions.hpp"
