@@ -265,6 +265,9 @@ int run(int argc, char** argv) {
   sweep_app->add_option(
       "--direction", sweep_direction,
       "Add the columns E.k_trans_dir and E.k_rot_dir: the stiffness along X,Y,Z (global axes)");
+  sweep_app->add_option("--case", sweep_command.load_case,
+                        "The named load case whose results the rows take (default: the "
+                        "top-level results)");
   add_limit_options(*sweep_app, sweep_command.limits);
 
   ViewCommand view_command;

@@ -387,11 +387,47 @@ void print_geometry(std::ostream& out, const Model& model) {
 
 }  // namespace
 
+// "12.5 times the loads (link 'column' bends …)", or that none buckles; a line.
+std::string critical_load_text(const CriticalLoad& critical) {
+  if (!critical.factor) return "none (no multiple of the loads buckles the structure)\n";
+  char factor[32];
+  std::snprintf(factor, sizeof factor, "%.6g", *critical.factor);
+  return std::string(factor) + " times the loads" +
+         (critical.mode.empty() ? "" : " (" + critical.mode + ")") + '\n';
+}
+
+// A named load case, short: each end effector's deflection, the largest joint wrench and support
+// reaction, its equilibrium check and what it warns of beyond the top level's warnings.
+void print_load_case(std::ostream& out, const Result& c, const Result& top) {
+  out << "\nLoad case " << c.load_case << '\n';
+  for (const EndEffectorResult& e : c.end_effectors) {
+    out << " End effector " << e.name << '\n';
+    print_deflection(out, e.deflection);
+  }
+  Largest joint_wrench, support_reaction;
+  for (const JointResult& joint : c.joints) joint_wrench.consider(joint.name, joint.wrench);
+  for (const SupportResult& support : c.supports)
+    support_reaction.consider(support.name, support.reaction);
+  print_largest(out, "Largest joint wrench (on the first link end)", joint_wrench, c.model_size);
+  print_largest(out, "Largest support reaction", support_reaction, c.model_size);
+  out << "  equilibrium error: " << scientific(c.report.equilibrium_error, 0, 2) << '\n';
+  if (c.critical_load) out << "  critical load factor: " << critical_load_text(*c.critical_load);
+  for (const std::string& warning : c.report.warnings)
+    if (std::find(top.report.warnings.begin(), top.report.warnings.end(), warning) ==
+        top.report.warnings.end())
+      out << "  warning: " << warning << '\n';
+}
+
 void print_solve_summary(std::ostream& out, const Result& result,
                          const std::optional<std::filesystem::path>& result_file) {
   out << "Model: " << result.model << '\n';
   if (!result.parameters.empty())
     out << "Parameters: " << parameters_text(result.parameters) << '\n';
+  if (!result.load_cases.empty())
+    out << "Load case: "
+        << (result.load_case.empty() ? "the unnamed one (loads:)" : result.load_case) << " below; "
+        << result.load_cases.size()
+        << (result.load_cases.size() == 1 ? " named case" : " named cases") << " after it\n";
   print_system_size(out, result.system);
 
   if (result.end_effectors.empty()) out << "\nNo end effectors.\n";
@@ -409,18 +445,10 @@ void print_solve_summary(std::ostream& out, const Result& result,
   }
   print_largest(out, "Largest support reaction", support_reaction, result.model_size);
 
-  if (result.critical_load) {
-    const CriticalLoad& critical = *result.critical_load;
-    out << "\nCritical load factor: ";
-    char factor[32];
-    if (critical.factor) std::snprintf(factor, sizeof factor, "%.6g", *critical.factor);
-    if (critical.factor)
-      out << factor << " times the loads"
-          << (critical.mode.empty() ? "" : " (" + critical.mode + ")") << '\n';
-    else
-      out << "none (no multiple of the loads buckles the structure)\n";
-  }
+  if (result.critical_load)
+    out << "\nCritical load factor: " << critical_load_text(*result.critical_load);
   print_report(out, result.report);
+  for (const Result& c : result.load_cases) print_load_case(out, c, result);
   if (result_file) out << "\nResult written to " << result_file->string() << '\n';
 }
 

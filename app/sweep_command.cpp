@@ -302,6 +302,22 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   description.run.poses.grid = prepared.axes;
   if (command.solve.direction) description.run.direction = command.solve.direction->normalized();
   description.loads = loads_text(reference);
+  if (!command.load_case.empty()) {
+    const auto chosen =
+        std::find_if(reference.load_cases.begin(), reference.load_cases.end(),
+                     [&](const LoadCase& c) { return c.name == command.load_case; });
+    if (chosen == reference.load_cases.end()) {
+      std::string cases;
+      for (const LoadCase& c : reference.load_cases)
+        cases += (cases.empty() ? "'" : ", '") + c.name + "'";
+      throw UsageError(
+          "--case '" + command.load_case + "': the model has no load case of that name (" +
+          (cases.empty() ? std::string("it names no load case") : "its cases: " + cases) + ")");
+    }
+    Model case_loads = reference;
+    case_loads.loads = chosen->loads;
+    description.loads = "load case '" + chosen->name + "': " + loads_text(case_loads);
+  }
   for (const auto& name : description.run.poses.parameters) {
     const auto index = prepared.family->find_parameter(name);
     description.run.units.push_back(index ? prepared.family->parameters()[*index].unit : "");
@@ -317,6 +333,7 @@ std::unique_ptr<PreparedSweep> prepare_sweep(const SweepCommand& command) {
   plan.block = command.block;
   plan.options.solve = command.solve;
   plan.options.keep_matrices = command.full;
+  plan.options.load_case = command.load_case;
   plan.options.threads = command.threads;
   if (command.plot) {
     prepared.files.plotted = plotted_columns(description.run, command.plot_columns);

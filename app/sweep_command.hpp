@@ -32,6 +32,7 @@ struct SweepCommand {
   bool quiet = false;
   SolveOptions solve;
   LoadLimits limits;
+  std::string load_case;  // --case: the named load case whose results the rows take
 };
 
 int run_sweep(const SweepCommand& command);

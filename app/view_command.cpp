@@ -26,6 +26,33 @@ std::vector<std::string> parameter_texts(const ModelFamily& family,
   return texts;
 }
 
+// The model as the page shows it: with the loads of the case whose results it draws (`name`, or
+// where the model's own loads are no case, its first named case's).
+Model with_case_loads(const Model& model, const std::string& name) {
+  const LoadCase* shown = nullptr;
+  if (!name.empty()) {
+    std::string cases;
+    for (const LoadCase& c : model.load_cases) {
+      if (c.name == name) shown = &c;
+      cases += (cases.empty() ? "'" : ", '") + c.name + "'";
+    }
+    if (!shown)
+      throw UsageError(
+          "--case '" + name + "': the model has no load case of that name (" +
+          (cases.empty() ? std::string("it names no load case") : "its cases: " + cases) + ")");
+  } else if (model.loads.empty() && model.link_loads.empty() && !model.gravity &&
+             !model.load_cases.empty()) {
+    shown = &model.load_cases.front();
+  }
+  Model drawn = model;
+  if (shown) {
+    drawn.loads = shown->loads;
+    drawn.link_loads = shown->link_loads;
+    drawn.gravity = shown->gravity;
+  }
+  return drawn;
+}
+
 }  // namespace
 
 CLI::App* add_view_subcommand(CLI::App& app, ViewCommand& command) {
@@ -46,6 +73,9 @@ CLI::App* add_view_subcommand(CLI::App& app, ViewCommand& command) {
                                        : "expected a positive number, got '" + input + "'";
           },
           "S > 0"));
+  view->add_option("--case", command.load_case,
+                   "The named load case whose deformed shape and loads are shown (default: the "
+                   "top-level results: the unnamed case, else the first named one)");
   view->add_option("--set", command.settings,
                    "Parametric models: a parameter's value, NAME=VALUE (repeatable)");
   return view;
@@ -67,16 +97,18 @@ int run_view(const ViewCommand& command) {
   options.scale = command.scale;
   options.parameters = parameter_texts(family, values);
   // A model that cannot be solved is still worth seeing: a mechanism often shows why.
+  const Model drawn = with_case_loads(model, command.load_case);
   std::optional<Result> result;
   int code = exit_success;
   try {
     result = solve(model, command.solve);
+    if (!command.load_case.empty()) result = Result(result->load_case_result(command.load_case));
   } catch (const SingularModelError& e) {
     options.not_solved = e.what();
     print_singular_model_error(std::cerr, e);
     code = exit_cannot_solve;
   }
-  write_model_view(model, result ? &*result : nullptr, options, html_file);
+  write_model_view(drawn, result ? &*result : nullptr, options, html_file);
   std::cout << "View of " << model.name << " written to " << html_file.string() << '\n';
   return code;
 }

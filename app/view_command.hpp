@@ -17,6 +17,7 @@ struct ViewCommand {
   std::vector<std::string> settings;  // parametric models: "name=value"
   SolveOptions solve;
   LoadLimits limits;
+  std::string load_case;  // --case: the named load case whose deformed shape and loads are shown
 };
 
 // Declares the subcommand and its own options on `app` (main.cpp adds the solver and limit

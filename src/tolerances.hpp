@@ -74,7 +74,7 @@ inline constexpr double kRigidSpread = 1e14;
 // direction is held rigidly.
 inline constexpr double kRigidCompliance = 1e-12;
 
-// ---- critical load (docs/theory.md §13) ----------------------------------------------------
+// ---- critical load (docs/theory.md §14) ----------------------------------------------------
 
 // An eigenvalue μ = 1/λ of the load terms' eigenproblem whose imaginary part is within this
 // fraction of its real part is real: a double root that rounding split into a complex pair.

@@ -1,4 +1,4 @@
-// The critical load factor (docs/theory.md §13): Euler's columns with four end conditions and
+// The critical load factor (docs/theory.md §14): Euler's columns with four end conditions and
 // their convergence, Greenhill's column under its own weight, rigid bars on springs against
 // their closed forms (the load terms of links and joints), tension and tiny loads; the kernels
 // of the load-dependent stiffness against finite differences of the turned statics.
@@ -65,7 +65,7 @@ SolveOptions with_critical_load() {
   return options;
 }
 
-// A test's number in its XML report (--gtest_output=xml), for the tables of theory.md §13.4.
+// A test's number in its XML report (--gtest_output=xml), for the tables of theory.md §14.4.
 void record(const std::string& key, double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.2e", value);
@@ -174,8 +174,7 @@ TEST(CriticalLoad, ResultFileGivesTheFactorAndItsMode) {
 }
 
 // Each load case gets its own factor from its own loads; with no unnamed case the top level's
-// is the first case's. (The case results are solved here as models of their own, as the load
-// cases' solve gives them.)
+// is the first case's, with one the unnamed case's.
 TEST(CriticalLoad, EveryLoadCaseGetsItsOwnFactor) {
   Model model = column(8, End::clamped, End::free, 0.0);
   model.loads.clear();
@@ -185,17 +184,52 @@ TEST(CriticalLoad, EveryLoadCaseGetsItsOwnFactor) {
     load_case.loads.push_back({"P8", std::nullopt, wrench(0, 0, force), false, {}});
     model.add_load_case(load_case);
   }
-  Result result = solve(column(8, End::clamped, End::free, -1000.0));
-  result.load_cases = {result, solve(column(8, End::clamped, End::free, +1000.0))};
-  detail::add_critical_loads(model, detail::build_topology(model), {}, with_critical_load(),
-                             result);
   const double push = critical_factor(column(8, End::clamped, End::free, -1000.0));
+  const Result result = solve(model, with_critical_load());
+  ASSERT_EQ(result.load_cases.size(), 2u);
   ASSERT_TRUE(result.load_cases[0].critical_load && result.load_cases[0].critical_load->factor);
-  EXPECT_EQ(*result.load_cases[0].critical_load->factor, push);
+  EXPECT_NEAR(*result.load_cases[0].critical_load->factor / push, 1.0, 1e-12);
   ASSERT_TRUE(result.load_cases[1].critical_load);
   EXPECT_FALSE(result.load_cases[1].critical_load->factor);
   ASSERT_TRUE(result.critical_load && result.critical_load->factor);
-  EXPECT_EQ(*result.critical_load->factor, push);
+  EXPECT_EQ(*result.critical_load->factor, *result.load_cases[0].critical_load->factor);
+
+  model.add_load("P8", std::nullopt, wrench(0, 0, -4000.0));
+  const Result with_unnamed = solve(model, with_critical_load());
+  ASSERT_TRUE(with_unnamed.critical_load && with_unnamed.critical_load->factor);
+  EXPECT_NEAR(*with_unnamed.critical_load->factor / (push / 4), 1.0, 1e-12);
+  ASSERT_TRUE(with_unnamed.load_cases[0].critical_load->factor);
+  EXPECT_NEAR(*with_unnamed.load_cases[0].critical_load->factor / push, 1.0, 1e-12);
+}
+
+// The same column under its own weight along its beams (density and gravity, loads along links:
+// docs/theory.md §13.3): each beam takes the mean of its ends' axial forces, which converges to
+// Greenhill's load as h² like the lumped weight.
+TEST(CriticalLoad, ColumnUnderItsWeightAlongItsBeamsConvergesToGreenhill) {
+  const double exact = 7.837347438943483;
+  constexpr double kDensity = 7850, kGravity = 9.81;
+  const double weight = kDensity * section_properties(kBar).A * kGravity;  // N/m
+  const double scale = weight * std::pow(kHeight, 3) / (kSteel.E * weak_inertia());
+  double previous_error = 0, previous = 0;
+  for (int elements = 8; elements <= 64; elements *= 2) {
+    Model m = column(elements, End::clamped, End::free, 0.0);
+    m.loads.clear();
+    for (Link& link : m.links) std::get<BeamLink>(link.kind).material.density = kDensity;
+    m.gravity = Vec3(0, 0, -kGravity);
+    const double value = critical_factor(m) * scale;
+    const double error = std::abs(value / exact - 1);
+    record("elements_" + std::to_string(elements), error);
+    if (previous_error > 0) {
+      EXPECT_NEAR(previous_error / error, 4.0, 0.2) << elements;
+    }
+    if (elements == 64) {
+      EXPECT_LT(error, 1e-3);
+      record("richardson_32_64", (4 * value - previous) / 3 / exact - 1);
+      EXPECT_NEAR((4 * value - previous) / 3 / exact, 1.0, 1e-7);
+    }
+    previous_error = error;
+    previous = value;
+  }
 }
 
 // Above kMostDenseNodes nodes the eigenproblem is solved by Arnoldi's iteration: the same factor

@@ -93,6 +93,10 @@ struct SweepOptions {
   std::size_t threads = 0;  // 0: every core
   // Called now and then with (poses done, poses in all), never from two threads at once.
   std::function<void(std::size_t, std::size_t)> progress;
+  // The named load case whose results each pose's row takes (`sweep --case`); empty: the
+  // top-level results (the unnamed case, or the first named one). A name the model does not
+  // have is a UsageError listing its cases.
+  std::string load_case;
 };
 
 struct SweepResult {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
+#include "analysis/case_loads.hpp"
 #include "assembly/assembler.hpp"
 #include "elements/beam_element.hpp"
 #include "elements/beam_geometric.hpp"
@@ -441,29 +442,23 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
 void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<SpinLock>& locks, const SolveOptions& options,
                         Result& result) {
-  for (std::size_t c = 0; c < result.load_cases.size() && c < model.load_cases.size(); ++c) {
-    // The model with this case's loads as its own: its topology places them.
-    const LoadCase& load_case = model.load_cases[c];
-    Model case_model = model;
-    case_model.loads = load_case.loads;
-    case_model.link_loads = load_case.link_loads;
-    case_model.gravity = load_case.gravity;
-    case_model.load_cases.clear();
-    Topology case_topology = topology;
-    case_topology.load_ends = build_topology(case_model).load_ends;
+  // The cases in the order case_loads gives them: the unnamed one where there is one, then
+  // the named ones, as Result holds them (the self-weight column after them is no case).
+  const std::vector<CaseLoads> cases = case_loads(model, topology);
+  const bool unnamed = has_unnamed_case(model);
+  const std::size_t first_named = unnamed ? 1 : 0;
+  for (std::size_t c = 0; c < result.load_cases.size(); ++c) {
     Result& case_result = result.load_cases[c];
     case_result.critical_load =
-        critical_load(case_model, case_topology, locks, options, case_result,
-                      loads_at_ends(case_model, case_topology), case_result.report.notes);
+        critical_load(model, topology, locks, options, case_result,
+                      cases[first_named + c].applied_at_ends(), case_result.report.notes);
   }
-  const bool unnamed_case = !model.loads.empty() || !model.link_loads.empty() || model.gravity ||
-                            model.load_cases.empty();
-  if (!unnamed_case && !result.load_cases.empty()) {
+  if (!unnamed && !result.load_cases.empty()) {
     result.critical_load = result.load_cases.front().critical_load;
     return;
   }
   result.critical_load = critical_load(model, topology, locks, options, result,
-                                       loads_at_ends(model, topology), result.report.notes);
+                                       cases.front().applied_at_ends(), result.report.notes);
 }
 
 }  // namespace stiffmsa::detail

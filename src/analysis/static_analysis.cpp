@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
+#include "analysis/case_loads.hpp"
 #include "analysis/critical_load.hpp"
 #include "analysis/free_motion.hpp"
 #include "analysis/plausibility.hpp"
@@ -167,8 +168,11 @@ struct Problem {
   Workspace::Impl& ws;
   const SolveOptions& options;
   detail::Blocks blocks;
-  std::vector<Vec6> external;             // per link end: sum of the model's loads there
-  bool loaded = false;                    // any nonzero load or preload
+  // The load cases, one right-hand side column each (case_loads.hpp): the unnamed case where
+  // there is one, every named case, and the robot's self-weight alone where it has one.
+  std::vector<detail::CaseLoads> cases;
+  Index state_columns = 0;                // the cases that carry the preloads and settlements
+  bool loaded = false;                    // any nonzero load, preload or settlement
   bool blocks_are_the_reference = false;  // a one-shot solve's: its own pattern
 
   // The blocks of the model the workspace was built from.
@@ -187,16 +191,19 @@ struct Problem {
       blocks = std::move(ws.pose_blocks);
       detail::refill_blocks(model, ws.topology, ws.spin_locks, blocks);
     }
-    external.assign(static_cast<std::size_t>(ws.topology.end_count()), Vec6::Zero());
-    for (std::size_t i = 0; i < model.loads.size(); ++i) {
-      external[static_cast<std::size_t>(ws.topology.load_ends[i])] += model.loads[i].wrench;
-      loaded |= !model.loads[i].wrench.isZero(0);
+    cases = detail::case_loads(model, ws.topology);
+    for (const detail::CaseLoads& c : cases) {
+      loaded |= c.loaded;
+      state_columns += c.with_state;
     }
     for (const auto& j : model.joints)
       loaded |= j.connection.preload && !j.connection.preload->isZero(0);
     for (const auto& s : model.supports)
       loaded |= s.connection.preload && !s.connection.preload->isZero(0);
+    check_settlements();
   }
+
+  Index load_columns() const { return static_cast<Index>(cases.size()); }
 
   Problem(const Problem&) = delete;
   Problem& operator=(const Problem&) = delete;
@@ -209,11 +216,31 @@ struct Problem {
       ws.pose_blocks = std::move(blocks);
   }
 
-  VecX load_rhs() const {
+  VecX load_rhs(const detail::CaseLoads& c) const {
     std::vector<std::pair<int, Vec6>> wrenches;
-    for (std::size_t e = 0; e < external.size(); ++e)
-      if (!external[e].isZero(0)) wrenches.emplace_back(static_cast<int>(e), external[e]);
-    return ws.assembler->right_hand_side(blocks, ws.topology, wrenches, true);
+    for (std::size_t e = 0; e < c.external.size(); ++e)
+      if (!c.external[e].isZero(0)) wrenches.emplace_back(static_cast<int>(e), c.external[e]);
+    return ws.assembler->right_hand_side(blocks, ws.topology, wrenches, c.with_state);
+  }
+
+  // A settlement moves the ground along the directions the support holds; along a free one
+  // nothing would hold the ground's motion (validate() says so with the file's place first).
+  void check_settlements() {
+    const detail::Topology& t = ws.topology;
+    for (std::size_t g = 0; g < t.groups.size(); ++g) {
+      if (t.groups[g].kind != detail::ConnectionGroup::Kind::support) continue;
+      const Support& support = model.supports[static_cast<std::size_t>(t.groups[g].source)];
+      if (!support.displacement) continue;
+      loaded |= !support.displacement->isZero(0);
+      const detail::FreeDirections* directions =
+          blocks[static_cast<std::size_t>(t.link_count) + g]->directions();
+      if (directions && directions->p > 0 &&
+          (directions->free() * *support.displacement).norm() >
+              detail::kRankTolerance * support.displacement->norm())
+        throw InputError(support.origin.of("displacement"), "supports." + support.name,
+                         "a settlement (displacement) must be zero along the support's free "
+                         "directions: the support does not hold the ground's motion there");
+    }
   }
 
   // Columns: the right-hand sides of a unit wrench at `end` in each of the 6 directions.
@@ -228,14 +255,24 @@ struct Problem {
   }
 };
 
+// The results of one load case from its column of the solution. Its loads along links entered
+// as equivalent end loads (case_loads.hpp): the solved end wrenches plus the fixed-end wrenches
+// are the true ones; a joint's wrench and a support's reaction, which count those end loads as
+// applied at the ends, need no correction.
 template <class Column>
-void fill_state_results(const Problem& problem, const Column& x, Result& result) {
+void fill_state_results(const Problem& problem, const Column& x, const detail::CaseLoads& loads,
+                        Result& result) {
   const Model& model = problem.model;
   const detail::Topology& t = problem.ws.topology;
+  const std::vector<Vec6>& external = loads.external;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l), to = from + 1;
     result.links[l].from = {deflection_of(x, from), wrench_of(x, from)};
     result.links[l].to = {deflection_of(x, to), wrench_of(x, to)};
+    if (!loads.fixed_end.empty()) {
+      *result.links[l].from.wrench += loads.fixed_end[static_cast<std::size_t>(from)];
+      *result.links[l].to.wrench += loads.fixed_end[static_cast<std::size_t>(to)];
+    }
   }
   for (std::size_t g = 0; g < t.groups.size(); ++g) {
     const detail::ConnectionGroup& group = t.groups[g];
@@ -255,13 +292,13 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
         q.push_back(directions.free() *
                     (deflection_of(x, group.ends[k]) - deflection_of(x, first)));
       r.relative_deflection = std::move(q);
-      r.wrench = wrench_of(x, first) - problem.external[static_cast<std::size_t>(first)];
+      r.wrench = wrench_of(x, first) - external[static_cast<std::size_t>(first)];
       if (joint.connection.is_actuated)
         r.effort = VecX(directions.gram().ldlt().solve(directions.free() * *r.wrench));
     } else if (group.kind == detail::ConnectionGroup::Kind::support) {
       Vec6 reaction = Vec6::Zero();
       for (int end : group.ends)
-        reaction += wrench_of(x, end) - problem.external[static_cast<std::size_t>(end)];
+        reaction += wrench_of(x, end) - external[static_cast<std::size_t>(end)];
       result.supports[static_cast<std::size_t>(group.source)].reaction = reaction;
     }
   }
@@ -269,8 +306,10 @@ void fill_state_results(const Problem& problem, const Column& x, Result& result)
     result.end_effectors[e].deflection = deflection_of(x, t.effector_ends[e]);
 }
 
-// ‖Σ reactions + Σ loads‖, forces and moments (about the origin) each relative to their scale.
-double equilibrium_error(const Problem& problem, const Result& result) {
+// ‖Σ reactions + Σ loads‖, forces and moments (about the origin) each relative to their scale;
+// a load along a link counts with its true resultant.
+double equilibrium_error(const Problem& problem, const detail::CaseLoads& loads,
+                         const Result& result) {
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
   double force_scale = 0, moment_scale = 0;
   const std::vector<Vec3> positions = end_positions(problem.model, problem.ws.topology);
@@ -281,8 +320,13 @@ double equilibrium_error(const Problem& problem, const Result& result) {
     force_scale += w.head<3>().norm();
     moment_scale += w.tail<3>().norm() + at.norm() * w.head<3>().norm();
   };
-  for (std::size_t e = 0; e < problem.external.size(); ++e)
-    if (!problem.external[e].isZero(0)) add(positions[e], problem.external[e]);
+  const std::vector<Vec6>& applied = loads.applied_at_ends();
+  for (std::size_t e = 0; e < applied.size(); ++e)
+    if (!applied[e].isZero(0)) add(positions[e], applied[e]);
+  for (const detail::ResolvedLinkLoad& load : loads.link_loads) {
+    const detail::LoadResultant r = detail::resultant(problem.model, problem.ws.topology, load);
+    add(r.at, r.wrench);
+  }
   for (const auto& group : problem.ws.topology.groups)
     if (group.kind == detail::ConnectionGroup::Kind::support) {
       const auto& reaction = result.supports[static_cast<std::size_t>(group.source)].reaction;
@@ -349,31 +393,54 @@ void check_accuracy(const SolveOptions& options, Result& result) {
                                 result.report.failed_checks.end());
 }
 
-// The right-hand sides: the loads and preloads in column 0, then a unit wrench in each of the
-// 6 directions at every end effector.
+// The results of every load case (one per Problem::cases), filled alike where they share a value.
+using CaseResults = std::vector<Result>;
+
+// The right-hand sides: each load case's loads (with the preloads and settlements where the case
+// carries them) in columns 0 .. k−1, then a unit wrench in each of the 6 directions at every end
+// effector.
 MatX load_and_unit_wrench_rhs(const Problem& problem) {
   const auto& t = problem.ws.topology;
   const std::size_t effectors = problem.model.end_effectors.size();
-  MatX rhs(t.unknowns(), 1 + 6 * static_cast<Index>(effectors));
-  rhs.col(0) = problem.load_rhs();
+  const Index k = problem.load_columns();
+  MatX rhs(t.unknowns(), k + 6 * static_cast<Index>(effectors));
+  for (Index c = 0; c < k; ++c)
+    rhs.col(c) = problem.load_rhs(problem.cases[static_cast<std::size_t>(c)]);
   for (std::size_t e = 0; e < effectors; ++e)
-    rhs.middleCols<6>(1 + 6 * static_cast<Index>(e)) = problem.unit_wrench_rhs(t.effector_ends[e]);
+    rhs.middleCols<6>(k + 6 * static_cast<Index>(e)) = problem.unit_wrench_rhs(t.effector_ends[e]);
   return rhs;
+}
+
+// The same as the tree and frame solves take them, into `wrenches` (its buffers kept).
+void load_and_unit_wrenches(const Problem& problem, detail::EndWrenches& wrenches) {
+  const auto& t = problem.ws.topology;
+  const Index k = problem.load_columns();
+  wrenches.reset(t.end_count(), k + 6 * static_cast<Index>(t.effector_ends.size()),
+                 problem.state_columns);
+  for (Index c = 0; c < k; ++c) {
+    const std::vector<Vec6>& external = problem.cases[static_cast<std::size_t>(c)].external;
+    for (std::size_t e = 0; e < external.size(); ++e)
+      if (!external[e].isZero(0)) wrenches.add(static_cast<int>(e), c, external[e]);
+  }
+  for (std::size_t e = 0; e < t.effector_ends.size(); ++e)
+    for (int c = 0; c < 6; ++c)
+      wrenches.add(t.effector_ends[e], k + 6 * static_cast<Index>(e) + c, Vec6::Unit(c));
 }
 
 // Deflections, wrenches, compliance and stiffness from the solutions of those right-hand sides
 // (a MatX, or the tree solve's RowMajorMatX).
 template <class Solution>
 void fill_loads_and_compliance(const Problem& problem, const Solution& x, double residual,
-                               Result& result) {
+                               CaseResults& results) {
   const auto& t = problem.ws.topology;
   const std::size_t effectors = problem.model.end_effectors.size();
+  const Index k = problem.load_columns();
+  Result& result = results.front();
   result.report.relative_residual = std::max(result.report.relative_residual, residual);
-  fill_state_results(problem, x.col(0), result);
   const double length = detail::characteristic_length(problem.model);
   for (std::size_t e = 0; e < effectors; ++e) {
     const Mat6 compliance = x.template block<6, 6>(deflection_column(t.effector_ends[e]),
-                                                   1 + 6 * static_cast<Index>(e));
+                                                   k + 6 * static_cast<Index>(e));
     auto& r = result.end_effectors[e];
     r.compliance = compliance;
     const detail::CartesianStiffness cartesian =
@@ -397,15 +464,42 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
           "have lost most digits"));
     }
   }
-  result.report.equilibrium_error = equilibrium_error(problem, result);
+  // Every case shares the compliance and what was said of it; each has its own state.
+  for (std::size_t c = 1; c < results.size(); ++c) {
+    Result& other = results[c];
+    other.system = result.system;
+    other.report = result.report;
+    for (std::size_t e = 0; e < effectors; ++e) {
+      other.end_effectors[e].compliance = result.end_effectors[e].compliance;
+      other.end_effectors[e].stiffness = result.end_effectors[e].stiffness;
+      other.end_effectors[e].reduced_stiffness = result.end_effectors[e].reduced_stiffness;
+    }
+  }
+  const bool internal_forces = detail::loads_along_links(problem.model);
+  for (std::size_t c = 0; c < results.size(); ++c) {
+    const detail::CaseLoads& loads = problem.cases[c];
+    fill_state_results(problem, x.col(static_cast<Index>(c)), loads, results[c]);
+    if (internal_forces) detail::add_internal_forces(problem.model, t, loads, results[c]);
+    results[c].report.equilibrium_error = equilibrium_error(problem, loads, results[c]);
+  }
 }
 
-void solve_regular(Problem& problem, Result& result) {
+void check_accuracy(const SolveOptions& options, CaseResults& results) {
+  for (Result& result : results) check_accuracy(options, result);
+}
+
+// Sets `member` of every case's result.
+template <class Member, class Value>
+void set_all(CaseResults& results, Member member, const Value& value) {
+  for (Result& result : results) result.*member = value;
+}
+
+void solve_regular(Problem& problem, CaseResults& results) {
   double residual = 0;
   const MatX x = problem.ws.system->solve(load_and_unit_wrench_rhs(problem),
                                           problem.options.refinement_steps, residual);
-  fill_loads_and_compliance(problem, x, residual, result);
-  check_accuracy(problem.options, result);
+  fill_loads_and_compliance(problem, x, residual, results);
+  check_accuracy(problem.options, results);
 }
 
 // The solves that factorise no mixed system, the tree solve (solver/tree_solver.hpp) and the
@@ -414,7 +508,7 @@ void solve_regular(Problem& problem, Result& result) {
 // factorising solve then decides.
 enum class BlockSolve { tree, frame };
 
-bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result) {
+bool solve_without_factorising(Problem& problem, BlockSolve kind, CaseResults& results) {
   const auto& t = problem.ws.topology;
   detail::TreeScratch& scratch = problem.ws.tree_scratch;
   // Whatever the outcome, a long model's buffers are not kept in the workspace.
@@ -423,7 +517,7 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
     ~Release() { scratch.release_large(); }
   } release{scratch};
   detail::EndWrenches& external = scratch.load_case_wrenches;
-  detail::load_cases_into(problem.model, t, external);
+  load_and_unit_wrenches(problem, external);
   const char* solver = nullptr;
   double reciprocal_condition = 0;  // of what was factorised: nothing on the tree
   if (kind == BlockSolve::tree) {
@@ -447,11 +541,12 @@ bool solve_without_factorising(Problem& problem, BlockSolve kind, Result& result
     if (check.pattern != *problem.ws.block_pattern) detail::throw_topology_changed();
   }
   if (!(check.relative_residual <= problem.options.max_relative_residual)) return false;
+  Result& result = results.front();
   result.system = {t.unknowns(), t.unknowns(), check.nonzeros};
   result.report.solver = solver_used_from_string(solver).value_or(SolverUsed::none);
   result.report.reciprocal_condition = reciprocal_condition;
-  fill_loads_and_compliance(problem, x, check.relative_residual, result);
-  check_accuracy(problem.options, result);
+  fill_loads_and_compliance(problem, x, check.relative_residual, results);
+  check_accuracy(problem.options, results);
   return true;
 }
 
@@ -537,13 +632,16 @@ constexpr const char* kIdleMotionsAccepted =
     "idle motions accepted: the end-effector results do not depend on them; the deflections they "
     "change are null";
 
+void leave_undetermined_null(const Problem& problem, const detail::SingularStructure& structure,
+                             Result& result);
+
 // A singular system whose null space leaves every end effector in place: over-constrained rigid
 // loops (deflections unique, some wrenches not) and, where accepted, idle motions (some link
 // ends' deflections not unique). The system bordered with the dependencies of its equations
 // and its null vectors is regular; its solution is one member of the family, and every value
 // that varies across the family is reported null.
 void solve_singular_but_determined(Problem& problem, const detail::SingularStructure& structure,
-                                   Result& result) {
+                                   CaseResults& results) {
   const Index n = problem.ws.topology.unknowns();
   const MatX& redundancies = structure.redundancies;
   const MatX& idle = structure.motions;
@@ -565,14 +663,22 @@ void solve_singular_but_determined(Problem& problem, const detail::SingularStruc
         system.solve(std::move(padded), problem.options.refinement_steps, bordered_residual);
     const MatX solution = x.topRows(n);
     fill_loads_and_compliance(problem, solution,
-                              detail::relative_residual(problem.ws.matrix, solution, rhs), result);
+                              detail::relative_residual(problem.ws.matrix, solution, rhs), results);
   }
-  if (result.report.relative_residual > detail::kLoadAlongFreeMotion)
+  if (results.front().report.relative_residual > detail::kLoadAlongFreeMotion)
     throw SingularModelError(
         SingularModelError::Cause::free_motion,
         "the structure cannot hold its loads or preloads: they act along a free motion",
         structure.descriptions);
+  for (Result& result : results) leave_undetermined_null(problem, structure, result);
+}
 
+// What varies across the family of solutions of a singular but determined system, null in one
+// case's result, and the notes that say so.
+void leave_undetermined_null(const Problem& problem, const detail::SingularStructure& structure,
+                             Result& result) {
+  const MatX& redundancies = structure.redundancies;
+  const MatX& idle = structure.motions;
   const double length = detail::characteristic_length(problem.model);
   // Rows of a matrix without columns would be taken from a null pointer.
   if (redundancies.cols() > 0) {
@@ -695,7 +801,8 @@ std::string mechanism(const detail::SingularStructure& structure) {
 }
 
 void solve_free_structure(Problem& problem, const detail::SingularStructure& structure,
-                          Result& result) {
+                          CaseResults& results) {
+  Result& result = results.front();
   const std::vector<std::string>& details = structure.descriptions;
   const bool one = structure.motions.cols() == 1;
   if (problem.loaded)
@@ -731,6 +838,11 @@ void solve_free_structure(Problem& problem, const detail::SingularStructure& str
         "model); add a support under `supports:`");
   for (const auto& d : details) result.report.notes.push_back(d);
   check_accuracy(problem.options, result);
+  for (std::size_t c = 1; c < results.size(); ++c) {
+    results[c].report = result.report;
+    for (std::size_t e = 0; e < result.end_effectors.size(); ++e)
+      results[c].end_effectors[e].stiffness = result.end_effectors[e].stiffness;
+  }
 }
 
 }  // namespace
@@ -777,31 +889,43 @@ void report_held_spins(const Model& model, const detail::Topology& topology,
 }
 
 // The solve with one set of blocks: the model's own, or those with the rods' spins held.
-Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
-                bool topology_known);
+struct CaseSolve {
+  CaseResults results;
+  std::vector<bool> with_state;  // per result: a load case (else the self-weight alone)
+};
 
-Result solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options,
-                       bool topology_known) {
+CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
+                   bool topology_known);
+
+CaseSolve solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options,
+                          bool topology_known) {
   Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   if (accept_idle && options.solver == SolverKind::automatic && ws.spin_locked) {
-    Result result = solve_in(*ws.spin_locked, model, options, topology_known);
-    report_held_spins(model, ws.topology, ws.spin_locked->spin_locks, result);
-    return result;
+    CaseSolve solved = solve_in(*ws.spin_locked, model, options, topology_known);
+    for (Result& result : solved.results)
+      report_held_spins(model, ws.topology, ws.spin_locked->spin_locks, result);
+    return solved;
   }
   return solve_in(ws, model, options, topology_known);
 }
 
-Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
-                bool topology_known) {
+CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
+                   bool topology_known) {
   Problem problem(model, ws, options, topology_known);
-  Result result = empty_result(model, ws);
+  CaseSolve solved;
+  CaseResults& results = solved.results;
+  results.assign(problem.cases.size(), empty_result(model, ws));
+  for (std::size_t c = 0; c < problem.cases.size(); ++c) {
+    results[c].load_case = problem.cases[c].name;
+    solved.with_state.push_back(problem.cases[c].with_state);
+  }
   if (options.solver == SolverKind::automatic && ws.tree && detail::passes_tree(problem.blocks) &&
-      solve_without_factorising(problem, BlockSolve::tree, result))
-    return result;
+      solve_without_factorising(problem, BlockSolve::tree, results))
+    return solved;
   if (options.solver == SolverKind::automatic && ws.frame &&
-      solve_without_factorising(problem, BlockSolve::frame, result))
-    return result;
+      solve_without_factorising(problem, BlockSolve::frame, results))
+    return solved;
   detail::Assembler& assembler = ws.pattern(problem.reference_blocks());
   if (!ws.system || ws.solver_kind != options.solver) {
     auto system = std::make_unique<detail::FactorizedSystem>(options.solver);
@@ -815,15 +939,18 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
     ws.solver_kind = options.solver;
   }
   assembler.fill(problem.blocks, ws.matrix);
-  result.system = assembler.size();
-  result.system.nonzeros = count_nonzero_values(ws.matrix);
+  SystemSize size = assembler.size();
+  size.nonzeros = count_nonzero_values(ws.matrix);
   const bool regular = ws.system->factorize(ws.matrix, options.singular_rcond);
-  result.report.solver = solver_used_from_string(ws.system->solver_name())
-                             .value_or(SolverUsed::none);  // `auto` has chosen by now
-  result.report.reciprocal_condition = ws.system->reciprocal_condition();
+  for (Result& result : results) {
+    result.system = size;
+    result.report.solver = solver_used_from_string(ws.system->solver_name())
+                               .value_or(SolverUsed::none);  // `auto` has chosen by now
+    result.report.reciprocal_condition = ws.system->reciprocal_condition();
+  }
   if (regular) {
-    solve_regular(problem, result);
-    return result;
+    solve_regular(problem, results);
+    return solved;
   }
   const auto structure = detail::analyse_singular_structure(model, ws.topology, ws.matrix);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
@@ -831,10 +958,10 @@ Result solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& opt
                           (accept_idle && !moves_any_end_effector(problem, structure.motions));
   if (structure.analysed && structure.motions.cols() + structure.redundancies.cols() > 0 &&
       determined)
-    solve_singular_but_determined(problem, structure, result);
+    solve_singular_but_determined(problem, structure, results);
   else
-    solve_free_structure(problem, structure, result);
-  return result;
+    solve_free_structure(problem, structure, results);
+  return solved;
 }
 
 // What every solve adds to its result, however it was solved.
@@ -872,24 +999,6 @@ void add_results_in_own_axes(const Model& model, Result& result) {
   }
 }
 
-bool has_self_weight(const Model& model) {
-  return std::any_of(model.loads.begin(), model.loads.end(),
-                     [](const Load& l) { return l.self_weight; });
-}
-
-// The model under its self-weight loads alone: its other loads and its preloads at zero, so
-// that its topology is the model's.
-Model self_weight_only(const Model& model) {
-  Model weight = model;
-  for (Load& l : weight.loads)
-    if (!l.self_weight) l.wrench.setZero();
-  for (Joint& j : weight.joints)
-    if (j.connection.preload) j.connection.preload->setZero();
-  for (Support& s : weight.supports)
-    if (s.connection.preload) s.connection.preload->setZero();
-  return weight;
-}
-
 void add_gravity_deflections(const Result& weight, Result& result) {
   for (std::size_t e = 0; e < result.end_effectors.size(); ++e)
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
@@ -908,19 +1017,38 @@ void add_critical_load(Workspace& workspace, const Model& model, const SolveOpti
   detail::add_critical_loads(model, used.topology, used.spin_locks, options, result);
 }
 
-// The solve of a checked model on its workspace: its results, the end effectors' deflection under
-// self-weight alone (same workspace: the weight-only model has the model's topology), and what
-// every result reports beside (results in own axes, the model's warnings, plausibility).
+// The results of the solved cases as a Result: the robot's self-weight column gives the unnamed
+// case's deflection_gravity; every case gets what a result reports beside (results in own axes,
+// the model's warnings, plausibility); the top level is the unnamed case, or a copy of the first
+// named case where there is no unnamed one, and holds every named case's results.
+Result results_of_cases(const Model& model, const detail::ModelIndex& index,
+                        const SolveOptions& options, CaseSolve solved) {
+  CaseResults& results = solved.results;
+  if (!solved.with_state.back()) {
+    add_gravity_deflections(results.back(), results.front());
+    results.pop_back();
+  }
+  for (Result& result : results) {
+    add_results_in_own_axes(model, result);
+    add_model_warnings(model, result);
+    finish_result(model, index, options, result);
+  }
+  const bool unnamed = detail::has_unnamed_case(model);
+  Result top = unnamed ? std::move(results.front()) : results.front();
+  top.load_cases.reserve(results.size() - (unnamed ? 1 : 0));
+  for (std::size_t c = unnamed ? 1 : 0; c < results.size(); ++c)
+    top.load_cases.push_back(std::move(results[c]));
+  return top;
+}
+
+// The solve of a checked model on its workspace: every load case's results from one
+// factorisation (the robot's self-weight alone among them), and what every result reports
+// beside.
 Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
                      const SolveOptions& options) {
-  Result result = solve_validated(workspace, model, options, false);
+  Result result =
+      results_of_cases(model, index, options, solve_validated(workspace, model, options, false));
   add_critical_load(workspace, model, options, result);
-  if (has_self_weight(model))
-    add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
-                            result);
-  add_results_in_own_axes(model, result);
-  add_model_warnings(model, result);
-  finish_result(model, index, options, result);
   return result;
 }
 
@@ -929,16 +1057,9 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
-  Result result = solve_validated(workspace, model, options, true);
+  Result result = results_of_cases(model, detail::ModelIndex(model), options,
+                                   solve_validated(workspace, model, options, true));
   add_critical_load(workspace, model, options, result);
-  if (has_self_weight(model)) {
-    const Model weight = self_weight_only(model);
-    Workspace weight_workspace(weight);
-    add_gravity_deflections(solve_validated(weight_workspace, weight, options, true), result);
-  }
-  add_results_in_own_axes(model, result);
-  add_model_warnings(model, result);
-  finish_result(model, detail::ModelIndex(model), options, result);
   return result;
 }
 

@@ -178,6 +178,19 @@ struct Worker {
   std::function<void(std::size_t, std::span<double>, std::vector<Diagnostic>&)> write;
 };
 
+// A sweep's --case names one of the model's load cases.
+void check_load_case(const Model& model, const std::string& name) {
+  if (name.empty()) return;
+  std::string cases;
+  for (const LoadCase& c : model.load_cases) {
+    if (c.name == name) return;
+    cases += (cases.empty() ? "'" : ", '") + c.name + "'";
+  }
+  throw UsageError("--case '" + name + "': the model has no load case of that name (" +
+                   (cases.empty() ? std::string("it names no load case") : "its cases: " + cases) +
+                   ")");
+}
+
 // Writes, solves and measures one pose; every failure that belongs to the pose becomes its
 // status.
 PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& options) {
@@ -185,7 +198,9 @@ PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& optio
   try {
     worker.write(pose, worker.values, worker.warnings);
     built = true;
-    Result result = solve(worker.workspace, worker.values, options.solve);
+    Result solved = solve(worker.workspace, worker.values, options.solve);
+    Result result = options.load_case.empty() ? std::move(solved)
+                                              : Result(solved.load_case_result(options.load_case));
     if (!worker.warnings.empty()) {
       std::vector<std::string> warnings;
       for (const Diagnostic& w : worker.warnings) warnings.push_back(w.to_string());
@@ -282,6 +297,7 @@ PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
 std::vector<PoseResult> solve_poses(const Structure& structure, std::span<const double> value_sets,
                                     const SweepOptions& options) {
   options.solve.validate();
+  check_load_case(structure.model(), options.load_case);
   const std::size_t slots = structure.value_count();
   if (slots == 0 ? !value_sets.empty() : value_sets.size() % slots != 0)
     throw UsageError("the value sets hold " + std::to_string(value_sets.size()) +
@@ -305,6 +321,7 @@ SweepResult sweep(const ModelFamily& family, const PoseTable& poses, const Sweep
   // The defaults' own defects are the caller's error, not a pose's: they throw here. The
   // member at the defaults is every workspace's reference pose.
   const Model reference = family.build(defaults.all);
+  check_load_case(reference, options.load_case);
   const Structure family_structure = family.structure();
   const Structure structure =
       family_structure.with_default_values(family_structure.values_of(reference));

@@ -141,6 +141,25 @@ Topology build_topology(const Model& model, const ModelIndex& index) {
     t.load_ends.push_back(end_of(index, load.at, load.link, load.origin,
                                  [&] { return "loads[" + std::to_string(i) + "]"; }));
   }
+  const auto link_of = [&](const LinkLoad& load, const std::string& key) {
+    const int link = index.link(load.link);
+    if (link < 0) fail(load.origin, key, "no link named '" + load.link + "'");
+    return link;
+  };
+  t.link_load_links.reserve(model.link_loads.size());
+  for (std::size_t i = 0; i < model.link_loads.size(); ++i)
+    t.link_load_links.push_back(
+        link_of(model.link_loads[i], "loads[link " + std::to_string(i) + "]"));
+  for (const LoadCase& c : model.load_cases) {
+    std::vector<int>& ends = t.case_load_ends.emplace_back();
+    for (std::size_t i = 0; i < c.loads.size(); ++i)
+      ends.push_back(end_of(index, c.loads[i].at, c.loads[i].link, c.loads[i].origin, [&] {
+        return "load_cases." + c.name + "[" + std::to_string(i) + "]";
+      }));
+    std::vector<int>& links = t.case_link_load_links.emplace_back();
+    for (std::size_t i = 0; i < c.link_loads.size(); ++i)
+      links.push_back(link_of(c.link_loads[i], "load_cases." + c.name));
+  }
   t.effector_ends.reserve(model.end_effectors.size());
   for (const auto& effector : model.end_effectors)
     t.effector_ends.push_back(end_of(index, effector.at, effector.link, effector.origin,
@@ -243,10 +262,11 @@ void place_constraint_joint(std::unique_ptr<ElementBlock>& slot, const std::vect
 
 void place_support(std::unique_ptr<ElementBlock>& slot, const std::vector<int>& ends,
                    const FreeDirections& directions, const std::optional<MatX>& stiffness,
-                   const std::optional<VecX>& preload, const Kinematics* kinematics = nullptr) {
+                   const std::optional<VecX>& preload, const Kinematics* kinematics = nullptr,
+                   const std::optional<Vec6>& settlement = std::nullopt) {
   place<SupportBlock>(
-      slot, [&](SupportBlock& block) { block.refill(directions, stiffness, preload); }, ends,
-      directions, stiffness, preload);
+      slot, [&](SupportBlock& block) { block.refill(directions, stiffness, preload, settlement); },
+      ends, directions, stiffness, preload, settlement);
   static_cast<SupportBlock&>(*slot).set_kinematics(kinematics);
 }
 
@@ -280,12 +300,14 @@ void place_connection_block(const Model& model, const ConnectionGroup& g,
       return;
     }
     case ConnectionGroup::Kind::support: {
-      const Connection& c = model.supports[static_cast<std::size_t>(g.source)].connection;
+      const Support& support = model.supports[static_cast<std::size_t>(g.source)];
+      const Connection& c = support.connection;
       if (c.is_actuated && !c.stiffness)
-        place_support(slot, g.ends, locked(), std::nullopt, std::nullopt);
+        place_support(slot, g.ends, locked(), std::nullopt, std::nullopt, nullptr,
+                      support.displacement);
       else
         place_support(slot, g.ends, directions_of(c.kinematics, slot), c.stiffness, c.preload,
-                      &c.kinematics);
+                      &c.kinematics, support.displacement);
       return;
     }
   }
@@ -305,7 +327,8 @@ void place_spin_holding_block(const Model& model, const Topology& topology, cons
       rotations_across(position(from + 1) - position(from), lock.across);
   const ConnectionGroup& group = topology.groups[static_cast<std::size_t>(lock.group)];
   if (group.kind == ConnectionGroup::Kind::support)
-    place_support(slot, group.ends, directions, std::nullopt, std::nullopt);
+    place_support(slot, group.ends, directions, std::nullopt, std::nullopt, nullptr,
+                  model.supports[static_cast<std::size_t>(group.source)].displacement);
   else
     place_constraint_joint(slot, group.ends, directions, std::nullopt);
 }

@@ -24,9 +24,13 @@ struct ConnectionGroup {
 struct Topology {
   int link_count = 0;
   std::vector<ConnectionGroup> groups;
-  std::vector<int> group_of_end;   // per link end id
-  std::vector<int> end_points;     // per link end id: its point, an index into model.points
-  std::vector<int> load_ends;      // per model.loads
+  std::vector<int> group_of_end;     // per link end id
+  std::vector<int> end_points;       // per link end id: its point, an index into model.points
+  std::vector<int> load_ends;        // per model.loads
+  std::vector<int> link_load_links;  // per model.link_loads: the link's index
+  // Per model.load_cases: per load of the case, its link end, and per link load, its link.
+  std::vector<std::vector<int>> case_load_ends;
+  std::vector<std::vector<int>> case_link_load_links;
   std::vector<int> effector_ends;  // per model.end_effectors
 
   int end_count() const { return 2 * link_count; }

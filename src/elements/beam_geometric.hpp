@@ -1,6 +1,6 @@
 #pragma once
 // The consistent geometric stiffness of the 3-D beam under an axial force (theory.md §12.4),
-// used by the critical load factor (theory.md §13).
+// used by the critical load factor (theory.md §14).
 #include "elements/beam_element.hpp"
 
 namespace stiffmsa::detail {

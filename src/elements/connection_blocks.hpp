@@ -93,16 +93,20 @@ class ElasticJointBlock final : public ElementBlock {
 //   Λ_p·Σ W_k + G·K·Λ_p·Δt_1 = Λ_p·Σ W_ext,k + G·w_0            p  (K = 0 when not elastic)
 class SupportBlock final : public ElementBlock {
  public:
+  // `settlement`: the ground's prescribed motion along the held directions (Support::displacement),
+  // written with the preload into the right-hand side of every load case.
   SupportBlock(std::vector<int> ends, FreeDirections directions,
-               const std::optional<MatX>& stiffness, std::optional<VecX> preload);
+               const std::optional<MatX>& stiffness, std::optional<VecX> preload,
+               std::optional<Vec6> settlement = std::nullopt);
   void refill(const FreeDirections& directions, const std::optional<MatX>& stiffness,
-              const std::optional<VecX>& preload);
+              const std::optional<VecX>& preload,
+              const std::optional<Vec6>& settlement = std::nullopt);
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
                            VecX& rhs) const override;
   void add_preload(Index first_row, VecX& rhs) const override;
-  bool has_preload() const override { return preload_.has_value(); }
+  bool has_preload() const override { return preload_.has_value() || settlement_.has_value(); }
   const FreeDirections* directions() const override { return &directions_; }
   const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
   void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
@@ -124,6 +128,7 @@ class SupportBlock final : public ElementBlock {
   std::optional<SmallMat>
       spring_;  // G·K·Λ_p when elastic: the same on every refill, so formed once
   std::optional<VecX> preload_;
+  std::optional<Vec6> settlement_;
   std::optional<Kinematics> kinematics_;
 };
 

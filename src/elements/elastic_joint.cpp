@@ -67,7 +67,8 @@ void ElasticJointBlock::pass_deflection_from_root(int toward_root, TreeState& st
   delta.noalias() = compliance.lazyProduct(state.wrench(end_1_));
   if (state.external.any_at(end_1_))
     delta.noalias() -= compliance.lazyProduct(state.external.at(end_1_));
-  delta.col(kLoadCase) -= sign * spring.preload_motion;
+  for (Index c = 0; c < state.external.state_columns(); ++c)
+    delta.col(c) -= sign * spring.preload_motion;
   if (toward_root == end_1_)
     state.set_sum(deflection_column(end_2_), deflection_column(end_1_), 1.0);
   else

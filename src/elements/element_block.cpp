@@ -1,5 +1,7 @@
 #include "elements/element_block.hpp"
 
+#include <algorithm>
+
 #include "stiffmsa/errors.hpp"
 
 namespace stiffmsa::detail {
@@ -82,7 +84,8 @@ void TreeState::set_joined_wrench(const std::vector<int>& ends, int toward_root,
 
 EndWrenches::EndWrenches(int end_count, Index columns) { reset(end_count, columns); }
 
-void EndWrenches::reset(int end_count, Index columns) {
+void EndWrenches::reset(int end_count, Index columns, Index state_columns) {
+  state_columns_ = std::min(state_columns, columns);
   slot_.assign(static_cast<std::size_t>(end_count), -1);
   used_ = 0;
   zero_.setZero(6, columns);
@@ -101,7 +104,7 @@ void EndWrenches::add(int end, Index column, const Vec6& wrench) {
 }
 
 void EndWrenches::widen_into(Index columns, EndWrenches& wide) const {
-  wide.reset(static_cast<int>(slot_.size()), columns);
+  wide.reset(static_cast<int>(slot_.size()), columns, state_columns_);
   wide.slot_ = slot_;
   wide.used_ = used_;
   if (wide.values_.size() < used_) wide.values_.resize(used_);

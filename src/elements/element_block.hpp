@@ -83,18 +83,22 @@ class CoefficientWriter : public EquationWriter {
   Derived& self() { return static_cast<Derived&>(*this); }
 };
 
-// The load cases of a tree solve (solver/tree_solver.hpp) are columns: kLoadCase holds the
-// model's loads and preloads, the others a unit wrench at an end effector each.
+// The load cases of a tree solve (solver/tree_solver.hpp) are columns: the first
+// EndWrenches::state_columns() hold the model's load cases with its preloads and settlements
+// (kLoadCase, the first, where there is one), the others loads alone (the robot's self-weight)
+// or a unit wrench at an end effector each.
 inline constexpr Index kLoadCase = 0;
 
 // The external wrenches at the link ends, 6 × k per loaded end (k load cases).
 class EndWrenches {
  public:
   EndWrenches(int end_count = 0, Index columns = 0);
-  // No wrench at any of `end_count` ends in `columns` columns; buffers are kept, so that the
-  // load cases of the next pose allocate nothing.
-  void reset(int end_count, Index columns);
+  // No wrench at any of `end_count` ends in `columns` columns, the first `state_columns` of
+  // which carry the preloads and settlements; buffers are kept, so that the load cases of the
+  // next pose allocate nothing.
+  void reset(int end_count, Index columns, Index state_columns = 1);
   Index columns() const { return zero_.cols(); }
+  Index state_columns() const { return state_columns_; }
   bool any_at(int end) const { return slot_[static_cast<std::size_t>(end)] >= 0; }
   void add(int end, Index column, const Vec6& wrench);
   // 6 × k: the wrenches at `end`, zero where none is applied.
@@ -107,6 +111,7 @@ class EndWrenches {
   std::vector<MatX> values_;  // the first `used_` in use; the others kept for the next reset
   std::size_t used_ = 0;
   MatX zero_;
+  Index state_columns_ = 1;
 };
 
 // Unknowns stored by rows: a link end's deflections and wrenches in every load case are

@@ -1,7 +1,7 @@
 #pragma once
 // The load-dependent stiffness of links carried as levers and of joints: what the finite
 // rotations of a link's chord and of a joint's free directions do to the wrenches they transmit
-// (theory.md §13.2), the ∂(Jᵀ·F)/∂q of the loaded-mode papers written element by element. The
+// (theory.md §14.2), the ∂(Jᵀ·F)/∂q of the loaded-mode papers written element by element. The
 // convention is the beam's geometric stiffness's (beam_geometric.hpp), K_T = K + K_L: at the
 // reference wrenches, the wrench the connections (theory.md §4) see at a link end is the one the
 // link's own rows (§3) hold plus K_L·Δt; so −K_L·Δt acts on the linear system as a load at the

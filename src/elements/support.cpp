@@ -5,14 +5,20 @@
 namespace stiffmsa::detail {
 
 SupportBlock::SupportBlock(std::vector<int> ends, FreeDirections directions,
-                           const std::optional<MatX>& stiffness, std::optional<VecX> preload)
-    : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {
+                           const std::optional<MatX>& stiffness, std::optional<VecX> preload,
+                           std::optional<Vec6> settlement)
+    : ends_(std::move(ends)),
+      directions_(std::move(directions)),
+      preload_(std::move(preload)),
+      settlement_(std::move(settlement)) {
   if (stiffness) spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
 }
 
 void SupportBlock::refill(const FreeDirections& directions, const std::optional<MatX>& stiffness,
-                          const std::optional<VecX>& preload) {
+                          const std::optional<VecX>& preload,
+                          const std::optional<Vec6>& settlement) {
   directions_ = directions;
+  settlement_ = settlement;
   if (stiffness)
     spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
   else
@@ -46,14 +52,25 @@ void SupportBlock::add_external_wrench(Index row, int, const Vec6& wrench, VecX&
   rhs.segment(held, p) += directions_.free() * wrench;
 }
 
+// The preload on the free directions' rows; the settlement d on the held ones, Λ_r·Δt_1 = Λ_r·d
+// (Δt_1 = d where every direction is held).
 void SupportBlock::add_preload(Index row, VecX& rhs) const {
-  if (!preload_) return;
   const Index p = directions_.free().rows();
-  const Index held = row + 6 * static_cast<Index>(ends_.size()) - p;
-  rhs.segment(held, p) += directions_.gram() * *preload_;
+  if (settlement_) {
+    const Index held = row + 6 * (static_cast<Index>(ends_.size()) - 1);
+    if (p == 0)
+      rhs.segment<6>(held) += *settlement_;
+    else
+      rhs.segment(held, directions_.constrained().rows()) +=
+          directions_.constrained() * *settlement_;
+  }
+  if (!preload_) return;
+  const Index free = row + 6 * static_cast<Index>(ends_.size()) - p;
+  rhs.segment(free, p) += directions_.gram() * *preload_;
 }
 
-// The ends move as one: Δt = 0 when rigid; when elastic, Λ_r·Δt = 0 and
+// The ends move as one: Δt = 0 when rigid (plus the settlement d in each load case: it has no
+// part along the free directions); when elastic, Λ_r·Δt = 0 and
 // G·K·Λ_p·Δt = G·w_0 − Λ_p·R, with R = Σ(W_k − W_ext,k) the reaction; when passive, Δt = Λ_pᵀ·q
 // with q its cut unknowns.
 void SupportBlock::set_root_deflection(TreeState& state) const {
@@ -66,8 +83,11 @@ void SupportBlock::set_root_deflection(TreeState& state) const {
     MatX reaction = MatX::Zero(6, state.x.cols());
     for (int end : ends_) reaction += state.wrench(end) - state.external.at(end);
     deflection.noalias() = (-spring.compliance).lazyProduct(reaction);
-    deflection.col(kLoadCase) += spring.preload_motion;
+    for (Index c = 0; c < state.external.state_columns(); ++c)
+      deflection.col(c) += spring.preload_motion;
   }
+  if (settlement_)
+    for (Index c = 0; c < state.external.state_columns(); ++c) deflection.col(c) += *settlement_;
   for (int end : ends_) state.set_value(deflection_column(end), deflection);
 }
 

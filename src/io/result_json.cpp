@@ -5,6 +5,7 @@
 // The text is written straight from the Result, without a JSON document in between: a
 // 100 000-link result holds 2.4 million numbers, and building, printing and freeing a
 // document node for each took longer than the solve.
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string_view>
@@ -150,12 +151,29 @@ auto or_null(ResultWriter& out, const std::optional<T>& value, Write write) {
   };
 }
 
+// One station on one line: {"position": …, "N": …, "Vy": …, …}.
+void write_internal_forces(ResultWriter& out, const InternalForces& f) {
+  static constexpr std::array<const char*, 6> names = {"N", "Vy", "Vz", "T", "My", "Mz"};
+  out.text += "{\"position\": ";
+  out.number(f.position);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    out.text += ", \"";
+    out.text += names[i];
+    out.text += "\": ";
+    out.number(f.forces(static_cast<Eigen::Index>(i)));
+  }
+  out.text += '}';
+}
+
 void write_result(ResultWriter& out, const Result& result) {
   auto vector = [&](const auto& v) { out.vector(v); };
   auto mat6 = [&](const Mat6& m) { out.matrix(m); };
   out.object([&] {
     out.member("format", [&] { out.string(result_format); });
     out.member("model", [&] { out.string(result.model); });
+    // Only where the model names load cases: which case the keys beside it are of.
+    if (!result.load_cases.empty() || !result.load_case.empty())
+      out.member("load_case", [&] { out.string(result.load_case); });
     out.member("parameters", [&] {
       out.object([&] {
         for (const ParameterValue& p : result.parameters)
@@ -255,6 +273,15 @@ void write_result(ResultWriter& out, const Result& result) {
                     out.member("wrench", or_null(out, end->wrench, vector));
                   });
                 });
+              // Only where the model loads links along their length (beams).
+              if (!link.internal_forces.empty())
+                out.member("internal_forces", [&] {
+                  out.list(
+                      static_cast<Eigen::Index>(link.internal_forces.size()), [&](Eigen::Index k) {
+                        const InternalForces& f = link.internal_forces[static_cast<std::size_t>(k)];
+                        write_internal_forces(out, f);
+                      });
+                });
             });
           });
       });
@@ -312,6 +339,14 @@ void write_result(ResultWriter& out, const Result& result) {
         out.member("warnings", [&] { out.strings(report.warnings); });
       });
     });
+    // Only where the model names load cases: each case's results, with the keys above.
+    if (!result.load_cases.empty())
+      out.member("load_cases", [&] {
+        out.object([&] {
+          for (const Result& c : result.load_cases)
+            out.named(c.load_case, [&] { write_result(out, c); });
+        });
+      });
   });
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "io/view_assets.hpp"
@@ -188,6 +189,40 @@ json end_effectors_json(const Model& model, const Result* result, const ModelPoi
   return list;
 }
 
+// Loads along links as arrows at places along the link (`at` −1, `position` its place): a point
+// load at its own place; a distributed load as kLinkLoadArrows arrows at the middles of equal
+// parts of the link, each the force on its part, so that they scale with the point loads.
+constexpr int kLinkLoadArrows = 5;
+void add_link_loads_json(const Model& model, const ModelPoints& index, json& loads) {
+  std::map<std::string, std::size_t, std::less<>> links;
+  for (std::size_t i = 0; i < model.links.size(); ++i) links.emplace(model.links[i].name, i);
+  for (const LinkLoad& load : model.link_loads) {
+    const auto found = links.find(load.link);
+    if (found == links.end()) continue;
+    const int from = index.of_link_end(found->second, LinkEnd::from),
+              to = index.of_link_end(found->second, LinkEnd::to);
+    if (from < 0 || to < 0) continue;
+    const Vec3& a = model.points[static_cast<std::size_t>(from)].position;
+    const Vec3& b = model.points[static_cast<std::size_t>(to)].position;
+    const auto arrow = [&](double xi, const Vec3& force, const Vec3& moment) {
+      loads.push_back({{"at", -1},
+                       {"position", vector_json(a + xi * (b - a))},
+                       {"force", vector_json(force)},
+                       {"moment", vector_json(moment)}});
+    };
+    if (const auto* point = std::get_if<PointLinkLoad>(&load.load)) {
+      arrow(point->position, point->force, point->moment);
+      continue;
+    }
+    const auto& distributed = std::get<DistributedLinkLoad>(load.load);
+    const double part = (b - a).norm() / kLinkLoadArrows;
+    for (int k = 0; k < kLinkLoadArrows; ++k) {
+      const double xi = (k + 0.5) / kLinkLoadArrows;
+      arrow(xi, part * ((1 - xi) * distributed.from + xi * distributed.to), Vec3::Zero());
+    }
+  }
+}
+
 json model_json(const Model& model, const Result* result, const ModelViewOptions& options) {
   const ModelPoints index(model);
   const double size = model_size(model);
@@ -230,6 +265,7 @@ json model_json(const Model& model, const Result* result, const ModelViewOptions
                      {"force", vector_json(load.wrench.head<3>())},
                      {"moment", vector_json(load.wrench.tail<3>())}});
   }
+  add_link_loads_json(model, index, loads);
 
   json notes = json::array();
   if (result) {

@@ -1,7 +1,9 @@
 // VTK XML files for ParaView, in ASCII: readable by ParaView, meshio and a person.
 #include "stiffmsa/io/vtk_file.hpp"
 
+#include <cctype>
 #include <cstdio>
+#include <utility>
 
 #include "stiffmsa/deformed_shape.hpp"
 #include "stiffmsa/io/result_file.hpp"
@@ -136,26 +138,57 @@ std::string pvd_text(const std::vector<VtkCollectionEntry>& entries) {
   return out;
 }
 
+namespace {
+
+// A load case's name as part of a file name: letters, digits, '-' and '_' kept, others '_'.
+std::string file_safe(const std::string& name) {
+  std::string safe = name;
+  for (char& c : safe)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+  return safe;
+}
+
+// Every load case of a result with its results: the unnamed case as "loads" where the top level
+// is it, then each named case.
+std::vector<std::pair<std::string, const Result*>> cases_of(const Result& result) {
+  std::vector<std::pair<std::string, const Result*>> cases;
+  if (result.load_case.empty()) cases.emplace_back("loads", &result);
+  for (const Result& c : result.load_cases) cases.emplace_back(c.load_case, &c);
+  return cases;
+}
+
+}  // namespace
+
 std::vector<fs::path> write_vtk(const Model& model, const Result& result, const fs::path& file) {
   const std::string extension = file.extension().string();
-  if (extension == ".vtu") {
-    write_file_atomically(file, vtu_text(model, result));
-    return {file};
-  }
-  if (extension != ".pvd") {
+  if (extension != ".vtu" && extension != ".pvd") {
     std::string message = "'";  // built in steps: GCC 12 warns wrongly (-Wrestrict) on "'" + string
     message += file.string();
     message +=
         "': a ParaView file must end in .vtu (one grid) or .pvd (a collection of load cases)";
     throw UsageError(message);
   }
-  // The model's loads are its one load case.
-  const std::string case_name = "loads";
-  const fs::path grid_name = file.stem().string() + "-" + case_name + ".vtu";
-  const fs::path grid = file.parent_path() / grid_name;
-  write_file_atomically(grid, vtu_text(model, result));
-  write_file_atomically(file, pvd_text({{case_name, grid_name}}));
-  return {grid, file};
+  std::vector<fs::path> written;
+  // A .vtu of a model without named load cases is its one grid; with them, it holds the
+  // top-level results and a collection beside it holds every case's.
+  if (extension == ".vtu") {
+    write_file_atomically(file, vtu_text(model, result));
+    written.push_back(file);
+    if (result.load_cases.empty()) return written;
+  }
+  std::vector<VtkCollectionEntry> entries;
+  for (const auto& [name, case_result] : cases_of(result)) {
+    const fs::path grid_name = file.stem().string() + "-" + file_safe(name) + ".vtu";
+    const fs::path grid = file.parent_path() / grid_name;
+    write_file_atomically(grid, vtu_text(model, *case_result));
+    written.push_back(grid);
+    entries.push_back({name, grid_name});
+  }
+  fs::path collection = file;
+  collection.replace_extension(".pvd");
+  write_file_atomically(collection, pvd_text(entries));
+  written.push_back(collection);
+  return written;
 }
 
 }  // namespace stiffmsa

@@ -117,8 +117,11 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   // A pose whose blocks are no frame's (a link made rigid, a weld made a hinge) is declined;
   // its pattern differs, which the factorising solve's assembler then refuses as a changed
   // topology.
-  for (std::size_t g = 0; g < topology.groups.size(); ++g)
-    if (!welds(*blocks[static_cast<std::size_t>(topology.link_count) + g])) return std::nullopt;
+  // A support's settlement (its right-hand side) is left to the factorising solve too.
+  for (std::size_t g = 0; g < topology.groups.size(); ++g) {
+    const ElementBlock& connection = *blocks[static_cast<std::size_t>(topology.link_count) + g];
+    if (!welds(connection) || connection.has_preload()) return std::nullopt;
+  }
   std::vector<Mat12> link_stiffness;
   link_stiffness.reserve(static_cast<std::size_t>(topology.link_count));
   std::vector<Eigen::Triplet<double>> entries;

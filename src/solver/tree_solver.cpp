@@ -269,7 +269,7 @@ bool block_rhs(const Blocks& blocks, std::size_t k, const Topology& topology,
     any_rhs = !block_column.isZero(0);
     if (any_rhs) {
       block_rhs.setZero();
-      block_rhs.col(kLoadCase) = block_column;
+      for (Index c = 0; c < external.state_columns(); ++c) block_rhs.col(c) = block_column;
     }
   }
   if (k >= static_cast<std::size_t>(topology.link_count))

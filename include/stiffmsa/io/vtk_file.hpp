@@ -27,9 +27,11 @@ struct VtkCollectionEntry {
 };
 std::string pvd_text(const std::vector<VtkCollectionEntry>& entries);
 
-// Writes `file`, whole or not at all: a .vtu, or a .pvd with its .vtu beside it
-// (STEM-loads.vtu for the model's loads). Returns the files written. Throws UsageError for
-// another extension, IoError when a file cannot be written.
+// Writes `file`, whole or not at all: a .vtu, or a .pvd with one .vtu per load case beside it
+// (STEM-loads.vtu for the model's unnamed case, STEM-NAME.vtu for each named one). A .vtu of a
+// model with named load cases holds the top-level results and gets that collection beside it
+// too (STEM.pvd). Returns the files written. Throws UsageError for another extension, IoError
+// when a file cannot be written.
 std::vector<std::filesystem::path> write_vtk(const Model& model, const Result& result,
                                              const std::filesystem::path& file);
 

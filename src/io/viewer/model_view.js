@@ -323,8 +323,8 @@
     var longest = 0.18 * size;
     var shafts = { force: [], moment: [] }, heads = { force: [], moment: [] };
     data.loads.forEach(function (load) {
-      if (load.at < 0) return;
-      var tip = pointVector(load.at);
+      if (load.at < 0 && !load.position) return;
+      var tip = load.position ? new THREE.Vector3().fromArray(load.position) : pointVector(load.at);
       [['force', load.force, largestForce], ['moment', load.moment, largestMoment]].forEach(function (item) {
         var vector = new THREE.Vector3().fromArray(item[1]);
         var magnitude = vector.length();
