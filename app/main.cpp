@@ -1,6 +1,7 @@
 // The stiffmsa command: parses the command line, runs the library, and turns every failure into
 // a message on stderr and an exit code. What is printed is formatted in summary.cpp.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <filesystem>
@@ -31,8 +32,20 @@ struct SolveCommand {
   bool accept_idle_motions = false;
   std::vector<std::string> settings;  // parametric models: "name=value"
   std::string direction;              // "x,y,z": also the stiffness along it
+  bool critical_load = false;         // --critical-load
   LoadLimits limits;
 };
+
+// A model of issue 22's loads (load cases, loads along links, gravity, settlements) or of the
+// loaded mode gets its critical load factors without asking: its result file's contract has
+// them. Others only with --critical-load, so that their results stay as they were and their
+// solves pay nothing for it.
+bool uses_load_analysis(const Model& model) {
+  return !model.load_cases.empty() || !model.link_loads.empty() || model.gravity ||
+         model.options.mode == AnalysisMode::loaded ||
+         std::any_of(model.supports.begin(), model.supports.end(),
+                     [](const Support& s) { return s.displacement.has_value(); });
+}
 
 struct CheckCommand {
   std::string model_file;
@@ -70,7 +83,7 @@ int run_solve(const SolveCommand& command) {
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
   if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
-  const SolveOptions options =
+  SolveOptions options =
       solve_options(command.solver, command.accept_idle_motions, command.direction);
   // Without --set the file is read once, as any model; with it, as a family.
   const Model model = [&] {
@@ -79,6 +92,7 @@ int run_solve(const SolveCommand& command) {
         load_model_family(command.model_file, command.limits, parse_settings(command.settings));
     return family.build(family.default_values());
   }();
+  options.critical_load = command.critical_load || uses_load_analysis(model);
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
@@ -187,6 +201,10 @@ int run(int argc, char** argv) {
   solve_app->add_option(
       "--direction", solve_command.direction,
       "Also the stiffness along this direction, X,Y,Z in global axes (any length), e.g. 0,0,1");
+  solve_app->add_flag("--critical-load", solve_command.critical_load,
+                      "Also the critical load factor: the multiple of the loads at which the "
+                      "structure buckles (always given for load cases, loads along links, "
+                      "gravity and the loaded mode)");
   add_limit_options(*solve_app, solve_command.limits);
 
   CheckCommand check_command;

@@ -387,6 +387,15 @@ void print_geometry(std::ostream& out, const Model& model) {
 
 }  // namespace
 
+// "12.5 times the loads (link 'column' bends …)", or that none buckles; a line.
+std::string critical_load_text(const CriticalLoad& critical) {
+  if (!critical.factor) return "none (no multiple of the loads buckles the structure)\n";
+  char factor[32];
+  std::snprintf(factor, sizeof factor, "%.6g", *critical.factor);
+  return std::string(factor) + " times the loads" +
+         (critical.mode.empty() ? "" : " (" + critical.mode + ")") + '\n';
+}
+
 // A named load case, short: each end effector's deflection, the largest joint wrench and support
 // reaction, its equilibrium check and what it warns of beyond the top level's warnings.
 void print_load_case(std::ostream& out, const Result& c, const Result& top) {
@@ -402,6 +411,7 @@ void print_load_case(std::ostream& out, const Result& c, const Result& top) {
   print_largest(out, "Largest joint wrench (on the first link end)", joint_wrench, c.model_size);
   print_largest(out, "Largest support reaction", support_reaction, c.model_size);
   out << "  equilibrium error: " << scientific(c.report.equilibrium_error, 0, 2) << '\n';
+  if (c.critical_load) out << "  critical load factor: " << critical_load_text(*c.critical_load);
   for (const std::string& warning : c.report.warnings)
     if (std::find(top.report.warnings.begin(), top.report.warnings.end(), warning) ==
         top.report.warnings.end())
@@ -435,6 +445,8 @@ void print_solve_summary(std::ostream& out, const Result& result,
   }
   print_largest(out, "Largest support reaction", support_reaction, result.model_size);
 
+  if (result.critical_load)
+    out << "\nCritical load factor: " << critical_load_text(*result.critical_load);
   print_report(out, result.report);
   for (const Result& c : result.load_cases) print_load_case(out, c, result);
   if (result_file) out << "\nResult written to " << result_file->string() << '\n';

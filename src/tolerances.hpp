@@ -74,4 +74,25 @@ inline constexpr double kRigidSpread = 1e14;
 // direction is held rigidly.
 inline constexpr double kRigidCompliance = 1e-12;
 
+// ---- critical load (docs/theory.md §14) ----------------------------------------------------
+
+// An eigenvalue μ = 1/λ of the load terms' eigenproblem whose imaginary part is within this
+// fraction of its real part is real: a double root that rounding split into a complex pair.
+inline constexpr double kRealEigenvalue = 1e-8;
+// μ below this fraction of the largest |μ| is rounding of a zero (the constraint rows' infinite
+// λ), not a critical load factor beyond 10¹⁰ times the smallest.
+inline constexpr double kLeastLoadEigenvalue = 1e-10;
+// Up to this many nodes (6 unknowns each) the condensed eigenproblem is solved densely, every
+// eigenvalue at once; beyond, by Arnoldi's iteration, whose cost grows with the model, not with
+// its cube (bench/README.md: a column of 100 beams, 1.2 s densely, 0.03 s so).
+inline constexpr int kMostDenseNodes = 30;
+// Arnoldi's iteration stops where the Ritz pair's residual is below this fraction of the
+// largest Ritz value (and a new direction below it is no new direction).
+inline constexpr double kArnoldiTolerance = 1e-13;
+// Arnoldi's iteration takes at most this many steps (one solve each).
+inline constexpr int kMostArnoldiSteps = 400;
+// The parts of a buckling mode that a description names: those moving at least this fraction
+// of the most moving one.
+inline constexpr double kModeShare = 0.25;
+
 }  // namespace stiffmsa::detail

@@ -9,6 +9,7 @@
 
 #include "analysis/cartesian.hpp"
 #include "analysis/case_loads.hpp"
+#include "analysis/critical_load.hpp"
 #include "analysis/free_motion.hpp"
 #include "analysis/plausibility.hpp"
 #include "analysis/workspace_access.hpp"
@@ -1005,6 +1006,19 @@ void add_gravity_deflections(const Result& weight, Result& result) {
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
 }
 
+// The critical load factors of the result's load cases (analysis/critical_load.hpp), where
+// asked, with the blocks the solve used (the rods' spins held where it held them).
+void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
+                       Result& result) {
+  if (!options.critical_load) return;
+  const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+  const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
+  const Workspace::Impl& used =
+      accept_idle && options.solver == SolverKind::automatic && ws.spin_locked ? *ws.spin_locked
+                                                                               : ws;
+  detail::add_critical_loads(model, used.topology, used.spin_locks, options, result);
+}
+
 // The results of the solved cases as a Result: the robot's self-weight column gives the unnamed
 // case's deflection_gravity; every case gets what a result reports beside (results in own axes,
 // the model's warnings, plausibility); the top level is the unnamed case, or a copy of the first
@@ -1034,7 +1048,10 @@ Result results_of_cases(const Model& model, const detail::ModelIndex& index,
 // beside.
 Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
                      const SolveOptions& options) {
-  return results_of_cases(model, index, options, solve_validated(workspace, model, options, false));
+  Result result =
+      results_of_cases(model, index, options, solve_validated(workspace, model, options, false));
+  add_critical_load(workspace, model, options, result);
+  return result;
 }
 
 }  // namespace
@@ -1042,8 +1059,10 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
-  return results_of_cases(model, detail::ModelIndex(model), options,
-                          solve_validated(workspace, model, options, true));
+  Result result = results_of_cases(model, detail::ModelIndex(model), options,
+                                   solve_validated(workspace, model, options, true));
+  add_critical_load(workspace, model, options, result);
+  return result;
 }
 
 Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {
