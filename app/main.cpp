@@ -32,6 +32,7 @@ struct SolveCommand {
   std::vector<std::string> settings;  // parametric models: "name=value"
   std::string direction;              // "x,y,z": also the stiffness along it
   LoadLimits limits;
+  bool loaded = false;  // the loaded mode, whatever the model's `analysis:` says
 };
 
 struct CheckCommand {
@@ -70,8 +71,9 @@ int run_solve(const SolveCommand& command) {
     refuse_to_overwrite_model(command.model_file, *json_file);
   }
   if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
-  const SolveOptions options =
+  SolveOptions options =
       solve_options(command.solver, command.accept_idle_motions, command.direction);
+  if (command.loaded) options.mode = AnalysisMode::loaded;
   // Without --set the file is read once, as any model; with it, as a family.
   const Model model = [&] {
     if (command.settings.empty()) return load_model(command.model_file, command.limits);
@@ -188,6 +190,9 @@ int run(int argc, char** argv) {
       "--direction", solve_command.direction,
       "Also the stiffness along this direction, X,Y,Z in global axes (any length), e.g. 0,0,1");
   add_limit_options(*solve_app, solve_command.limits);
+  solve_app->add_flag("--loaded", solve_command.loaded,
+                      "The loaded mode: equilibrium in the deformed geometry and the tangent "
+                      "stiffness there; as `analysis: {mode: loaded}`");
 
   CheckCommand check_command;
   CLI::App* check_app =
@@ -302,6 +307,9 @@ int report_current_exception() noexcept {
       throw;
     } catch (const SingularModelError& e) {
       print_singular_model_error(std::cerr, e);
+      return exit_cannot_solve;
+    } catch (const NoEquilibriumError& e) {
+      print_error(std::cerr, e.what());
       return exit_cannot_solve;
     } catch (const InputError& e) {
       print_input_error(std::cerr, e);

@@ -9,6 +9,7 @@
 
 #include "analysis/cartesian.hpp"
 #include "analysis/free_motion.hpp"
+#include "analysis/loaded_mode.hpp"
 #include "analysis/plausibility.hpp"
 #include "analysis/workspace_access.hpp"
 #include "assembly/assembler.hpp"
@@ -894,6 +895,21 @@ void add_gravity_deflections(const Result& weight, Result& result) {
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
 }
 
+// In the loaded mode (SolveOptions::mode, else the model's own), the loaded result in place of
+// the linear one, which it keeps as Result::linear (docs/theory.md §13).
+Result in_analysis_mode(const Model& model, const detail::Topology& topology,
+                        const SolveOptions& options, Result result) {
+  if (options.mode.value_or(model.options.mode) != AnalysisMode::loaded) return result;
+  Result loaded =
+      detail::loaded_result(model, topology, options, result, detail::kDefaultLoadSteps);
+  add_results_in_own_axes(model, loaded);
+  if (options.direction)
+    for (EndEffectorResult& e : loaded.end_effectors)
+      if (e.compliance)
+        e.along_direction = directional_stiffness(*e.compliance, *options.direction);
+  return loaded;
+}
+
 // The solve of a checked model on its workspace: its results, the end effectors' deflection under
 // self-weight alone (same workspace: the weight-only model has the model's topology), and what
 // every result reports beside (results in own axes, the model's warnings, plausibility).
@@ -906,7 +922,8 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
   add_results_in_own_axes(model, result);
   add_model_warnings(model, result);
   finish_result(model, index, options, result);
-  return result;
+  return in_analysis_mode(model, detail::WorkspaceAccess::impl(workspace).topology, options,
+                          std::move(result));
 }
 
 }  // namespace
@@ -923,7 +940,8 @@ Result solve(const Model& model, const SolveOptions& options) {
   add_results_in_own_axes(model, result);
   add_model_warnings(model, result);
   finish_result(model, detail::ModelIndex(model), options, result);
-  return result;
+  return in_analysis_mode(model, detail::WorkspaceAccess::impl(workspace).topology, options,
+                          std::move(result));
 }
 
 Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {
