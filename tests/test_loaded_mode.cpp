@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <string>
 
@@ -105,33 +106,20 @@ double tip_error(int n, double alpha) {
 }
 
 TEST(LoadedMode, CantileverConvergesToTheElasticaFromPL2EI01To10) {
+  // Measured: at 64 elements the tip is within 5e-9 of the elastica for α = 10 (3e-12 for
+  // α = 0.1, the rounding floor), and each halving of the elements divides the error by ~16.
   for (const double alpha : {0.1, 1.0, 3.0, 10.0}) {
     SCOPED_TRACE("alpha " + std::to_string(alpha));
-    const double coarse = tip_error(16, alpha), fine = tip_error(32, alpha),
-                 finest = tip_error(64, alpha);
-    // Second-order convergence in the element length: each halving divides the error by ~4.
-    EXPECT_GT(coarse / fine, 3.5);
-    EXPECT_GT(fine / finest, 3.5);
-    EXPECT_LT(finest, 2e-5 * std::max(alpha, 1.0));
-  }
-}
-
-TEST(LoadedMode, CantileverTipWithinAMillionthOfTheElasticaWithEnoughElements) {
-  // Richardson's extrapolation of the second-order error from 128 and 256 elements.
-  for (const double alpha : {0.1, 1.0, 10.0}) {
-    SCOPED_TRACE("alpha " + std::to_string(alpha));
-    const double ei = 1e3;
-    const Vec6 d128 =
-        *solve(cantilever(128, alpha * ei), loaded_options()).end_effector("tip").deflection;
-    const Vec6 d256 =
-        *solve(cantilever(256, alpha * ei), loaded_options()).end_effector("tip").deflection;
-    const Vec6 extrapolated = (4 * d256 - d128) / 3;
-    const ElasticaTip exact = elastica(alpha);
-    EXPECT_NEAR(extrapolated[0], exact.x - 1, 1e-6);
-    EXPECT_NEAR(extrapolated[1], exact.y, 1e-6);
-    EXPECT_NEAR(extrapolated[5], exact.angle, 1e-6);
-    // And 256 elements alone within 1e-5 of the tip's travel.
-    EXPECT_NEAR(d256[1], exact.y, 1e-5 * std::abs(exact.y));
+    const double coarse = tip_error(8, alpha), fine = tip_error(16, alpha),
+                 finer = tip_error(32, alpha), finest = tip_error(64, alpha);
+    std::printf("alpha %g: tip errors at 8, 16, 32, 64 elements %.3e %.3e %.3e %.3e\n", alpha,
+                coarse, fine, finer, finest);
+    if (alpha >= 1) {
+      EXPECT_GT(coarse / fine, 8.0);
+      EXPECT_GT(fine / finer, 8.0);
+    }
+    EXPECT_LT(finer, 1e-6);
+    EXPECT_LT(finest, 1e-8);
   }
 }
 
@@ -236,8 +224,13 @@ Model scaled_loads(Model m, double factor) {
   return m;
 }
 
-void expect_linear_answers(const std::string& file, double factor) {
-  SCOPED_TRACE(file);
+// The loaded mode at loads of `factor` times the file's: its compliance within
+// `compliance_tolerance` of the linear one, its deflections and reactions within
+// `state_tolerance` (relative). The loaded mode holds positions and rotation matrices, whose
+// rounding (1e-16 of the model size) limits how closely a tiny deflection is resolved.
+void expect_linear_answers(const std::string& file, double factor, double compliance_tolerance,
+                           double state_tolerance) {
+  SCOPED_TRACE(file + " at " + std::to_string(factor));
   const Model m =
       scaled_loads(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file), factor);
   const Result r = solve(m, loaded_options());
@@ -246,21 +239,26 @@ void expect_linear_answers(const std::string& file, double factor) {
     const EndEffectorResult& loaded = r.end_effectors[e];
     const EndEffectorResult& linear = r.linear->end_effectors[e];
     ASSERT_TRUE(loaded.compliance && linear.compliance);
-    EXPECT_LT((*loaded.compliance - *linear.compliance).norm(), 1e-9 * linear.compliance->norm());
+    EXPECT_LT((*loaded.compliance - *linear.compliance).norm(),
+              compliance_tolerance * linear.compliance->norm());
     if (linear.deflection && !linear.deflection->isZero(0))
-      EXPECT_LT((*loaded.deflection - *linear.deflection).norm(), 1e-9 * linear.deflection->norm());
+      EXPECT_LT((*loaded.deflection - *linear.deflection).norm(),
+                state_tolerance * linear.deflection->norm());
   }
   for (std::size_t s = 0; s < r.supports.size(); ++s)
     if (r.linear->supports[s].reaction && !r.linear->supports[s].reaction->isZero(0))
       EXPECT_LT((*r.supports[s].reaction - *r.linear->supports[s].reaction).norm(),
-                1e-9 * r.linear->supports[s].reaction->norm());
+                state_tolerance * r.linear->supports[s].reaction->norm());
 }
 
 TEST(LoadedMode, TinyLoadsGiveTheLinearResults) {
-  expect_linear_answers("planar-2r.yaml", 1e-6);
-  expect_linear_answers("cantilever.yaml", 1e-6);
-  expect_linear_answers("industrial-6axis.yaml", 1e-6);
-  expect_linear_answers("tripteron.yaml", 1e-6);
+  for (const char* file :
+       {"planar-2r.yaml", "cantilever.yaml", "industrial-6axis.yaml", "tripteron.yaml"}) {
+    // The tangent differs from the linear matrix by terms proportional to the loads.
+    expect_linear_answers(file, 1e-8, 1e-9, 1e-4);
+    // Deflections: the nonlinear part grows as the load, the rounding as its inverse.
+    expect_linear_answers(file, 1e-4, 1e-5, 1e-6);
+  }
 }
 
 // ---- critical points ---------------------------------------------------------------------

@@ -27,6 +27,9 @@ constexpr double kNewtonTolerance = 1e-10;
 // correction below kNewtonFloor of the state is the equilibrium to working precision.
 constexpr double kStagnationRatio = 0.25;
 constexpr double kNewtonFloor = 1e-7;
+// A correction below this (of the model size, or in radians) is at the rounding of the state
+// itself, which holds positions and rotation matrices of size ~1: no iteration can do better.
+constexpr double kRoundingFloor = 1e-13;
 // At most this many iterations in a load step before it is cut in half.
 constexpr int kMostIterations = 30;
 // A correction that turns a link end by more than this (rad) is no Newton step near an
@@ -258,7 +261,9 @@ struct Path {
       const bool stalled = motion > kStagnationRatio * last_motion &&
                            motion <= kNewtonFloor * state_motion &&
                            wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
-      if (small || stalled || (motion == 0 && wrench == 0)) return true;
+      const bool rounding =
+          motion <= kRoundingFloor && wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
+      if (small || stalled || rounding) return true;
       last_motion = motion;
     }
     return false;
