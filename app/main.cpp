@@ -253,6 +253,8 @@ int run(int argc, char** argv) {
       "--direction", sweep_direction,
       "Add the columns E.k_trans_dir and E.k_rot_dir: the stiffness along X,Y,Z (global axes)");
   add_limit_options(*sweep_app, sweep_command.limits);
+  bool sweep_loaded = false;
+  sweep_app->add_flag("--loaded", sweep_loaded, "The loaded mode at every pose; as for solve");
 
   ViewCommand view_command;
   std::string view_solver = "auto";
@@ -294,6 +296,7 @@ int run(int argc, char** argv) {
   if (expand_app->parsed()) return run_expand(expand_command);
   if (sweep_app->parsed()) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions, sweep_direction);
+    if (sweep_loaded) sweep_command.solve.mode = AnalysisMode::loaded;
     return run_sweep(sweep_command);
   }
   if (merge_app->parsed()) return run_merge(merge_command);
