@@ -10,6 +10,7 @@
 
 #include "model/link_ends.hpp"
 #include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/structure.hpp"
 #include "stiffmsa/validate.hpp"
 
 namespace stiffmsa {
@@ -823,6 +824,235 @@ links: {L: {type: rigid, from: O, to: A}}
 supports: {S: {type: rigid, at: O}}
 )",
                               "m.yaml"));
+}
+
+// ---- issue 22: loads along links, gravity, load cases, settlements, analysis -------------
+
+const std::string kFrameHead = R"(format: stiffmsa/1
+materials: {steel: {E: 2.1e11, nu: 0.3, density: 7850}}
+points: {O: [0, 0, 0], A: [1, 0, 0], E: [2, 0, 0]}
+links:
+  beam1: {type: beam, from: O, to: A, material: steel, section: {shape: circle, D: 0.05}}
+  cad: {type: compliance, from: A, to: E, C: [[1e-6, 0, 0, 0, 0, 0], [0, 1e-6, 0, 0, 0, 0], [0, 0, 1e-6, 0, 0, 0], [0, 0, 0, 1e-5, 0, 0], [0, 0, 0, 0, 1e-5, 0], [0, 0, 0, 0, 0, 1e-5]]}
+supports:
+  base: {type: rigid, at: O}
+)";
+
+TEST(ModelDefects, ALoadMixingPointAndLinkKeysNamesTheKeys) {
+  const auto defects = defects_of(kFrameHead + R"(loads:
+  - {at: A, link: beam1, wrench: [0, 0, 1, 0, 0, 0], force: [0, 0, 1], position: 0.5}
+)");
+  ASSERT_EQ(defects.size(), 1u) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "loads[0]",
+                         {"a load is either on a point", "along a link",
+                          "this one gives at, wrench with force, position"},
+                         10, 5));
+}
+
+TEST(ModelDefects, LinkLoadKeysAreChecked) {
+  const auto defects = defects_of(kFrameHead + R"(loads:
+  - {link: beam1, distributed: [0, 0]}
+  - {link: beam1, distributed: {from: [0, 0, 1]}}
+  - {link: beam1, distributed: {from: [0, 0, 1], to: [0, 0, 1], middle: [0, 0, 1]}}
+  - {link: beam1, distributed: 5}
+  - {link: beam1, distributed: [0, 0, 1], position: 0.5}
+  - {link: beam1, force: [0, 0, 1]}
+  - {link: beam1, force: [0, 0, 1], position: 0.5, momnet: [0, 0, 1]}
+  - {force: [0, 0, 1], position: 0.5}
+  - {link: beam1, force: [0, 0, 1, 0], position: half}
+)");
+  EXPECT_TRUE(has_defect(defects, "loads[0].distributed",
+                         {"expected 3 numbers [qx, qy, qz]", "got 2"}, 10, 32));
+  EXPECT_TRUE(has_defect(defects, "loads[1].distributed.to", {"missing key 'to'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[2].distributed.middle", {"unknown key 'middle'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[3].distributed",
+                         {"expected [qx, qy, qz] (uniform, N/m) or {from:", "got '5'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[4].position",
+                         {"key 'position' does not apply to a distributed load along a link",
+                          "valid keys are: link, distributed"}));
+  EXPECT_TRUE(has_defect(defects, "loads[5].position", {"missing key 'position'"}));
+  EXPECT_TRUE(
+      has_defect(defects, "loads[6].momnet", {"unknown key 'momnet'", "did you mean 'moment'?"}));
+  EXPECT_TRUE(has_defect(defects, "loads[7].link", {"missing key 'link'"}));
+  EXPECT_TRUE(has_defect(defects, "loads[8].force", {"expected 3 numbers [Fx, Fy, Fz]", "got 4"}));
+  EXPECT_TRUE(has_defect(defects, "loads[8].position", {"expected a number", "'half'"}));
+}
+
+TEST(ModelDefects, NewTopLevelKeysAreChecked) {
+  const auto defects = defects_of(kFrameHead + R"(gravity: [0, -9.81]
+analysis: {mode: loded, load_steps: 2.5, steps: 3}
+load_cases:
+  a: 5
+  b: {loads: [], gravty: [0, 0, -9.81]}
+  c: {gravity: [0, 0, x]}
+  d: [{frame: tool, wrench: [0, 0, 1, 0, 0, 0]}]
+)");
+  EXPECT_TRUE(has_defect(defects, "gravity", {"expected 3 numbers [gx, gy, gz]", "got 2"}, 9, 10));
+  EXPECT_TRUE(has_defect(defects, "analysis.mode",
+                         {"unknown analysis mode 'loded'", "did you mean 'loaded'?"}, 10, 18));
+  EXPECT_TRUE(has_defect(defects, "analysis.load_steps",
+                         {"load_steps is a whole number of load steps", "got '2.5'"}));
+  EXPECT_TRUE(has_defect(defects, "analysis.steps", {"unknown key 'steps'"}));
+  EXPECT_TRUE(
+      has_defect(defects, "load_cases.a",
+                 {"expected a list of loads or {loads: [...], gravity: [gx, gy, gz]}", "got '5'"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.b.gravty",
+                         {"unknown key 'gravty'", "did you mean 'gravity'?"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.c.gravity[2]", {"expected a number", "'x'"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.d[0].frame",
+                         {"a load on a robot frame stands in the top-level `loads:` only"}));
+}
+
+TEST(ModelDefects, DensityAndDisplacementKeysAreChecked) {
+  const auto defects = defects_of(R"(format: stiffmsa/1
+points: {O: [0, 0, 0], A: [1, 0, 0]}
+links:
+  L: {type: beam, from: O, to: A, material: {E: 2.1e11, nu: 0.3, density: heavy}, section: {shape: circle, D: 0.05}}
+joints: {}
+supports:
+  S: {type: rigid, at: O, displacement: [0, 0, 1]}
+)");
+  EXPECT_TRUE(has_defect(defects, "links.L.material.density", {"expected a number", "'heavy'"}));
+  EXPECT_TRUE(has_defect(defects, "supports.S.displacement",
+                         {"expected 6 numbers [dx, dy, dz, rx, ry, rz]", "got 3"}, 7, 41));
+}
+
+TEST(ModelDefects, LinkLoadsNeedAnExistingNonCadLinkAndAPositionOnIt) {
+  const auto defects = defects_of(kFrameHead + R"(loads:
+  - {link: beam, distributed: [0, 0, -1]}
+  - {link: cad, force: [0, 0, -1], position: 0.5}
+  - {link: beam1, force: [0, 0, -1], position: 1.5}
+  - {link: beam1, force: [0, 0, -1], position: -0.1}
+  - {at: E, wrench: [0, 0, -1, 0, 0, 0]}
+)");
+  ASSERT_EQ(defects.size(), 4u) << listing(defects);
+  // The file's key paths, though the model keeps link loads in a list of their own.
+  EXPECT_TRUE(
+      has_defect(defects, "loads[0].link", {"no link named 'beam'", "did you mean 'beam1'?"}));
+  EXPECT_TRUE(has_defect(defects, "loads[1].link",
+                         {"link 'cad' is a compliance link (from CAD)",
+                          "give a load along it as loads at the link's ends"},
+                         11, 6));
+  EXPECT_TRUE(has_defect(defects, "loads[2].position",
+                         {"position is a fraction of the link's length", "in [0, 1]", "got 1.5"},
+                         12, 38));
+  EXPECT_TRUE(has_defect(defects, "loads[3].position", {"in [0, 1]", "got -0.1"}));
+}
+
+TEST(ModelDefects, GravityWithoutAnyDensityIsAnError) {
+  const std::string no_density = R"(format: stiffmsa/1
+points: {O: [0, 0, 0], A: [1, 0, 0]}
+links: {L: {type: beam, from: O, to: A, material: {E: 2.1e11, nu: 0.3}, section: {shape: circle, D: 0.05}}}
+supports: {S: {type: rigid, at: O}}
+gravity: [0, 0, -9.81]
+load_cases:
+  heavy: {gravity: [0, 0, -9.81]}
+)";
+  const auto defects = defects_of(no_density);
+  ASSERT_EQ(defects.size(), 2u) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "gravity",
+                         {"gravity is given but no beam's material has a density: nothing weighs",
+                          "give the materials of the beams that weigh a density (kg/m³)"},
+                         5, 1));
+  EXPECT_TRUE(
+      has_defect(defects, "load_cases.heavy.gravity", {"no beam's material has a density"}, 7, 11));
+}
+
+TEST(ModelDefects, DensityMustBePositive) {
+  const auto defects = defects_of(R"(format: stiffmsa/1
+materials: {steel: {E: 2.1e11, nu: 0.3, density: -7850}}
+points: {O: [0, 0, 0], A: [1, 0, 0]}
+links:
+  L: {type: beam, from: O, to: A, material: steel, section: {shape: circle, D: 0.05}}
+  M: {type: beam, from: O, to: A, material: {E: 2.1e11, nu: 0.3, density: 0}, section: {shape: circle, D: 0.05}}
+)");
+  EXPECT_TRUE(has_defect(defects, "materials.steel.density",
+                         {"density must be a positive number", "got -7850"}, 2, 41));
+  EXPECT_TRUE(
+      has_defect(defects, "links.M.material.density", {"density must be a positive number"}));
+}
+
+TEST(ModelDefects, LoadsInCasesObeyTheTopLevelRules) {
+  const auto defects = defects_of(kFrameHead + R"(load_cases:
+  first: [{at: Q, wrench: [0, 0, -1, 0, 0, 0]}, {link: cad, distributed: [0, 0, -1]}]
+  second: {loads: [{at: A, wrench: [0, 0, -1, 0, 0, 0]}, {link: beam1, force: [0, 0, 1], position: 2}]}
+)");
+  ASSERT_EQ(defects.size(), 4u) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "load_cases.first[0].at",
+                         {"no point named 'Q'", "points are: O, A, E"}, 10, 12));
+  EXPECT_TRUE(has_defect(defects, "load_cases.first[1].link", {"is a compliance link"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.second.loads[0].at",
+                         {"several link ends are at point \'A\'", "name one with `link:`"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.second.loads[1].position", {"got 2"}));
+}
+
+TEST(ModelDefects, ApiLoadCasesNeedUniqueNonEmptyNamesAndFiniteValues) {
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("A", Vec3(1, 0, 0));
+  Material steel{2.1e11, 0.3, std::nullopt, std::numeric_limits<double>::infinity()};
+  m.add_beam("L", "O", "A", steel, Section::circle(0.05));
+  m.add_support("S", "O", {}, Connection::rigid());
+  m.add_link_load("L", DistributedLinkLoad{Vec3(0, 0, std::nan("")), Vec3::Zero()});
+  m.add_link_load("M", PointLinkLoad{Vec3::Zero(), Vec3::Zero(), 0.5});
+  m.gravity = Vec3(0, 0, std::numeric_limits<double>::infinity());
+  LoadCase a;
+  a.name = "a";
+  m.add_load_case(a);
+  m.add_load_case(a);
+  m.add_load_case(LoadCase{});
+  m.options.load_steps = 0;
+  const auto defects = find_defects(m);
+  EXPECT_TRUE(has_defect(defects, "links.L.material.density", {"positive"}));
+  EXPECT_TRUE(has_defect(defects, "link_loads[0].distributed.from", {"finite"}));
+  EXPECT_TRUE(has_defect(defects, "link_loads[1].link", {"no link named 'M'"}));
+  EXPECT_TRUE(has_defect(defects, "gravity", {"finite"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases.a", {"another load case is named 'a'", "unique"}));
+  EXPECT_TRUE(has_defect(defects, "load_cases[2]", {"a load case needs a non-empty name"}));
+  EXPECT_TRUE(has_defect(defects, "analysis.load_steps",
+                         {"load_steps must be a positive number of load steps", "got 0"}));
+}
+
+TEST(ModelDefects, SettlementAlongAFreeDirectionIsAnError) {
+  const auto defects = defects_of(R"(format: stiffmsa/1
+points: {O: [0, 0, 0], A: [1, 0, 0], B: [0, 1, 0], C: [0, 0, 1]}
+links:
+  L: {type: rigid, from: O, to: A}
+  M: {type: rigid, from: B, to: A}
+  N: {type: rigid, from: C, to: A}
+joints: {J: {type: rigid, at: A, links: [L, M, N]}}
+supports:
+  pin: {type: revolute, at: O, axis: [0, 0, 2], displacement: [0, 0, -0.001, 0, 0, 0.01]}
+  ball: {type: spherical, at: B, displacement: [0.001, 0, 0, 0, 0.02, 0]}
+  slide: {type: prismatic, at: C, axis: [1, 1, 0], displacement: [0, 0, 0.001, 0, 0, 0]}
+)");
+  ASSERT_EQ(defects.size(), 2u) << listing(defects);
+  EXPECT_TRUE(has_defect(defects, "supports.pin.displacement",
+                         {"support 'pin' leaves the rotation about its axis [0, 0, 2] free",
+                          "moves it that way by 0.01", "make that component zero"},
+                         9, 49));
+  EXPECT_TRUE(has_defect(defects, "supports.ball.displacement",
+                         {"support 'ball' leaves the ry free", "by 0.02"}));
+  EXPECT_EQ(count_at(defects, "supports.slide.displacement"), 0u);  // across its axis: held
+}
+
+TEST(ModelDefects, SettlementsAreCheckedPerPose) {
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("A", Vec3(1, 0, 0));
+  m.add_rigid_link("L", "O", "A");
+  const auto pin =
+      m.add_support("pin", "O", {}, Connection::passive(Kinematics::revolute({0, 0, 1})));
+  Vec6 settlement = Vec6::Zero();
+  settlement(0) = 0.001;
+  m.support(pin).displacement = settlement;
+  EXPECT_TRUE(find_defects(m).empty()) << listing(find_defects(m));
+  const Structure structure(m);
+  std::vector<double> values = structure.default_values();
+  values[*structure.find_slot("supports.pin.displacement[5]")] = 0.1;
+  values[*structure.find_slot("supports.pin.axis[2]")] = 1;
+  EXPECT_TRUE(has_defect(structure.find_value_defects(values), "supports.pin.displacement",
+                         {"leaves the rotation about its axis [0, 0, 1] free"}));
 }
 
 }  // namespace

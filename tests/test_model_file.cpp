@@ -7,6 +7,7 @@
 #include <string>
 
 #include "stiffmsa/io/model_file.hpp"
+#include "stiffmsa/structure.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -445,6 +446,124 @@ links: {L: {type: rigid, from: O, to: A}, M: {type: rigid, from: A, to: B}}
   const Model m = parse(text);
   EXPECT_EQ(m.points[1].position, Vec3(1.5, -2, 0.3));
   EXPECT_EQ(m.points[2].position, Vec3(100, 0, 0));
+}
+
+// Issue 22's keys: loads along links beside point loads, gravity, densities, load cases,
+// settlements and the analysis mode.
+const char* const kLoadedFrame = R"(format: stiffmsa/1
+analysis: {mode: loaded, load_steps: 12}
+gravity: [0, 0, -9.81]
+materials: {steel: {E: 2.1e11, nu: 0.3, density: 7850}}
+sections: {rod: {shape: circle, D: 0.05}}
+points: {O: [0, 0, 0], A: [1, 0, 0], E: [2, 0, 0]}
+links:
+  beam1: {type: beam, from: O, to: A, material: steel, section: rod}
+  beam2: {type: beam, from: A, to: E, material: {E: 7e10, nu: 0.33, density: 2700}, section: rod}
+supports:
+  base: {type: rigid, at: O, displacement: [0, 0, -0.001, 0, 0, 0]}
+loads:
+  - {at: E, wrench: [0, 0, -1000, 0, 0, 0]}
+  - {link: beam1, distributed: [0, 0, -500]}
+  - {link: beam1, distributed: {from: [0, 0, -100], to: [0, 0, -300]}}
+  - {link: beam2, force: [0, 0, -200], moment: [0, 10, 0], position: 0.3}
+  - {link: beam2, force: [0, 0, -50], position: 1}
+load_cases:
+  machining: [{at: E, wrench: [0, 0, -1000, 0, 0, 0]}, {link: beam2, distributed: [0, 1, 0]}]
+  heavy: {loads: [{at: E, wrench: [1, 2, 3, 4, 5, 6]}], gravity: [0, -9.81, 0]}
+  weight_only: {gravity: [0, 0, -9.81]}
+end_effectors: {tip: {at: E}}
+)";
+
+TEST(ModelFile, ReadsLinkLoadsGravityDensitiesCasesSettlementsAndTheAnalysisMode) {
+  const Model m = parse(kLoadedFrame);
+  EXPECT_EQ(m.options.mode, AnalysisMode::loaded);
+  EXPECT_EQ(m.options.load_steps, 12);
+  ASSERT_TRUE(m.gravity.has_value());
+  EXPECT_EQ(*m.gravity, Vec3(0, 0, -9.81));
+  EXPECT_EQ(std::get<BeamLink>(link_named(m, "beam1").kind).material.density, 7850.0);
+  EXPECT_EQ(std::get<BeamLink>(link_named(m, "beam2").kind).material.density, 2700.0);
+  ASSERT_TRUE(m.supports[0].displacement.has_value());
+  EXPECT_EQ(*m.supports[0].displacement, (Vec6() << 0, 0, -0.001, 0, 0, 0).finished());
+
+  // The point load and the link loads of one list land in their own lists, in file order.
+  ASSERT_EQ(m.loads.size(), 1u);
+  EXPECT_EQ(m.loads[0].wrench(2), -1000.0);
+  ASSERT_EQ(m.link_loads.size(), 4u);
+  EXPECT_EQ(m.link_loads[0].link, "beam1");
+  const auto& uniform = std::get<DistributedLinkLoad>(m.link_loads[0].load);
+  EXPECT_EQ(uniform.from, Vec3(0, 0, -500));
+  EXPECT_EQ(uniform.to, Vec3(0, 0, -500));
+  const auto& varying = std::get<DistributedLinkLoad>(m.link_loads[1].load);
+  EXPECT_EQ(varying.from, Vec3(0, 0, -100));
+  EXPECT_EQ(varying.to, Vec3(0, 0, -300));
+  const auto& point = std::get<PointLinkLoad>(m.link_loads[2].load);
+  EXPECT_EQ(m.link_loads[2].link, "beam2");
+  EXPECT_EQ(point.force, Vec3(0, 0, -200));
+  EXPECT_EQ(point.moment, Vec3(0, 10, 0));
+  EXPECT_EQ(point.position, 0.3);
+  const auto& without_moment = std::get<PointLinkLoad>(m.link_loads[3].load);
+  EXPECT_EQ(without_moment.moment, Vec3::Zero());
+  EXPECT_EQ(without_moment.position, 1.0);
+  EXPECT_EQ(m.link_loads[2].origin.location.line, 16);
+  EXPECT_EQ(m.link_loads[2].origin.of("position").line, 16);
+
+  ASSERT_EQ(m.load_cases.size(), 3u);
+  const LoadCase& machining = m.load_cases[0];
+  EXPECT_EQ(machining.name, "machining");
+  ASSERT_EQ(machining.loads.size(), 1u);
+  EXPECT_EQ(machining.loads[0].at, "E");
+  ASSERT_EQ(machining.link_loads.size(), 1u);
+  EXPECT_EQ(std::get<DistributedLinkLoad>(machining.link_loads[0].load).to, Vec3(0, 1, 0));
+  EXPECT_FALSE(machining.gravity.has_value());
+  EXPECT_EQ(machining.origin.location.line, 19);
+  const LoadCase& heavy = m.load_cases[1];
+  EXPECT_EQ(heavy.name, "heavy");
+  ASSERT_EQ(heavy.loads.size(), 1u);
+  EXPECT_EQ(heavy.loads[0].wrench, (Vec6() << 1, 2, 3, 4, 5, 6).finished());
+  EXPECT_EQ(heavy.gravity, Vec3(0, -9.81, 0));
+  EXPECT_TRUE(m.load_cases[2].loads.empty());
+  EXPECT_EQ(m.load_cases[2].gravity, Vec3(0, 0, -9.81));
+}
+
+TEST(ModelFile, AnalysisModeDefaultsToLinearWithNoLoadSteps) {
+  const Model m = parse(kSpecExample);
+  EXPECT_EQ(m.options.mode, AnalysisMode::linear);
+  EXPECT_FALSE(m.options.load_steps.has_value());
+  EXPECT_FALSE(m.gravity.has_value());
+  EXPECT_TRUE(m.link_loads.empty());
+  EXPECT_TRUE(m.load_cases.empty());
+  EXPECT_FALSE(m.supports[0].displacement.has_value());
+  EXPECT_FALSE(std::get<BeamLink>(m.links[0].kind).material.density.has_value());
+  const Model linear = parse(R"(format: stiffmsa/1
+analysis: {mode: linear}
+points: {O: [0, 0, 0], A: [1, 0, 0]}
+links: {L: {type: rigid, from: O, to: A}}
+)");
+  EXPECT_EQ(linear.options.mode, AnalysisMode::linear);
+}
+
+// A written model reads back to the same model: the same structure, every number the same.
+TEST(ModelFile, AWrittenModelWithIssueTwentyTwoKeysReadsBackEqual) {
+  Model m = parse(kLoadedFrame);
+  m.options.load_steps.reset();  // written only where given
+  LoadCase empty;
+  empty.name = "nothing";
+  m.add_load_case(empty);
+  m.load_cases[0].loads[0].link = "beam2";
+  const std::string text = model_to_yaml(m);
+  const Model back = parse(text, "written.yaml");
+  const Structure structure(m);
+  EXPECT_EQ(structure.values_of(back), structure.default_values());
+  EXPECT_EQ(back.options.mode, AnalysisMode::loaded);
+  EXPECT_FALSE(back.options.load_steps.has_value());
+  ASSERT_EQ(back.load_cases.size(), 4u);
+  EXPECT_EQ(back.load_cases[0].loads[0].link, "beam2");
+  EXPECT_EQ(back.load_cases[3].name, "nothing");
+  EXPECT_TRUE(back.load_cases[3].loads.empty());
+  EXPECT_FALSE(back.load_cases[3].gravity.has_value());
+  EXPECT_EQ(model_to_yaml(back), text);
+  m.options.load_steps = 7;
+  EXPECT_EQ(parse(model_to_yaml(m), "written.yaml").options.load_steps, 7);
 }
 
 TEST(ModelFile, LoadsAFileFromDisk) {

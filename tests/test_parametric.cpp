@@ -88,6 +88,48 @@ Model written(const Structure& structure, ModelFamily::ValueWriter& write,
   return structure.model_with(slots);
 }
 
+// Issue 22's numbers are numbers like any other: expressions in loads along links, gravity,
+// densities, settlements and load cases follow each member's parameters.
+TEST(ParametricFile, ExpressionsWorkInLinkLoadsGravityDensitiesSettlementsAndCases) {
+  const std::string text = R"(format: stiffmsa/1
+parameters: {q: 500, g: 9.81, rho: 7850, s: 0.001, a: 0.3}
+materials: {steel: {E: 2.1e11, nu: 0.3, density: rho}}
+points: {O: [0, 0, 0], E: [1, 0, 0]}
+links: {beam: {type: beam, from: O, to: E, material: steel, section: {shape: circle, D: 0.02}}}
+supports: {clamp: {type: rigid, at: O, displacement: [0, 0, "-s", 0, 0, 0]}}
+gravity: [0, 0, "-g"]
+loads:
+  - {link: beam, distributed: [0, 0, "-q"]}
+  - {link: beam, distributed: {from: [0, 0, "-2*q"], to: [0, 0, 0]}}
+  - {link: beam, force: [0, 0, "-q"], moment: [0, "q/10", 0], position: a}
+load_cases:
+  heavy: {loads: [{at: E, wrench: [0, 0, "-q", 0, 0, 0]}], gravity: [0, 0, "-2*g"]}
+  along: [{link: beam, force: [0, "q", 0], position: "1 - a"}]
+end_effectors: {tip: {at: E}}
+)";
+  const ModelFamily family = parse_model_family(text, "p.yaml");
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
+  const Model m = written(structure, write, {100, 10, 2700, 0.002, 0.25});
+  EXPECT_EQ(std::get<BeamLink>(m.links[0].kind).material.density, 2700.0);
+  EXPECT_EQ((*m.supports[0].displacement)(2), -0.002);
+  EXPECT_EQ(*m.gravity, Vec3(0, 0, -10));
+  const auto& uniform = std::get<DistributedLinkLoad>(m.link_loads[0].load);
+  EXPECT_EQ(uniform.from, Vec3(0, 0, -100));
+  EXPECT_EQ(uniform.to, Vec3(0, 0, -100));
+  EXPECT_EQ(std::get<DistributedLinkLoad>(m.link_loads[1].load).from, Vec3(0, 0, -200));
+  const auto& point = std::get<PointLinkLoad>(m.link_loads[2].load);
+  EXPECT_EQ(point.force, Vec3(0, 0, -100));
+  EXPECT_EQ(point.moment, Vec3(0, 10, 0));
+  EXPECT_EQ(point.position, 0.25);
+  EXPECT_EQ(m.load_cases[0].loads[0].wrench(2), -100.0);
+  EXPECT_EQ(*m.load_cases[0].gravity, Vec3(0, 0, -20));
+  EXPECT_EQ(std::get<PointLinkLoad>(m.load_cases[1].link_loads[0].load).force, Vec3(0, 100, 0));
+  EXPECT_EQ(std::get<PointLinkLoad>(m.load_cases[1].link_loads[0].load).position, 0.75);
+  EXPECT_TRUE(structure.find_slot("link_loads[2].position").has_value());
+  EXPECT_TRUE(structure.find_slot("load_cases.along.link_loads[0].position").has_value());
+}
+
 TEST(ParametricFile, DefaultsGiveTheModel) {
   const Model m = parse_model(kCantilever, "p.yaml");
   EXPECT_EQ(m.points[1].position, Vec3(0.25, 0, 0));

@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
 
 #include "builders.hpp"
 #include "stiffmsa/stiffmsa.hpp"
@@ -158,4 +162,108 @@ TEST(Structure, AFamilyOfAPlainFunction) {
   const SweepResult s = sweep(family, grid_poses({{"x", 0.2, 0.6, 3}}));
   ASSERT_EQ(s.results.size(), 3u);
   for (const PoseResult& r : s.results) EXPECT_EQ(r.status, PoseStatus::ok) << r.message;
+}
+
+namespace {
+
+// A beam with every issue-22 number: a density, a settlement, loads along it, gravity and two
+// named load cases.
+Model loaded_beam() {
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("E", Vec3(1, 0, 0));
+  Material steel{2.1e11, 0.3, std::nullopt, 7850.0};
+  m.add_beam("L", "O", "E", steel, Section::circle(0.02));
+  const auto clamp = m.add_support("S", "O", {}, Connection::rigid());
+  m.support(clamp).displacement = (Vec6() << 0, 0, -0.001, 0, 0, 0).finished();
+  m.add_load("E", std::nullopt, (Vec6() << 0, 0, -10, 0, 0, 0).finished());
+  m.add_link_load("L", DistributedLinkLoad{Vec3(0, 0, -100), Vec3(0, 0, -300)});
+  m.add_link_load("L", PointLinkLoad{Vec3(0, 0, -50), Vec3(0, 5, 0), 0.3});
+  m.gravity = Vec3(0, 0, -9.81);
+  LoadCase heavy;
+  heavy.name = "heavy";
+  heavy.loads.push_back(
+      Load{"E", std::nullopt, (Vec6() << 1, 2, 3, 4, 5, 6).finished(), false, {}});
+  heavy.link_loads.push_back(LinkLoad{"L", PointLinkLoad{Vec3(0, 1, 0), Vec3::Zero(), 0.5}, {}});
+  heavy.gravity = Vec3(0, 0, -19.62);
+  m.add_load_case(heavy);
+  LoadCase along;
+  along.name = "along";
+  along.link_loads.push_back(LinkLoad{"L", DistributedLinkLoad{Vec3(0, 7, 0), Vec3(0, 7, 0)}, {}});
+  m.add_load_case(along);
+  m.add_end_effector("tip", "E");
+  return m;
+}
+
+}  // namespace
+
+TEST(Structure, IssueTwentyTwoNumbersHaveNamedSlots) {
+  const Structure structure(loaded_beam());
+  const auto value = [&](const std::string& name) {
+    const auto slot = structure.find_slot(name);
+    EXPECT_TRUE(slot) << name;
+    return slot ? structure.default_values()[*slot] : std::nan("");
+  };
+  EXPECT_EQ(value("links.L.material.density"), 7850.0);
+  EXPECT_EQ(value("supports.S.displacement[2]"), -0.001);
+  EXPECT_EQ(value("link_loads[0].distributed.from[2]"), -100.0);
+  EXPECT_EQ(value("link_loads[0].distributed.to[2]"), -300.0);
+  EXPECT_EQ(value("link_loads[1].force[2]"), -50.0);
+  EXPECT_EQ(value("link_loads[1].moment[1]"), 5.0);
+  EXPECT_EQ(value("link_loads[1].position"), 0.3);
+  EXPECT_EQ(value("gravity[2]"), -9.81);
+  EXPECT_EQ(value("load_cases.heavy.loads[0].wrench[2]"), 3.0);
+  EXPECT_EQ(value("load_cases.heavy.link_loads[0].force[1]"), 1.0);
+  EXPECT_EQ(value("load_cases.heavy.link_loads[0].position"), 0.5);
+  EXPECT_EQ(value("load_cases.heavy.gravity[2]"), -19.62);
+  EXPECT_EQ(value("load_cases.along.link_loads[0].distributed.to[1]"), 7.0);
+  EXPECT_FALSE(structure.find_slot("load_cases.along.gravity[2]"));
+  // The names are unique: each says which number it is.
+  auto names = structure.slot_names();
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
+}
+
+TEST(Structure, IssueTwentyTwoNumbersRoundTripThroughTheirSlots) {
+  const Structure structure(loaded_beam());
+  std::vector<double> values = structure.default_values();
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] += 0.25 * static_cast<double>(i + 1);
+  const Model changed = structure.model_with(values);
+  EXPECT_EQ(structure.values_of(changed), values);
+  EXPECT_EQ(changed.gravity->z(), values[*structure.find_slot("gravity[2]")]);
+  EXPECT_EQ(std::get<PointLinkLoad>(changed.load_cases[0].link_loads[0].load).position,
+            values[*structure.find_slot("load_cases.heavy.link_loads[0].position")]);
+  Model written = structure.model();
+  structure.write_values(values, written);
+  EXPECT_EQ(structure.values_of(written), values);
+  EXPECT_EQ((*written.supports[0].displacement)(2),
+            values[*structure.find_slot("supports.S.displacement[2]")]);
+}
+
+// A present or absent optional (a density, a settlement, gravity, a case, a load along a link
+// or its kind) is structure: its numbers would fill other slots.
+TEST(Structure, IssueTwentyTwoOptionalsAreStructure) {
+  const Structure structure(loaded_beam());
+  const auto refused = [&](const std::function<void(Model&)>& change) {
+    Model m = loaded_beam();
+    change(m);
+    try {
+      structure.values_of(m);
+    } catch (const InputError& e) {
+      return contains(e.what(), "structure differs");
+    }
+    return false;
+  };
+  EXPECT_FALSE(refused([](Model&) {}));
+  EXPECT_TRUE(
+      refused([](Model& m) { std::get<BeamLink>(m.links[0].kind).material.density.reset(); }));
+  EXPECT_TRUE(refused([](Model& m) { m.supports[0].displacement.reset(); }));
+  EXPECT_TRUE(refused([](Model& m) { m.gravity.reset(); }));
+  EXPECT_TRUE(refused([](Model& m) { m.load_cases[0].gravity.reset(); }));
+  EXPECT_TRUE(refused([](Model& m) { m.load_cases.pop_back(); }));
+  EXPECT_TRUE(refused([](Model& m) { m.load_cases[1].name = "sideways"; }));
+  EXPECT_TRUE(refused([](Model& m) { m.link_loads.pop_back(); }));
+  EXPECT_TRUE(refused([](Model& m) { m.link_loads[1].load = DistributedLinkLoad{}; }));
+  EXPECT_TRUE(refused([](Model& m) { m.load_cases[0].loads[0].at = "O"; }));
+  EXPECT_TRUE(refused([](Model& m) { m.options.mode = AnalysisMode::loaded; }));
 }

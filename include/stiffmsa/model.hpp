@@ -247,6 +247,9 @@ struct ModelOptions {
   bool accept_idle_motions = false;
   // Top-level `analysis: {mode: loaded}`; SolveOptions::mode overrides it.
   AnalysisMode mode = AnalysisMode::linear;
+  // `analysis: {load_steps: N}`: the loaded mode's number of load steps (positive); unset, the
+  // analysis chooses.
+  std::optional<int> load_steps;
 };
 
 // A parameter of a parametric model (parametric.hpp) at the value a model was built for.

@@ -56,6 +56,7 @@ std::string material(const Material& m) {
   std::string text = "{E: " + number(m.E);
   if (m.nu) text += ", nu: " + number(*m.nu);
   if (m.G) text += ", G: " + number(*m.G);
+  if (m.density) text += ", density: " + number(*m.density);
   return text + "}";
 }
 
@@ -117,12 +118,38 @@ std::string connection(const Connection& c) {
   return text;
 }
 
+// One list of loads: those on points, then those along links (a file keeps them in one list).
+void write_loads(std::ostringstream& out, const std::string& indent, const std::vector<Load>& loads,
+                 const std::vector<LinkLoad>& link_loads) {
+  for (const Load& l : loads) {
+    out << indent << "- {at: " << quoted(l.at);
+    if (l.link) out << ", link: " << quoted(*l.link);
+    out << ", wrench: " << list(l.wrench);
+    if (l.self_weight) out << ", self_weight: true";
+    out << "}\n";
+  }
+  for (const LinkLoad& l : link_loads) {
+    out << indent << "- {link: " << quoted(l.link);
+    if (const auto* d = std::get_if<DistributedLinkLoad>(&l.load))
+      out << ", distributed: {from: " << list(d->from) << ", to: " << list(d->to) << "}";
+    else if (const auto* p = std::get_if<PointLinkLoad>(&l.load))
+      out << ", force: " << list(p->force) << ", moment: " << list(p->moment)
+          << ", position: " << number(p->position);
+    out << "}\n";
+  }
+}
+
 }  // namespace
 
 std::string model_to_yaml(const Model& model) {
   std::ostringstream out;
   out << "format: stiffmsa/1\nname: " << quoted(model.name) << "\n";
   if (model.options.accept_idle_motions) out << "options: {accept_idle_motions: true}\n";
+  if (model.options.mode != AnalysisMode::linear || model.options.load_steps) {
+    out << "analysis: {mode: " << to_string(model.options.mode);
+    if (model.options.load_steps) out << ", load_steps: " << *model.options.load_steps;
+    out << "}\n";
+  }
   out << "points:\n";
   for (const Point& p : model.points)
     out << "  " << quoted(p.name) << ": " << list(p.position) << "\n";
@@ -136,15 +163,18 @@ std::string model_to_yaml(const Model& model) {
   for (const Support& s : model.supports) {
     out << "  " << quoted(s.name) << ": {" << connection(s.connection) << ", at: " << quoted(s.at);
     if (!s.links.empty()) out << ", links: " << names(s.links);
+    if (s.displacement) out << ", displacement: " << list(*s.displacement);
     out << "}\n";
   }
-  if (!model.loads.empty()) out << "loads:\n";
-  for (const Load& l : model.loads) {
-    out << "  - {at: " << quoted(l.at);
-    if (l.link) out << ", link: " << quoted(*l.link);
-    out << ", wrench: " << list(l.wrench);
-    if (l.self_weight) out << ", self_weight: true";
-    out << "}\n";
+  if (!model.loads.empty() || !model.link_loads.empty()) out << "loads:\n";
+  write_loads(out, "  ", model.loads, model.link_loads);
+  if (model.gravity) out << "gravity: " << list(*model.gravity) << "\n";
+  if (!model.load_cases.empty()) out << "load_cases:\n";
+  for (const LoadCase& c : model.load_cases) {
+    out << "  " << quoted(c.name) << ":\n";
+    if (c.gravity) out << "    gravity: " << list(*c.gravity) << "\n";
+    out << "    loads:" << (c.loads.empty() && c.link_loads.empty() ? " []" : "") << "\n";
+    write_loads(out, "      ", c.loads, c.link_loads);
   }
   if (!model.end_effectors.empty()) out << "end_effectors:\n";
   for (const EndEffector& e : model.end_effectors) {

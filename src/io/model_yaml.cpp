@@ -45,12 +45,15 @@ using detail::YamlNode;
 
 constexpr const char* kFormat = "stiffmsa/1";
 
-const KeyList kTopKeys{"format",    "name",     "parameters",    "derived", "options",
-                       "materials", "sections", "points",        "links",   "joints",
-                       "supports",  "loads",    "end_effectors", "robot"};
+const KeyList kTopKeys{"format",        "name",      "parameters", "derived", "options",
+                       "analysis",      "materials", "sections",   "points",  "links",
+                       "joints",        "supports",  "loads",      "gravity", "load_cases",
+                       "end_effectors", "robot"};
 const KeyList kParameterKeys{"default", "unit"};
 const KeyList kOptionKeys{"accept_idle_motions"};
-const KeyList kMaterialKeys{"E", "nu", "G"};
+const KeyList kMaterialKeys{"E", "nu", "G", "density"};
+const KeyList kAnalysisKeys{"mode", "load_steps"};
+const KeyList kAnalysisModes{"linear", "loaded"};
 const KeyList kSectionKeys{"shape", "D", "t", "b", "h", "A", "Iy", "Iz", "J", "Asy", "Asz"};
 const KeyList kLinkTypes{"beam", "rigid", "matrix", "compliance"};
 const KeyList kLinkKeys{"type",  "from", "to", "material", "section",
@@ -58,6 +61,13 @@ const KeyList kLinkKeys{"type",  "from", "to", "material", "section",
 const KeyList kFrames{"global", "local"};
 const KeyList kSpringKeys{"stiffness", "preload", "actuated"};
 const KeyList kLoadKeys{"at", "link", "wrench", "self_weight"};
+// Loads along a link (`link` is shared with point loads): a key of these makes a load one.
+const KeyList kLinkLoadOnlyKeys{"distributed", "force", "moment", "position"};
+const KeyList kDistributedLoadKeys{"link", "distributed"};
+const KeyList kPointLinkLoadKeys{"link", "force", "moment", "position"};
+const KeyList kLinkLoadKeys{"link", "distributed", "force", "moment", "position"};
+const KeyList kDistributedEndKeys{"from", "to"};
+const KeyList kLoadCaseKeys{"loads", "gravity"};
 const KeyList kEndEffectorKeys{"at", "link"};
 // The robot block (docs/urdf.md) and what refers to its frames.
 const KeyList kRobotKeys{"urdf",          "base",  "positions", "joints",
@@ -297,6 +307,20 @@ class Loader {
   void read_joints(const Entry& section);
   void read_supports(const Entry& section);
   void read_loads(const Entry& section);
+  void read_gravity(const Entry& section);
+  void read_load_cases(const Entry& section);
+  void read_analysis(const Entry& section);
+  // Where a list of loads goes: the model's own (the unnamed case) or a named case's.
+  struct LoadTarget {
+    std::vector<Load>& loads;
+    std::vector<LinkLoad>& link_loads;
+    std::string model_path;  // the key path validation gives the target: "" or "load_cases.C."
+    bool robot_frames;       // whether loads on a robot's frames may stand here
+  };
+  void read_load_list(const Value& v, const LoadTarget& target);
+  void read_point_load(const std::vector<Entry>& e, const Value& entry, const LoadTarget& target);
+  void read_link_load(const std::vector<Entry>& e, const Value& entry, const LoadTarget& target);
+  std::optional<DistributedLinkLoad> read_distributed(const Entry& entry, Origin& origin);
   void read_end_effectors(const Entry& section);
   void read_robot(const Entry& section);
   std::optional<detail::JointSpring> read_joint_spring(const Value& v);
@@ -322,6 +346,7 @@ class Loader {
     std::vector<std::string> links;
     Connection connection;
     Origin origin;
+    std::optional<Vec6> displacement;  // supports only
   };
   Site read_site(const Entry& named, bool is_support);
   std::optional<JointType> read_site_type(const std::vector<Entry>& e, const Value& v,
@@ -363,6 +388,9 @@ class Loader {
   std::vector<RobotPosition> robot_positions_;
   Position robot_at_;
   bool find_robot_block_ = false;  // the model has `robot:`, read or not
+  // Where the keys of the model itself are (`gravity`, `analysis.load_steps`), for validation's
+  // messages about them: the Model keeps no origin of its own.
+  std::map<std::string, SourceLocation> model_key_locations_;
 };
 
 // ---- mappings and keys -------------------------------------------------------------------
@@ -664,12 +692,19 @@ Model Loader::read(const YamlNode& root) {
   if (parameters || derived) read_parameters(parameters, derived);
   // Materials and sections first: links refer to them wherever they stand in the file.
   using Part = void (Loader::*)(const Entry&);
-  const std::pair<const char*, Part> parts[] = {
-      {"options", &Loader::read_options},   {"materials", &Loader::read_materials},
-      {"sections", &Loader::read_sections}, {"robot", &Loader::read_robot},
-      {"points", &Loader::read_points},     {"links", &Loader::read_links},
-      {"joints", &Loader::read_joints},     {"supports", &Loader::read_supports},
-      {"loads", &Loader::read_loads},       {"end_effectors", &Loader::read_end_effectors}};
+  const std::pair<const char*, Part> parts[] = {{"options", &Loader::read_options},
+                                                {"analysis", &Loader::read_analysis},
+                                                {"materials", &Loader::read_materials},
+                                                {"sections", &Loader::read_sections},
+                                                {"robot", &Loader::read_robot},
+                                                {"points", &Loader::read_points},
+                                                {"links", &Loader::read_links},
+                                                {"joints", &Loader::read_joints},
+                                                {"supports", &Loader::read_supports},
+                                                {"loads", &Loader::read_loads},
+                                                {"gravity", &Loader::read_gravity},
+                                                {"load_cases", &Loader::read_load_cases},
+                                                {"end_effectors", &Loader::read_end_effectors}};
   for (const auto& [key, read_part] : parts)
     if (const Entry* e = find(top, key)) (this->*read_part)(*e);
   if (robot_) {
@@ -807,6 +842,7 @@ Material Loader::read_material(const Value& v, Origin& origin, const std::string
   if (const Entry* E = required(e, v, "E")) m.E = given_number(E->value);
   if (const Entry* nu = find(e, "nu")) m.nu = given_number(nu->value);
   if (const Entry* G = find(e, "G")) m.G = given_number(G->value);
+  if (const Entry* density = find(e, "density")) m.density = given_number(density->value);
   return m;
 }
 
@@ -971,6 +1007,8 @@ Loader::Site Loader::read_site(const Entry& named, bool is_support) {
   site.links = read_site_links(e, v, is_support, site.origin);
   if (const Entry* actuated = find(e, "actuated"))
     site.connection.is_actuated = boolean(actuated->value).value_or(false);
+  if (const Entry* d = is_support ? find(e, "displacement") : nullptr)
+    site.displacement = fixed_vector<6>(d->value, "[dx, dy, dz, rx, ry, rz]");
   if (!type) return site;
   // Without its free directions, p is unknown and the springs cannot be sized.
   const auto kinematics = read_kinematics(*type, e, v, site.origin);
@@ -984,8 +1022,8 @@ Loader::Site Loader::read_site(const Entry& named, bool is_support) {
 // The type of a joint or support, with its keys checked against it.
 std::optional<JointType> Loader::read_site_type(const std::vector<Entry>& e, const Value& v,
                                                 const std::string& noun, bool is_support) {
-  const KeyList common =
-      is_support ? KeyList{"type", "at", "link", "links"} : KeyList{"type", "at", "links"};
+  const KeyList common = is_support ? KeyList{"type", "at", "link", "links", "displacement"}
+                                    : KeyList{"type", "at", "links"};
   const KeyList known = common + KeyList{"axis", "axes", "normal", "free"} + kSpringKeys;
   std::optional<JointType> type;
   if (const Entry* t = required(e, v, "type"))
@@ -1121,56 +1159,214 @@ void Loader::read_supports(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     Site site = read_site(named, true);
     model_.supports.push_back({named.key, std::move(site.at), std::move(site.links),
-                               std::move(site.connection), std::move(site.origin), std::nullopt});
+                               std::move(site.connection), std::move(site.origin),
+                               site.displacement});
   }
 }
 
 // ---- loads and end effectors -------------------------------------------------------------
 
 void Loader::read_loads(const Entry& section) {
-  const Value& v = section.value;
+  read_load_list(section.value, {model_.loads, model_.link_loads, "", true});
+}
+
+// A list of loads: on points (`{at, link?, wrench, self_weight?}`, or on a robot's frame) and
+// along links (`{link, distributed}`, `{link, force, moment?, position}`), told apart by their
+// keys. The model keeps the two kinds in lists of their own: validation's key paths
+// (`link_loads[0]`) are aliased to the file's (`loads[3]`).
+void Loader::read_load_list(const Value& v, const LoadTarget& target) {
   if (v.node->is_null()) return;
   if (!v.node->is_sequence()) {
-    fail(v, "loads is a list, e.g. `- {at: E, wrench: [0, -100, 0, 0, 0, 0]}`; got " +
+    fail(v, "expected a list of loads, e.g. `- {at: E, wrench: [0, -100, 0, 0, 0, 0]}`; got " +
                 describe(*v.node));
     return;
   }
-  // A robot block's weights come first in the model: its loads[k] is the file's loads[k - first].
-  const std::size_t first = model_.loads.size();
   for (std::size_t i = 0; i < v.node->size(); ++i) {
-    if (first > 0)
-      aliases_.emplace("loads[" + std::to_string(first + i) + "]",
-                       "loads[" + std::to_string(i) + "]");
     const Value entry = item(v, i);
-    Load load;
-    load.origin.location = located(entry.at);
     const auto e = fixed_mapping(entry);
-    record(load.origin, e, "");
-    if (const Entry* frame = find(e, "frame")) {
-      check_keys(e, entry.path, kFrameLoadKeys, kLoadKeys, "a load on a robot frame");
-      const auto link = robot_frame(*frame);
-      const Entry* w = required(e, entry, "wrench");
-      const auto wrench = w ? fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]") : std::nullopt;
-      std::optional<Vec3> offset;
-      if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
-      bool frame_axes = false;
-      if (const Entry* a = find(e, "axes"))
-        frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
-      if (link && robot_)
-        if (auto problem = robot_->add_load(*link, wrench.value_or(Vec6::Zero()), offset,
-                                            frame_axes, load.origin, model_))
-          fail(frame->value, *problem);
+    KeyList point_keys, link_keys;
+    for (const auto& key : e) {
+      if (contains(kLinkLoadOnlyKeys, key.key)) link_keys.push_back(key.key);
+      if (contains(kLoadKeys + kFrameLoadKeys, key.key) && key.key != "link")
+        point_keys.push_back(key.key);
+    }
+    if (!link_keys.empty() && !point_keys.empty()) {
+      fail(entry,
+           "a load is either on a point ({at, link, wrench, self_weight}) or along a link "
+           "({link, distributed} or {link, force, moment, position}); this one gives " +
+               detail::comma_list(point_keys) + " with " + detail::comma_list(link_keys));
       continue;
     }
-    check_keys(e, entry.path, kLoadKeys, kFrameLoadKeys, "a load");
-    if (entry.node->is_mapping()) {
-      read_link_end(e, entry, load.at, load.link);
-      if (const Entry* w = required(e, entry, "wrench"))
-        load.wrench = fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]").value_or(Vec6::Zero());
-      if (const Entry* weight = find(e, "self_weight"))
-        load.self_weight = boolean(weight->value).value_or(false);
+    if (!link_keys.empty()) {
+      const std::size_t index = target.link_loads.size();
+      read_link_load(e, entry, target);
+      if (target.link_loads.size() > index)
+        aliases_.emplace(target.model_path + "link_loads[" + std::to_string(index) + "]",
+                         entry.path);
+      continue;
     }
-    model_.loads.push_back(std::move(load));
+    const std::size_t index = target.loads.size();
+    read_point_load(e, entry, target);
+    // A robot block's weights come first among the model's loads.
+    const std::string model_path = target.model_path + "loads[" + std::to_string(index) + "]";
+    if (target.loads.size() > index && model_path != entry.path)
+      aliases_.emplace(model_path, entry.path);
+  }
+}
+
+void Loader::read_point_load(const std::vector<Entry>& e, const Value& entry,
+                             const LoadTarget& target) {
+  Load load;
+  load.origin.location = located(entry.at);
+  record(load.origin, e, "");
+  if (const Entry* frame = find(e, "frame")) {
+    check_keys(e, entry.path, kFrameLoadKeys, kLoadKeys, "a load on a robot frame");
+    if (!target.robot_frames) {
+      fail(frame->key_at, frame->value.path,
+           "a load on a robot frame stands in the top-level `loads:` only; give the load in a "
+           "case at a point of the model");
+      return;
+    }
+    const auto link = robot_frame(*frame);
+    const Entry* w = required(e, entry, "wrench");
+    const auto wrench = w ? fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]") : std::nullopt;
+    std::optional<Vec3> offset;
+    if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
+    bool frame_axes = false;
+    if (const Entry* a = find(e, "axes"))
+      frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
+    if (link && robot_)
+      if (auto problem = robot_->add_load(*link, wrench.value_or(Vec6::Zero()), offset, frame_axes,
+                                          load.origin, model_))
+        fail(frame->value, *problem);
+    return;
+  }
+  check_keys(e, entry.path, kLoadKeys, kFrameLoadKeys, "a load");
+  if (entry.node->is_mapping()) {
+    read_link_end(e, entry, load.at, load.link);
+    if (const Entry* w = required(e, entry, "wrench"))
+      load.wrench = fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]").value_or(Vec6::Zero());
+    if (const Entry* weight = find(e, "self_weight"))
+      load.self_weight = boolean(weight->value).value_or(false);
+  }
+  target.loads.push_back(std::move(load));
+}
+
+// `{link, distributed: [qx, qy, qz]}`, `{link, distributed: {from, to}}` or
+// `{link, force, moment?, position}`.
+void Loader::read_link_load(const std::vector<Entry>& e, const Value& entry,
+                            const LoadTarget& target) {
+  LinkLoad load;
+  load.origin.location = located(entry.at);
+  record(load.origin, e, "");
+  const Entry* distributed = find(e, "distributed");
+  if (distributed)
+    check_keys(e, entry.path, kDistributedLoadKeys, kLinkLoadKeys,
+               "a distributed load along a link");
+  else
+    check_keys(e, entry.path, kPointLinkLoadKeys, kLinkLoadKeys, "a point load along a link");
+  if (const Entry* l = required(e, entry, "link")) load.link = text(l->value).value_or("");
+  if (distributed) {
+    load.load = read_distributed(*distributed, load.origin).value_or(DistributedLinkLoad{});
+  } else {
+    PointLinkLoad point;
+    if (const Entry* f = required(e, entry, "force"))
+      point.force = fixed_vector<3>(f->value, "[Fx, Fy, Fz]").value_or(Vec3::Zero());
+    if (const Entry* m = find(e, "moment"))
+      point.moment = fixed_vector<3>(m->value, "[Mx, My, Mz]").value_or(Vec3::Zero());
+    if (const Entry* p = required(e, entry, "position")) point.position = given_number(p->value);
+    load.load = point;
+  }
+  target.link_loads.push_back(std::move(load));
+}
+
+// `[qx, qy, qz]` (uniform) or `{from: [...], to: [...]}` (linear from end to end), N/m.
+std::optional<DistributedLinkLoad> Loader::read_distributed(const Entry& entry, Origin& origin) {
+  const Value& v = entry.value;
+  if (v.node->is_sequence()) {
+    const auto q = fixed_vector<3>(v, "[qx, qy, qz]");
+    if (!q) return std::nullopt;
+    return DistributedLinkLoad{*q, *q};
+  }
+  if (!v.node->is_mapping()) {
+    fail(v,
+         "expected [qx, qy, qz] (uniform, N/m) or {from: [qx, qy, qz], to: [qx, qy, qz]} "
+         "(varying linearly from the link's from end to its to end), got " +
+             describe(*v.node));
+    return std::nullopt;
+  }
+  const auto e = fixed_mapping(v);
+  check_keys(e, v.path, kDistributedEndKeys, {}, "a distributed load");
+  record(origin, e, entry.key + ".");
+  DistributedLinkLoad load;
+  bool read = true;
+  for (const auto& [key, value] : {std::pair{"from", &load.from}, std::pair{"to", &load.to}}) {
+    const Entry* end = required(e, v, key);
+    const auto q = end ? fixed_vector<3>(end->value, "[qx, qy, qz]") : std::nullopt;
+    if (q)
+      *value = *q;
+    else
+      read = false;
+  }
+  if (!read) return std::nullopt;
+  return load;
+}
+
+void Loader::read_gravity(const Entry& section) {
+  model_key_locations_["gravity"] = located(section.key_at);
+  model_.gravity = fixed_vector<3>(section.value, "[gx, gy, gz]");
+  // An unreadable gravity still says that the model has one (validation's check of densities).
+  if (!model_.gravity) model_.gravity = Vec3::Zero();
+}
+
+// `NAME: [loads]` or `NAME: {loads: [...], gravity: [gx, gy, gz]}`.
+void Loader::read_load_cases(const Entry& section) {
+  for (const auto& named : named_mapping(section)) {
+    LoadCase load_case;
+    load_case.name = named.key;
+    load_case.origin.location = located(named.key_at);
+    const LoadTarget target{load_case.loads, load_case.link_loads, "load_cases." + named.key + ".",
+                            false};
+    const Value& v = named.value;
+    if (v.node->is_sequence() || v.node->is_null()) {
+      read_load_list(v, target);
+    } else if (v.node->is_mapping()) {
+      const auto e = fixed_mapping(v);
+      check_keys(e, v.path, kLoadCaseKeys, {}, "a load case");
+      record(load_case.origin, e, "");
+      if (const Entry* loads = find(e, "loads")) read_load_list(loads->value, target);
+      if (const Entry* g = find(e, "gravity"))
+        load_case.gravity = fixed_vector<3>(g->value, "[gx, gy, gz]").value_or(Vec3::Zero());
+    } else {
+      fail(v, "expected a list of loads or {loads: [...], gravity: [gx, gy, gz]}, got " +
+                  describe(*v.node));
+    }
+    model_.load_cases.push_back(std::move(load_case));
+  }
+}
+
+// `analysis: {mode: linear | loaded, load_steps: N}`.
+void Loader::read_analysis(const Entry& section) {
+  if (section.value.node->is_null()) return;
+  const auto e = fixed_mapping(section.value);
+  check_keys(e, section.value.path, kAnalysisKeys, {}, "the analysis");
+  if (const Entry* mode = find(e, "mode"))
+    if (const auto name = choice(mode->value, kAnalysisModes, "analysis mode"))
+      model_.options.mode = *analysis_mode_from_string(*name);
+  if (const Entry* steps = find(e, "load_steps")) {
+    model_key_locations_["analysis.load_steps"] = located(steps->value.at);
+    // A count, not a value of the model: it varies with no parameter.
+    const Value& v = steps->value;
+    const auto plain = v.node->is_scalar() && !v.node->quoted()
+                           ? detail::plain_number(v.node->text())
+                           : std::nullopt;
+    if (!plain || *plain != std::floor(*plain) || std::abs(*plain) > INT_MAX)
+      fail(v,
+           "load_steps is a whole number of load steps (a positive integer, not an "
+           "expression), got " +
+               describe(*v.node));
+    else
+      model_.options.load_steps = static_cast<int>(*plain);
   }
 }
 
@@ -1475,6 +1671,13 @@ std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
       d.key_path = alias->second + d.key_path.substr(length);
       break;
     }
+    if (d.location.line == 0)
+      for (const std::size_t length : enclosing_lengths(d.key_path))
+        if (const auto at = model_key_locations_.find(d.key_path.substr(0, length));
+            at != model_key_locations_.end()) {
+          d.location = at->second;
+          break;
+        }
     const auto lengths = enclosing_lengths(d.key_path);
     const bool spoiled = std::any_of(lengths.begin(), lengths.end(), [&](std::size_t length) {
       return spoiled_.count(d.key_path.substr(0, length)) > 0;
@@ -1492,8 +1695,8 @@ std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
 
 // ---- limits ------------------------------------------------------------------------------
 
-const KeyList kEntityKinds{"materials", "sections", "points", "links",
-                           "joints",    "supports", "loads",  "end_effectors"};
+const KeyList kEntityKinds{"materials", "sections", "points",        "links",     "joints",
+                           "supports",  "loads",    "end_effectors", "load_cases"};
 
 std::string byte_count(std::uintmax_t bytes) {
   std::string text = std::to_string(bytes) + " bytes";

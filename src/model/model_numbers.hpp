@@ -18,6 +18,10 @@ struct SlotName {
   const char* collection = "";          // "points", "links", ...
   const std::string* entity = nullptr;  // its name; loads have none and are numbered
   std::size_t entity_index = 0;
+  bool numbered = true;  // false for a value of the model itself (`gravity`): no entity part
+  // A numbered part within the entity, as a load case's `loads[0]`; none where nullptr.
+  const char* part = nullptr;
+  std::size_t part_index = 0;
   const char* key = nullptr;     // within the entity; none for a point's coordinates
   int rows = 0;                  // 0 for a scalar, 1 for a vector, 2 for a matrix
   Eigen::Index matrix_rows = 0;  // of a matrix
@@ -27,8 +31,9 @@ struct SlotName {
     std::string text = collection;
     if (entity)
       text += "." + *entity;
-    else
+    else if (numbered)
       text += "[" + std::to_string(entity_index) + "]";
+    if (part) text += std::string(".") + part + "[" + std::to_string(part_index) + "]";
     if (key) text += std::string(".") + key;
     if (rows == 1)
       text += "[" + std::to_string(element) + "]";
@@ -69,6 +74,18 @@ void for_each_named_number(ModelRef& model, Visit&& visit) {
     at.collection = collection;
     at.entity = name;
     at.entity_index = index;
+    at.numbered = true;
+    at.part = nullptr;
+  };
+  const auto link_load = [&](auto& load) {
+    if (auto* distributed = std::get_if<DistributedLinkLoad>(&load.load)) {
+      each(distributed->from, "distributed.from");
+      each(distributed->to, "distributed.to");
+    } else if (auto* point = std::get_if<PointLinkLoad>(&load.load)) {
+      each(point->force, "force");
+      each(point->moment, "moment");
+      scalar(point->position, "position");
+    }
   };
   for (std::size_t i = 0; i < model.points.size(); ++i) {
     auto& point = model.points[i];
@@ -82,6 +99,7 @@ void for_each_named_number(ModelRef& model, Visit&& visit) {
       scalar(beam->material.E, "material.E");
       maybe(beam->material.nu, "material.nu");
       maybe(beam->material.G, "material.G");
+      maybe(beam->material.density, "material.density");
       auto& s = beam->section;
       scalar(s.D, "section.D");
       scalar(s.t, "section.t");
@@ -122,10 +140,36 @@ void for_each_named_number(ModelRef& model, Visit&& visit) {
   for (std::size_t i = 0; i < model.supports.size(); ++i) {
     entity("supports", &model.supports[i].name, i);
     connection(model.supports[i].connection);
+    maybe_dense(model.supports[i].displacement, "displacement");
   }
   for (std::size_t i = 0; i < model.loads.size(); ++i) {
     entity("loads", nullptr, i);
     each(model.loads[i].wrench, "wrench");
+  }
+  for (std::size_t i = 0; i < model.link_loads.size(); ++i) {
+    entity("link_loads", nullptr, i);
+    link_load(model.link_loads[i]);
+  }
+  if (model.gravity) {
+    entity("gravity", nullptr, 0);
+    at.numbered = false;
+    each(*model.gravity, nullptr);
+  }
+  for (std::size_t c = 0; c < model.load_cases.size(); ++c) {
+    auto& load_case = model.load_cases[c];
+    entity("load_cases", &load_case.name, c);
+    for (std::size_t i = 0; i < load_case.loads.size(); ++i) {
+      at.part = "loads";
+      at.part_index = i;
+      each(load_case.loads[i].wrench, "wrench");
+    }
+    for (std::size_t i = 0; i < load_case.link_loads.size(); ++i) {
+      at.part = "link_loads";
+      at.part_index = i;
+      link_load(load_case.link_loads[i]);
+    }
+    at.part = nullptr;
+    maybe_dense(load_case.gravity, "gravity");
   }
   for (std::size_t i = 0; i < model.end_effectors.size(); ++i) {
     entity("end_effectors", &model.end_effectors[i].name, i);

@@ -130,6 +130,7 @@ bool same_link_kind(const LinkKind& a, const LinkKind& b) {
     const auto& other = std::get<BeamLink>(b);
     return beam->material.nu.has_value() == other.material.nu.has_value() &&
            beam->material.G.has_value() == other.material.G.has_value() &&
+           beam->material.density.has_value() == other.material.density.has_value() &&
            beam->section.shape == other.section.shape &&
            beam->section.Asy.has_value() == other.section.Asy.has_value() &&
            beam->section.Asz.has_value() == other.section.Asz.has_value() &&
@@ -155,10 +156,26 @@ bool all_same(const std::vector<T>& a, const std::vector<T>& b, Same&& same) {
   return true;
 }
 
+bool same_load(const Load& l, const Load& m) {
+  return l.at == m.at && l.link == m.link && l.self_weight == m.self_weight;
+}
+
+// A load along a link is distributed or a point load; which one decides its value slots.
+bool same_link_load(const LinkLoad& l, const LinkLoad& m) {
+  return l.link == m.link && l.load.index() == m.load.index();
+}
+
+bool same_load_case(const LoadCase& c, const LoadCase& d) {
+  return c.name == d.name && all_same(c.loads, d.loads, same_load) &&
+         all_same(c.link_loads, d.link_loads, same_link_load) &&
+         c.gravity.has_value() == d.gravity.has_value();
+}
+
 }  // namespace
 
 bool same_structure(const Model& a, const Model& b) {
   return a.options.accept_idle_motions == b.options.accept_idle_motions &&
+         a.options.mode == b.options.mode && a.options.load_steps == b.options.load_steps &&
          all_same(a.points, b.points,
                   [](const Point& p, const Point& q) { return p.name == q.name; }) &&
          all_same(a.links, b.links,
@@ -174,12 +191,13 @@ bool same_structure(const Model& a, const Model& b) {
          all_same(a.supports, b.supports,
                   [](const Support& s, const Support& t) {
                     return s.name == t.name && s.at == t.at && s.links == t.links &&
-                           same_connection(s.connection, t.connection);
+                           same_connection(s.connection, t.connection) &&
+                           s.displacement.has_value() == t.displacement.has_value();
                   }) &&
-         all_same(a.loads, b.loads,
-                  [](const Load& l, const Load& m) {
-                    return l.at == m.at && l.link == m.link && l.self_weight == m.self_weight;
-                  }) &&
+         all_same(a.loads, b.loads, same_load) &&
+         all_same(a.link_loads, b.link_loads, same_link_load) &&
+         a.gravity.has_value() == b.gravity.has_value() &&
+         all_same(a.load_cases, b.load_cases, same_load_case) &&
          all_same(a.end_effectors, b.end_effectors, [](const EndEffector& e, const EndEffector& f) {
            return e.name == f.name && e.at == f.at && e.link == f.link &&
                   e.axes.has_value() == f.axes.has_value();

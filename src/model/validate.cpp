@@ -99,6 +99,11 @@ constexpr Kind kLinks{"links", "link"};
 constexpr Kind kJoints{"joints", "joint"};
 constexpr Kind kSupports{"supports", "support"};
 constexpr Kind kEndEffectors{"end_effectors", "end effector"};
+constexpr Kind kLoadCases{"load_cases", "load case"};
+
+// A settlement's component along a free direction of its support counts as zero below this
+// fraction of the settlement's translation (or rotation) part: rounding of a tilted axis.
+constexpr double kSettlementFreeTolerance = 1e-9;
 
 // The entity a diagnostic is about: where it was written and its key path ("links.arm", or
 // "links[3]" where it has no name), spelt out only when there is a defect to report.
@@ -213,6 +218,11 @@ class Checker {
     for (std::size_t i = 0; i < model_.supports.size(); ++i) check_support(i);
     check_points_partly_named();
     for (std::size_t i = 0; i < model_.loads.size(); ++i) check_load(i);
+    check_link_loads(model_.link_loads, "link_loads");
+    check_gravity(model_.gravity, Subject{nullptr, nullptr, 0, &model_origin_}, "gravity");
+    check_names(model_.load_cases, kLoadCases);
+    for (std::size_t i = 0; i < model_.load_cases.size(); ++i) check_load_case(i);
+    check_analysis();
     check_names(model_.end_effectors, kEndEffectors);
     for (std::size_t i = 0; i < model_.end_effectors.size(); ++i) check_end_effector(i);
     return std::move(found_);
@@ -226,12 +236,28 @@ class Checker {
     for (std::size_t i = 0; i < model_.joints.size(); ++i)
       check_connection_values(subject_of(kJoints, model_.joints[i], i),
                               model_.joints[i].connection);
-    for (std::size_t i = 0; i < model_.supports.size(); ++i)
-      check_connection_values(subject_of(kSupports, model_.supports[i], i),
-                              model_.supports[i].connection);
+    for (std::size_t i = 0; i < model_.supports.size(); ++i) {
+      const Subject s = subject_of(kSupports, model_.supports[i], i);
+      check_connection_values(s, model_.supports[i].connection);
+      check_settlement(s, model_.supports[i]);
+    }
     for (std::size_t i = 0; i < model_.loads.size(); ++i)
       require_finite(Subject{"loads", nullptr, i, &model_.loads[i].origin}, "wrench",
                      model_.loads[i].wrench);
+    check_link_load_values(model_.link_loads, "link_loads");
+    if (model_.gravity)
+      require_finite(Subject{nullptr, nullptr, 0, &model_origin_}, "gravity", *model_.gravity);
+    for (const LoadCase& load_case : model_.load_cases) {
+      const std::string prefix = "load_cases." + load_case.name + ".";
+      const std::string loads = prefix + "loads";
+      for (std::size_t i = 0; i < load_case.loads.size(); ++i)
+        require_finite(Subject{loads.c_str(), nullptr, i, &load_case.loads[i].origin}, "wrench",
+                       load_case.loads[i].wrench);
+      check_link_load_values(load_case.link_loads, prefix + "link_loads");
+      if (load_case.gravity)
+        require_finite(Subject{kLoadCases.path, &load_case.name, 0, &load_case.origin}, "gravity",
+                       *load_case.gravity);
+    }
     return std::move(found_);
   }
 
@@ -616,6 +642,7 @@ class Checker {
     const Support& support = model_.supports[index];
     const Subject s = subject_of(kSupports, support, index);
     check_connection(s, support.connection, "support");
+    check_settlement(s, support);
     if (!point_exists(s, "at", support.at)) return;
     const Owner owner{"support", &support.name};
     if (!support.links.empty()) {
@@ -660,6 +687,154 @@ class Checker {
     require_finite(s, "wrench", load.wrench);
   }
 
+  // A settlement: finite, and nothing along the directions the support leaves free (there the
+  // support holds nothing that could move the structure).
+  void check_settlement(const Subject& s, const Support& support) {
+    if (!support.displacement || !require_finite(s, "displacement", *support.displacement)) return;
+    const Vec6& d = *support.displacement;
+    const Kinematics& k = support.connection.kinematics;
+    const Vec3 move = d.head<3>(), turn = d.tail<3>();
+    // Each free direction of the support, with the settlement's component along it.
+    struct Along {
+      std::string direction;
+      double component;
+      double scale;  // of the part of the settlement it is compared with
+    };
+    std::vector<Along> free;
+    const auto unit = [](const Vec3& v) { return v.norm() > 0 ? Vec3(v.normalized()) : v; };
+    const auto axis_text = [](const Vec3& v) {
+      return "[" + format_number(v.x()) + ", " + format_number(v.y()) + ", " +
+             format_number(v.z()) + "]";
+    };
+    const auto rotation_about = [&](const std::string& name, const Vec3& axis) {
+      free.push_back(
+          {"rotation about " + name + " " + axis_text(axis), unit(axis).dot(turn), turn.norm()});
+    };
+    const auto translation_along = [&](const std::string& name, const Vec3& axis) {
+      free.push_back(
+          {"translation along " + name + " " + axis_text(axis), unit(axis).dot(move), move.norm()});
+    };
+    static constexpr const char* kComponents[] = {"dx", "dy", "dz", "rx", "ry", "rz"};
+    switch (k.type) {
+      case JointType::rigid: break;
+      case JointType::revolute: rotation_about("its axis", k.axis); break;
+      case JointType::prismatic: translation_along("its axis", k.axis); break;
+      case JointType::cylindrical:
+        rotation_about("its axis", k.axis);
+        translation_along("its axis", k.axis);
+        break;
+      case JointType::universal:
+        rotation_about("axes[0]", k.axis);
+        rotation_about("axes[1]", k.axis_b);
+        break;
+      case JointType::spherical:
+        for (int i = 3; i < 6; ++i) free.push_back({kComponents[i], d(i), turn.norm()});
+        break;
+      case JointType::planar: {
+        const Vec3 n = unit(k.normal);
+        free.push_back({"translation in its plane (normal " + axis_text(k.normal) + ")",
+                        (move - move.dot(n) * n).norm(), move.norm()});
+        rotation_about("its normal", k.normal);
+        break;
+      }
+      case JointType::custom:
+        for (std::size_t i = 0; i < k.free_rows.size(); ++i) {
+          const Vec6& row = k.free_rows[i];
+          if (!(row.norm() > 0) || !row.allFinite()) continue;
+          free.push_back({"free[" + std::to_string(i) + "]", row.normalized().dot(d), d.norm()});
+        }
+        break;
+    }
+    for (const Along& along : free)
+      if (std::abs(along.component) > kSettlementFreeTolerance * along.scale) {
+        report(s, "displacement",
+               "support '" + support.name + "' leaves the " + along.direction +
+                   " free, and the settlement moves it that way by " +
+                   format_number(along.component) +
+                   "; a settlement prescribes only what the support holds: make that "
+                   "component zero");
+        return;
+      }
+  }
+
+  bool has_density() const {
+    return std::any_of(model_.links.begin(), model_.links.end(), [](const Link& link) {
+      const auto* beam = std::get_if<BeamLink>(&link.kind);
+      return beam && beam->material.density.has_value();
+    });
+  }
+
+  // Gravity weighs the beams whose material has a density. With none, the user's gravity would
+  // be silently ignored, so it is an error (docs/model-format.md, "gravity").
+  void check_gravity(const std::optional<Vec3>& gravity, const Subject& s, const char* key) {
+    if (!gravity || !require_finite(s, key, *gravity)) return;
+    if (!has_density())
+      report(s, key,
+             "gravity is given but no beam's material has a density: nothing weighs; give the "
+             "materials of the beams that weigh a density (kg/m³), or leave gravity out");
+  }
+
+  void check_load_case(std::size_t index) {
+    const LoadCase& load_case = model_.load_cases[index];
+    const std::string loads = "load_cases." + load_case.name + ".loads";
+    for (std::size_t i = 0; i < load_case.loads.size(); ++i) {
+      const Load& load = load_case.loads[i];
+      const Subject s{loads.c_str(), nullptr, i, &load.origin};
+      check_link_end_reference(s, load.at, load.link);
+      require_finite(s, "wrench", load.wrench);
+    }
+    check_link_loads(load_case.link_loads, "load_cases." + load_case.name + ".link_loads");
+    check_gravity(load_case.gravity, subject_of(kLoadCases, load_case, index), "gravity");
+  }
+
+  // A load along a link: on a link that exists and is not a CAD link, at a position on it.
+  void check_link_loads(const std::vector<LinkLoad>& link_loads, const std::string& collection) {
+    for (std::size_t i = 0; i < link_loads.size(); ++i) {
+      const LinkLoad& load = link_loads[i];
+      const Subject s{collection.c_str(), nullptr, i, &load.origin};
+      if (link_exists(s, "link", load.link)) {
+        const Link& link = model_.links[static_cast<std::size_t>(index_.link(load.link))];
+        if (std::holds_alternative<MatrixLink>(link.kind) ||
+            std::holds_alternative<ComplianceLink>(link.kind))
+          report(s, "link",
+                 "link '" + load.link + "' is a " +
+                     (std::holds_alternative<MatrixLink>(link.kind) ? "matrix" : "compliance") +
+                     " link (from CAD), whose stiffness says nothing of what lies between its "
+                     "ends; give a load along it as loads at the link's ends (`{at: " +
+                     link.from + ", link: " + link.name + ", wrench: [...]}`)");
+      }
+    }
+    check_link_load_values(link_loads, collection);
+  }
+
+  void check_link_load_values(const std::vector<LinkLoad>& link_loads,
+                              const std::string& collection) {
+    for (std::size_t i = 0; i < link_loads.size(); ++i) {
+      const LinkLoad& load = link_loads[i];
+      const Subject s{collection.c_str(), nullptr, i, &load.origin};
+      if (const auto* distributed = std::get_if<DistributedLinkLoad>(&load.load)) {
+        require_finite(s, "distributed.from", distributed->from);
+        require_finite(s, "distributed.to", distributed->to);
+      } else if (const auto* point = std::get_if<PointLinkLoad>(&load.load)) {
+        require_finite(s, "force", point->force);
+        require_finite(s, "moment", point->moment);
+        if (!(point->position >= 0 && point->position <= 1))
+          report(s, "position",
+                 "position is a fraction of the link's length from its from end, in [0, 1] "
+                 "(got " +
+                     format_number(point->position) + ")");
+      }
+    }
+  }
+
+  void check_analysis() {
+    const auto& steps = model_.options.load_steps;
+    if (steps && *steps <= 0)
+      report(Subject{nullptr, nullptr, 0, &model_origin_}, "analysis.load_steps",
+             "load_steps must be a positive number of load steps (got " + std::to_string(*steps) +
+                 ")");
+  }
+
   void check_end_effector(std::size_t index) {
     const EndEffector& ee = model_.end_effectors[index];
     check_link_end_reference(subject_of(kEndEffectors, ee, index), ee.at, ee.link);
@@ -698,6 +873,7 @@ std::vector<ValueDefect> material_defects(const Material& m) {
     require_positive(defects, "G", *m.G);
   else if (!(*m.nu > -1 && *m.nu < 0.5))
     defects.push_back({"nu", "nu must lie in (-1, 0.5) (got " + format_number(*m.nu) + ")"});
+  if (m.density) require_positive(defects, "density", *m.density);
   return defects;
 }
 
