@@ -409,6 +409,17 @@ void print_solve_summary(std::ostream& out, const Result& result,
   }
   print_largest(out, "Largest support reaction", support_reaction, result.model_size);
 
+  if (result.critical_load) {
+    const CriticalLoad& critical = *result.critical_load;
+    out << "\nCritical load factor: ";
+    char factor[32];
+    if (critical.factor) std::snprintf(factor, sizeof factor, "%.6g", *critical.factor);
+    if (critical.factor)
+      out << factor << " times the loads"
+          << (critical.mode.empty() ? "" : " (" + critical.mode + ")") << '\n';
+    else
+      out << "none (no multiple of the loads buckles the structure)\n";
+  }
   print_report(out, result.report);
   if (result_file) out << "\nResult written to " << result_file->string() << '\n';
 }

@@ -74,4 +74,16 @@ inline constexpr double kRigidSpread = 1e14;
 // direction is held rigidly.
 inline constexpr double kRigidCompliance = 1e-12;
 
+// ---- critical load (docs/theory.md §13) ----------------------------------------------------
+
+// An eigenvalue μ = 1/λ of the load terms' eigenproblem whose imaginary part is within this
+// fraction of its real part is real: a double root that rounding split into a complex pair.
+inline constexpr double kRealEigenvalue = 1e-8;
+// μ below this fraction of the largest |μ| is rounding of a zero (the constraint rows' infinite
+// λ), not a critical load factor beyond 10¹⁰ times the smallest.
+inline constexpr double kLeastLoadEigenvalue = 1e-10;
+// The parts of a buckling mode that a description names: those moving at least this fraction
+// of the most moving one.
+inline constexpr double kModeShare = 0.25;
+
 }  // namespace stiffmsa::detail

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
+#include "analysis/critical_load.hpp"
 #include "analysis/free_motion.hpp"
 #include "analysis/loaded_mode.hpp"
 #include "analysis/plausibility.hpp"
@@ -901,7 +902,8 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
                         const SolveOptions& options, Result result) {
   if (options.mode.value_or(model.options.mode) != AnalysisMode::loaded) return result;
   Result loaded =
-      detail::loaded_result(model, topology, options, result, detail::kDefaultLoadSteps);
+      detail::loaded_result(model, topology, options, result,
+                            model.options.load_steps.value_or(detail::kDefaultLoadSteps));
   add_results_in_own_axes(model, loaded);
   if (options.direction)
     for (EndEffectorResult& e : loaded.end_effectors)
@@ -910,12 +912,26 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
   return loaded;
 }
 
+// The critical load factors of the result's load cases (analysis/critical_load.hpp), where
+// asked, with the blocks the solve used (the rods' spins held where it held them).
+void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
+                       Result& result) {
+  if (!options.critical_load) return;
+  const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+  const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
+  const Workspace::Impl& used =
+      accept_idle && options.solver == SolverKind::automatic && ws.spin_locked ? *ws.spin_locked
+                                                                               : ws;
+  detail::add_critical_loads(model, used.topology, used.spin_locks, options, result);
+}
+
 // The solve of a checked model on its workspace: its results, the end effectors' deflection under
 // self-weight alone (same workspace: the weight-only model has the model's topology), and what
 // every result reports beside (results in own axes, the model's warnings, plausibility).
 Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
                      const SolveOptions& options) {
   Result result = solve_validated(workspace, model, options, false);
+  add_critical_load(workspace, model, options, result);
   if (has_self_weight(model))
     add_gravity_deflections(solve_validated(workspace, self_weight_only(model), options, false),
                             result);
@@ -932,6 +948,7 @@ Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
   Result result = solve_validated(workspace, model, options, true);
+  add_critical_load(workspace, model, options, result);
   if (has_self_weight(model)) {
     const Model weight = self_weight_only(model);
     Workspace weight_workspace(weight);

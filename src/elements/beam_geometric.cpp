@@ -32,3 +32,21 @@ Mat12 beam_geometric_stiffness(const BeamConstants& c, double axial_force) {
 }
 
 }  // namespace stiffmsa::detail
+
+namespace stiffmsa::detail {
+
+Mat12 beam_global_geometric_stiffness(const BeamLink& beam, const Vec3& from, const Vec3& to,
+                                      double axial_force) {
+  const Mat12 T = link_rotation12(link_axes(from, to, beam.zref));
+  const Mat12 local =
+      beam_geometric_stiffness(beam_constants(beam, (to - from).norm()), axial_force);
+  return T.transpose() * local * T;
+}
+
+double beam_axial_force(const Vec3& from, const Vec3& to, const Vec3& force_from,
+                        const Vec3& force_to) {
+  const Vec3 x = (to - from).normalized();
+  return 0.5 * (force_to - force_from).dot(x);
+}
+
+}  // namespace stiffmsa::detail

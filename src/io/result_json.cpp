@@ -293,6 +293,17 @@ void write_result(ResultWriter& out, const Result& result) {
           });
       });
     });
+    // Only where the analysis asked for it (SolveOptions::critical_load).
+    if (result.critical_load) {
+      const CriticalLoad& critical = *result.critical_load;
+      out.member("critical_load_factor", [&] {
+        if (critical.factor)
+          out.number(*critical.factor);
+        else
+          out.null();
+      });
+      out.member("critical_load_mode", [&] { out.string(critical.mode); });
+    }
     out.member("report", [&] {
       out.object([&] {
         const SolveReport& report = result.report;

@@ -1,0 +1,371 @@
+#include "analysis/critical_load.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "analysis/cartesian.hpp"
+#include "assembly/assembler.hpp"
+#include "elements/beam_element.hpp"
+#include "elements/beam_geometric.hpp"
+#include "elements/free_directions.hpp"
+#include "elements/geometric_load_terms.hpp"
+#include "solver/sparse_solver.hpp"
+#include "tolerances.hpp"
+
+namespace stiffmsa::detail {
+
+namespace {
+
+// K_L's block from the deflection of link end `column_end` to the wrench at `row_end`.
+struct LoadTerm {
+  int row_end = 0, column_end = 0;
+  Mat6 block;
+};
+
+void add_terms(const MatX& k, const std::vector<int>& ends, std::vector<LoadTerm>& terms) {
+  for (std::size_t a = 0; a < ends.size(); ++a)
+    for (std::size_t b = 0; b < ends.size(); ++b) {
+      const Mat6 block = k.block<6, 6>(6 * static_cast<Index>(a), 6 * static_cast<Index>(b));
+      if (!block.isZero(0)) terms.push_back({ends[a], ends[b], block});
+    }
+}
+
+const Vec3& end_position(const Model& model, const Topology& topology, int end) {
+  return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])]
+      .position;
+}
+
+// The load-dependent stiffness of every link and joint at the linear solution; false where a
+// wrench it needs is undetermined.
+bool gather_load_terms(const Model& model, const Topology& topology, const Blocks& blocks,
+                       const Result& result, const std::vector<Vec6>& external,
+                       std::vector<LoadTerm>& terms) {
+  std::vector<Vec6> wrench(static_cast<std::size_t>(topology.end_count()));
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    const LinkResult& r = result.links[l];
+    if (!r.from.wrench || !r.to.wrench) return false;
+    wrench[2 * l] = *r.from.wrench;
+    wrench[2 * l + 1] = *r.to.wrench;
+  }
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    const int from = 2 * static_cast<int>(l), to = from + 1;
+    const Vec3 &p_from = end_position(model, topology, from),
+               &p_to = end_position(model, topology, to);
+    const Vec6 &w_from = wrench[static_cast<std::size_t>(from)],
+               &w_to = wrench[static_cast<std::size_t>(to)];
+    if (const auto* beam = std::get_if<BeamLink>(&model.links[l].kind)) {
+      const double n = beam_axial_force(p_from, p_to, w_from.head<3>(), w_to.head<3>());
+      if (n != 0)
+        add_terms(beam_global_geometric_stiffness(*beam, p_from, p_to, n), {from, to}, terms);
+    } else if (!w_to.head<3>().isZero(0)) {
+      add_terms(chord_load_stiffness(w_to.head<3>()), {from, to}, terms);
+    }
+  }
+  for (std::size_t g = 0; g < topology.groups.size(); ++g) {
+    const ConnectionGroup& group = topology.groups[g];
+    if (group.kind != ConnectionGroup::Kind::joint) continue;
+    const FreeDirections* directions =
+        blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
+    if (!directions || directions->p == 0) continue;
+    std::vector<Vec6> reactions;
+    for (int end : group.ends)
+      reactions.push_back(wrench[static_cast<std::size_t>(end)] -
+                          external[static_cast<std::size_t>(end)]);
+    add_terms(joint_load_stiffness(*directions, reactions), group.ends, terms);
+  }
+  return true;
+}
+
+// The link end whose deflection stands for `end`'s, or −1 where it is held still: the ends of a
+// weld (a rigid connection, a rigid or locked joint) move as one, and a unit wrench at any of
+// them enters the same rows (theory.md §4.6); a rigid support's ends do not move.
+int representative(const Topology& topology, const Blocks& blocks, int end) {
+  const int g = topology.group_of_end[static_cast<std::size_t>(end)];
+  const ConnectionGroup& group = topology.groups[static_cast<std::size_t>(g)];
+  const FreeDirections* directions =
+      blocks[static_cast<std::size_t>(topology.link_count + g)]->directions();
+  const bool welded =
+      group.kind == ConnectionGroup::Kind::rigid_connection ||
+      (group.kind == ConnectionGroup::Kind::joint && directions && directions->p == 0);
+  if (group.kind == ConnectionGroup::Kind::support && directions && directions->p == 0) return -1;
+  return welded ? group.ends.front() : end;
+}
+
+// The parts of a mode that move most, in the user's terms.
+struct ModePart {
+  double size = 0;
+  std::string name;  // "link 'column'"
+  std::string singular, plural;
+};
+
+std::string bending_phrase(double about_y, double about_z, double twist, bool plural) {
+  const double largest = std::max({about_y, about_z, twist});
+  const bool y = about_y >= 0.5 * largest, z = about_z >= 0.5 * largest, t = twist >= 0.5 * largest;
+  std::string text;
+  if (y || z) {
+    text = plural ? "bend about their local " : "bends about its local ";
+    text += y && z ? "y and z axes" : (y ? "y axis" : "z axis");
+  }
+  if (t) text += (text.empty() ? "" : " and ") + std::string(plural ? "twist" : "twists");
+  return text;
+}
+
+std::string motion_phrase(double rotation, double slide, bool plural) {
+  const double largest = std::max(rotation, slide);
+  const bool r = rotation >= 0.5 * largest, s = slide >= 0.5 * largest;
+  if (r && s) return plural ? "rotate and slide" : "rotates and slides";
+  return r ? (plural ? "rotate" : "rotates") : (plural ? "slide" : "slides");
+}
+
+std::optional<Vec3> link_zref(const LinkKind& kind) {
+  if (const auto* beam = std::get_if<BeamLink>(&kind)) return beam->zref;
+  if (const auto* matrix = std::get_if<MatrixLink>(&kind)) return matrix->zref;
+  if (const auto* compliance = std::get_if<ComplianceLink>(&kind)) return compliance->zref;
+  return std::nullopt;
+}
+
+// Which links bend (their end rotations against their chord's, local axes) and which joints and
+// elastic supports move along their free directions (slides weighed by the model's size), for
+// a mode's deflections x: those within kModeShare of the largest, largest first, three names
+// to a phrase.
+std::string describe_mode(const Model& model, const Topology& topology, const Blocks& blocks,
+                          const VecX& x) {
+  const double length = characteristic_length(model);
+  std::vector<ModePart> parts;
+  auto deflection = [&](int end) -> Vec6 { return x.segment<6>(deflection_column(end)); };
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    if (std::holds_alternative<RigidLink>(model.links[l].kind)) continue;
+    const int from = 2 * static_cast<int>(l), to = from + 1;
+    const Vec3 &p_from = end_position(model, topology, from),
+               &p_to = end_position(model, topology, to);
+    const Mat3 axes = link_axes(p_from, p_to, link_zref(model.links[l].kind));
+    const double span = (p_to - p_from).norm();
+    const Vec6 d_from = deflection(from), d_to = deflection(to);
+    const Vec3 move_from = axes * d_from.head<3>(), move_to = axes * d_to.head<3>();
+    const Vec3 turn_from = axes * d_from.tail<3>(), turn_to = axes * d_to.tail<3>();
+    const double chord_z = (move_to.y() - move_from.y()) / span;
+    const double chord_y = -(move_to.z() - move_from.z()) / span;
+    const double about_z =
+        std::max(std::abs(turn_from.z() - chord_z), std::abs(turn_to.z() - chord_z));
+    const double about_y =
+        std::max(std::abs(turn_from.y() - chord_y), std::abs(turn_to.y() - chord_y));
+    const double twist = std::abs(turn_to.x() - turn_from.x());
+    const double size = std::max({about_y, about_z, twist});
+    if (size > 0)
+      parts.push_back({size, "link '" + model.links[l].name + "'",
+                       bending_phrase(about_y, about_z, twist, false),
+                       bending_phrase(about_y, about_z, twist, true)});
+  }
+  for (std::size_t g = 0; g < topology.groups.size(); ++g) {
+    const ConnectionGroup& group = topology.groups[g];
+    const bool joint = group.kind == ConnectionGroup::Kind::joint;
+    if (!joint && group.kind != ConnectionGroup::Kind::support) continue;
+    const FreeDirections* directions =
+        blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
+    if (!directions || directions->p == 0) continue;
+    const MatX free = directions->free();
+    const Mat6 projection = free.transpose() * directions->gram().ldlt().solve(free);
+    double rotation = 0, slide = 0;
+    const Vec6 first = deflection(group.ends.front());
+    if (joint) {
+      for (std::size_t k = 1; k < group.ends.size(); ++k) {
+        const Vec6 along = projection * (deflection(group.ends[k]) - first);
+        rotation = std::max(rotation, along.tail<3>().norm());
+        slide = std::max(slide, along.head<3>().norm() / length);
+      }
+    } else {
+      const Vec6 along = projection * first;
+      rotation = along.tail<3>().norm();
+      slide = along.head<3>().norm() / length;
+    }
+    const double size = std::max(rotation, slide);
+    const std::string& name = joint ? model.joints[static_cast<std::size_t>(group.source)].name
+                                    : model.supports[static_cast<std::size_t>(group.source)].name;
+    if (size > 0)
+      parts.push_back({size, (joint ? "joint '" : "support '") + name + "'",
+                       motion_phrase(rotation, slide, false),
+                       motion_phrase(rotation, slide, true)});
+  }
+  if (parts.empty()) return "";
+  std::stable_sort(parts.begin(), parts.end(),
+                   [](const ModePart& a, const ModePart& b) { return a.size > b.size; });
+  const double largest = parts.front().size;
+  // Phrases in the order of their largest part; the parts of each in order of size.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const ModePart*>> by_phrase;
+  for (const ModePart& part : parts) {
+    if (part.size < kModeShare * largest) break;
+    const std::string key = part.name.substr(0, part.name.find(' ')) + "|" + part.singular;
+    if (!by_phrase.count(key)) order.push_back(key);
+    by_phrase[key].push_back(&part);
+  }
+  std::ostringstream text;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::vector<const ModePart*>& group = by_phrase[order[i]];
+    if (i > 0) text << "; ";
+    if (group.size() == 1) {
+      text << group.front()->name << ' ' << group.front()->singular;
+      continue;
+    }
+    const std::string kind = group.front()->name.substr(0, group.front()->name.find(' '));
+    text << kind << "s ";
+    constexpr std::size_t kNamed = 3;
+    const std::size_t named = std::min(group.size(), kNamed);
+    for (std::size_t k = 0; k < named; ++k) {
+      const std::string& name = group[k]->name;
+      if (k > 0) text << (k + 1 == named && group.size() <= kNamed ? " and " : ", ");
+      text << name.substr(name.find(' ') + 1);
+    }
+    if (group.size() > kNamed) text << " and " << group.size() - kNamed << " more";
+    text << ' ' << group.front()->plural;
+  }
+  return text.str();
+}
+
+}  // namespace
+
+std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
+  std::vector<Vec6> external(static_cast<std::size_t>(topology.end_count()), Vec6::Zero());
+  for (std::size_t i = 0; i < model.loads.size(); ++i)
+    external[static_cast<std::size_t>(topology.load_ends[i])] += model.loads[i].wrench;
+  return external;
+}
+
+CriticalLoad critical_load(const Model& model, const Topology& topology,
+                           const std::vector<SpinLock>& locks, const SolveOptions& options,
+                           const Result& result, const std::vector<Vec6>& end_loads,
+                           std::vector<std::string>& notes) {
+  const Blocks blocks = make_blocks(model, topology, locks);
+  std::vector<LoadTerm> terms;
+  if (!gather_load_terms(model, topology, blocks, result, end_loads, terms)) {
+    notes.push_back(
+        "the critical load factor is not found: some link end's wrench under the loads is "
+        "undetermined");
+    return {};
+  }
+  // The link ends the load terms act at and from, one per set of ends that move as one.
+  std::vector<int> node_of_end(static_cast<std::size_t>(topology.end_count()), -1);
+  std::vector<int> node_ends;  // the representative end of each node
+  auto node = [&](int end) {
+    const int r = representative(topology, blocks, end);
+    if (r < 0) return -1;
+    int& n = node_of_end[static_cast<std::size_t>(r)];
+    if (n < 0) {
+      n = static_cast<int>(node_ends.size());
+      node_ends.push_back(r);
+    }
+    return n;
+  };
+  std::vector<std::pair<std::pair<int, int>, const Mat6*>> placed;
+  for (const LoadTerm& term : terms) {
+    const int row = node(term.row_end), column = node(term.column_end);
+    if (row >= 0 && column >= 0) placed.push_back({{row, column}, &term.block});
+  }
+  if (placed.empty()) return {};
+  const Index n = 6 * static_cast<Index>(node_ends.size());
+  MatX load_stiffness = MatX::Zero(n, n);
+  for (const auto& [at, block] : placed)
+    load_stiffness.block<6, 6>(6 * at.first, 6 * at.second) += *block;
+
+  Assembler assembler(blocks, topology.unknowns());
+  SparseMatrix matrix;
+  assembler.fill(blocks, matrix);
+  FactorizedSystem system(options.solver);
+  if (!system.factorize(matrix, options.singular_rcond)) {
+    notes.push_back(
+        "the critical load factor is not found: the unloaded structure's system is singular "
+        "(a mechanism, or a structure held rigidly more than once)");
+    return {};
+  }
+  // F: the deflections of the nodes under a unit wrench at each node, a batch of columns at a
+  // time (a large model's n right-hand sides of its whole system would not fit at once).
+  MatX flexibility(n, n);
+  constexpr Index kBatch = 60;
+  double residual = 0;
+  for (Index first = 0; first < n; first += kBatch) {
+    const Index count = std::min(kBatch, n - first);
+    MatX rhs = MatX::Zero(topology.unknowns(), count);
+    for (Index c = 0; c < count; ++c) {
+      VecX column = VecX::Zero(topology.unknowns());
+      assembler.add_wrench(blocks, topology, node_ends[static_cast<std::size_t>((first + c) / 6)],
+                           Vec6::Unit((first + c) % 6), column);
+      rhs.col(c) = column;
+    }
+    double batch_residual = 0;
+    const MatX x = system.solve(std::move(rhs), options.refinement_steps, batch_residual);
+    residual = std::max(residual, batch_residual);
+    for (std::size_t k = 0; k < node_ends.size(); ++k)
+      flexibility.block(6 * static_cast<Index>(k), first, 6, count) =
+          x.middleRows<6>(deflection_column(node_ends[k]));
+  }
+  // Δt = F·(−λ·K_L·Δt): the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ
+  // are μ = 0 here, below kLeastLoadEigenvalue of the largest |μ|.
+  // In units where rotations are weighed by the model's size (S·M·S⁻¹, S = diag(1, 1, 1, ℓ, ℓ, ℓ)
+  // per node), so that every entry is a pure number of like size: the same eigenvalues.
+  const double length = characteristic_length(model);
+  VecX weight = VecX::Ones(n);
+  for (Index k = 0; k < n; ++k)
+    if (k % 6 >= 3) weight(k) = length;
+  const MatX m =
+      weight.asDiagonal() * (-flexibility * load_stiffness) * weight.cwiseInverse().asDiagonal();
+  Eigen::EigenSolver<MatX> eigen(m, true);
+  const auto& mu = eigen.eigenvalues();
+  const double largest = mu.cwiseAbs().maxCoeff();
+  Index best = -1;
+  for (Index i = 0; i < mu.size(); ++i) {
+    const double re = mu(i).real(), im = mu(i).imag();
+    if (!(re > kLeastLoadEigenvalue * largest) || std::abs(im) > kRealEigenvalue * std::abs(re))
+      continue;
+    if (best < 0 || re > mu(best).real()) best = i;
+  }
+  if (best < 0) return {};
+  CriticalLoad critical;
+  critical.factor = 1 / mu(best).real();
+  // The whole mode: the deflections under the load terms' wrenches at the nodes.
+  const VecX shape = weight.cwiseInverse().asDiagonal() * eigen.eigenvectors().col(best).real();
+  const VecX wrenches = -load_stiffness * shape;
+  VecX rhs = VecX::Zero(topology.unknowns());
+  for (std::size_t k = 0; k < node_ends.size(); ++k)
+    assembler.add_wrench(blocks, topology, node_ends[k],
+                         wrenches.segment<6>(6 * static_cast<Index>(k)), rhs);
+  MatX b = rhs;
+  const MatX x = system.solve(std::move(b), options.refinement_steps, residual);
+  critical.mode = describe_mode(model, topology, blocks, x.col(0));
+  if (residual > options.max_relative_residual)
+    notes.push_back("the critical load factor's solves leave a relative residual of " +
+                    std::to_string(residual) + "; it may be inaccurate");
+  return critical;
+}
+
+void add_critical_loads(const Model& model, const Topology& topology,
+                        const std::vector<SpinLock>& locks, const SolveOptions& options,
+                        Result& result) {
+  for (std::size_t c = 0; c < result.load_cases.size() && c < model.load_cases.size(); ++c) {
+    // The model with this case's loads as its own: its topology places them.
+    const LoadCase& load_case = model.load_cases[c];
+    Model case_model = model;
+    case_model.loads = load_case.loads;
+    case_model.link_loads = load_case.link_loads;
+    case_model.gravity = load_case.gravity;
+    case_model.load_cases.clear();
+    Topology case_topology = topology;
+    case_topology.load_ends = build_topology(case_model).load_ends;
+    Result& case_result = result.load_cases[c];
+    case_result.critical_load =
+        critical_load(case_model, case_topology, locks, options, case_result,
+                      loads_at_ends(case_model, case_topology), case_result.report.notes);
+  }
+  const bool unnamed_case = !model.loads.empty() || !model.link_loads.empty() || model.gravity ||
+                            model.load_cases.empty();
+  if (!unnamed_case && !result.load_cases.empty()) {
+    result.critical_load = result.load_cases.front().critical_load;
+    return;
+  }
+  result.critical_load = critical_load(model, topology, locks, options, result,
+                                       loads_at_ends(model, topology), result.report.notes);
+}
+
+}  // namespace stiffmsa::detail

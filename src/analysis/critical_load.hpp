@@ -1,0 +1,39 @@
+#pragma once
+// The critical load factor of a load case in the linear mode (docs/theory.md §13): the smallest
+// positive λ for which the structure under λ times the case's loads and preloads, linearised at
+// the unloaded geometry, has a non-trivial deflection with no further load,
+// (K + λ·K_G)·Δt = 0, K_G the geometric stiffness of the beams under their axial forces and the
+// load-dependent stiffness of links carried as levers and of joints, all at the linear solution
+// of the case (λ = 1).
+#include <string>
+#include <vector>
+
+#include "assembly/topology.hpp"
+#include "stiffmsa/analysis.hpp"
+#include "stiffmsa/result.hpp"
+
+namespace stiffmsa::detail {
+
+// The sum of the model's loads (Model::loads) at each link end.
+std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology);
+
+// The critical load of the load case whose linear results `result` holds (its link ends'
+// wrenches), with `end_loads` that case's loads at each link end (loads_at_ends for the
+// model's own), from which the joints' reactions follow. No factor where none is positive (a
+// tension, no load at all). Where it cannot be found (the unloaded system is singular, a wrench
+// of the linear solution is undetermined), no factor either, and `notes` gets the reason.
+// `locks`: the spin locks the solve held (Topology's find_spin_locks).
+CriticalLoad critical_load(const Model& model, const Topology& topology,
+                           const std::vector<SpinLock>& locks, const SolveOptions& options,
+                           const Result& result, const std::vector<Vec6>& end_loads,
+                           std::vector<std::string>& notes);
+
+// Result::critical_load of `result` and of each of its load cases (Result::load_cases, those
+// of Model::load_cases in order): each case's factor from its own loads. The top level's is the
+// unnamed case's where the model has one (any load, load along a link or gravity) or no named
+// case, else a copy of the first case's, as the top-level results are.
+void add_critical_loads(const Model& model, const Topology& topology,
+                        const std::vector<SpinLock>& locks, const SolveOptions& options,
+                        Result& result);
+
+}  // namespace stiffmsa::detail

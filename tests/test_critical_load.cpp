@@ -1,0 +1,403 @@
+// The critical load factor (docs/theory.md §13): Euler's columns with four end conditions and
+// their convergence, Greenhill's column under its own weight, rigid bars on springs against
+// their closed forms (the load terms of links and joints), tension and tiny loads; the kernels
+// of the load-dependent stiffness against finite differences of the turned statics.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "analysis/critical_load.hpp"
+#include "assembly/topology.hpp"
+#include "builders.hpp"
+#include "elements/free_directions.hpp"
+#include "elements/geometric_load_terms.hpp"
+#include "stiffmsa/io/result_file.hpp"
+#include "stiffmsa/stiffmsa.hpp"
+
+namespace stiffmsa {
+namespace {
+
+using testing::wrench;
+
+constexpr double kPi = std::numbers::pi;
+const Material kSteel{2.1e11, 0.3, std::nullopt, std::nullopt};
+// 20 × 30 mm: the weak axis is unique, so that the mode bends about one local axis.
+const Section kBar = Section::rect(0.02, 0.03);
+constexpr double kHeight = 2.0;
+
+double weak_inertia() {
+  const SectionProperties s = section_properties(kBar);
+  return std::min(s.Iy, s.Iz);
+}
+
+// How the column's ends are held.
+enum class End { clamped, pinned, free, clamped_sliding };
+
+Kinematics free_rows(std::vector<Vec6> rows) { return Kinematics::custom(std::move(rows)); }
+
+// A column of `elements` beams along z from P0 (bottom) to Pn (top, height kHeight), held at
+// its ends as asked, loaded by `top_force` along z at the top.
+Model column(int elements, End bottom, End top, double top_force) {
+  Model m = testing::beam_chain(
+      elements, [&](int i) { return Vec3(0, 0, kHeight * i / elements); }, kSteel, kBar);
+  m.supports.clear();
+  const Vec6 slide_z = Vec6::Unit(2), turn_x = Vec6::Unit(3), turn_y = Vec6::Unit(4);
+  if (bottom == End::clamped)
+    m.add_support("bottom", "P0", {}, Connection::rigid());
+  else
+    m.add_support("bottom", "P0", {},
+                  Connection::passive(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())));
+  const std::string top_point = "P" + std::to_string(elements);
+  if (top == End::pinned)
+    m.add_support("top", top_point, {}, Connection::passive(free_rows({slide_z, turn_x, turn_y})));
+  else if (top == End::clamped_sliding)
+    m.add_support("top", top_point, {}, Connection::passive(free_rows({slide_z})));
+  m.add_load(top_point, std::nullopt, wrench(0, 0, top_force));
+  return m;
+}
+
+SolveOptions with_critical_load() {
+  SolveOptions options;
+  options.critical_load = true;
+  return options;
+}
+
+// A test's number in its XML report (--gtest_output=xml), for the tables of theory.md §13.4.
+void record(const std::string& key, double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2e", value);
+  ::testing::Test::RecordProperty(key, text);
+}
+
+double critical_factor(const Model& model) {
+  const Result r = solve(model, with_critical_load());
+  EXPECT_TRUE(r.critical_load.has_value());
+  EXPECT_TRUE(r.critical_load && r.critical_load->factor.has_value());
+  return r.critical_load && r.critical_load->factor ? *r.critical_load->factor : 0.0;
+}
+
+// Euler's load for an effective length factor: π²EI/(K·L)².
+double euler(double effective_length_factor) {
+  const double l = effective_length_factor * kHeight;
+  return kPi * kPi * kSteel.E * weak_inertia() / (l * l);
+}
+
+struct EulerCase {
+  End bottom, top;
+  double exact;  // N
+};
+
+// The relative errors of λ·P against the exact load for 1 (2 where one element has no free
+// node), 2, 4, … 64 elements, and that they fall as h⁴ (the cubic elements' consistent geometric
+// stiffness) to within 1e-6 at 64.
+void expect_converges(const EulerCase& c) {
+  constexpr double kForce = -1000.0;
+  double previous = 0;
+  const int fewest = c.bottom == End::clamped && c.top == End::clamped_sliding ? 2 : 1;
+  for (int elements = fewest; elements <= 64; elements *= 2) {
+    const double load = -kForce * critical_factor(column(elements, c.bottom, c.top, kForce));
+    const double error = load / c.exact - 1;
+    record("elements_" + std::to_string(elements), error);
+    EXPECT_GT(error, 0) << elements << " elements: the discretised column is stiffer";
+    if (elements == 64) {
+      EXPECT_LT(error, 1e-6) << elements << " elements";
+    }
+    if (elements >= 8 && previous > 1e-12) {
+      EXPECT_GT(previous / error, 12.0) << elements << " elements: not fourth order";
+    }
+    previous = error;
+  }
+}
+
+TEST(CriticalLoad, PinnedPinnedColumnConvergesToEulersLoad) {
+  expect_converges({End::pinned, End::pinned, euler(1.0)});
+}
+
+TEST(CriticalLoad, ClampedFreeColumnConvergesToEulersLoad) {
+  expect_converges({End::clamped, End::free, euler(2.0)});
+}
+
+TEST(CriticalLoad, ClampedPinnedColumnConvergesToItsLoad) {
+  // β² EI/L², β the first positive root of tan β = β.
+  const double beta = 4.493409457909064;
+  expect_converges(
+      {End::clamped, End::pinned, beta * beta * kSteel.E * weak_inertia() / (kHeight * kHeight)});
+}
+
+TEST(CriticalLoad, ClampedClampedColumnConvergesToEulersLoad) {
+  expect_converges({End::clamped, End::clamped_sliding, euler(0.5)});
+}
+
+TEST(CriticalLoad, ColumnModeBendsAboutItsWeakAxis) {
+  const Result r = solve(column(1, End::clamped, End::free, -1000.0), with_critical_load());
+  ASSERT_TRUE(r.critical_load && r.critical_load->factor);
+  // The column bends about the local axis of the smaller moment of inertia.
+  const SectionProperties s = section_properties(kBar);
+  const std::string axis = s.Iy < s.Iz ? "y" : "z";
+  EXPECT_EQ(r.critical_load->mode, "link 'L1' bends about its local " + axis + " axis");
+}
+
+TEST(CriticalLoad, TensionHasNoCriticalFactor) {
+  const Result r = solve(column(8, End::clamped, End::free, +1000.0), with_critical_load());
+  ASSERT_TRUE(r.critical_load.has_value());
+  EXPECT_FALSE(r.critical_load->factor.has_value());
+  EXPECT_EQ(r.critical_load->mode, "");
+}
+
+TEST(CriticalLoad, FactorScalesAsOneOverTheLoad) {
+  const double big = critical_factor(column(16, End::pinned, End::pinned, -1000.0));
+  const double tiny = critical_factor(column(16, End::pinned, End::pinned, -1e-6));
+  EXPECT_NEAR(tiny * 1e-6 / (big * 1000.0), 1.0, 1e-12);
+}
+
+TEST(CriticalLoad, NotComputedUnlessAsked) {
+  EXPECT_FALSE(solve(column(4, End::pinned, End::pinned, -1000.0)).critical_load.has_value());
+}
+
+// The result file gives the factor and its mode where asked, null where none is positive, and
+// nothing where not asked (the files of models that do not ask stay as they were).
+TEST(CriticalLoad, ResultFileGivesTheFactorAndItsMode) {
+  const Result buckles = solve(column(2, End::clamped, End::free, -1000.0), with_critical_load());
+  ASSERT_TRUE(buckles.critical_load && buckles.critical_load->factor);
+  const std::string text = result_to_json(buckles);
+  EXPECT_NE(text.find("\"critical_load_factor\": "), std::string::npos);
+  EXPECT_NE(text.find("\"critical_load_mode\": \"" + buckles.critical_load->mode + "\""),
+            std::string::npos);
+  const std::string tension =
+      result_to_json(solve(column(2, End::clamped, End::free, +1000.0), with_critical_load()));
+  EXPECT_NE(tension.find("\"critical_load_factor\": null"), std::string::npos);
+  const std::string unasked = result_to_json(solve(column(2, End::clamped, End::free, -1000.0)));
+  EXPECT_EQ(unasked.find("critical_load"), std::string::npos);
+}
+
+// Each load case gets its own factor from its own loads; with no unnamed case the top level's
+// is the first case's. (The case results are solved here as models of their own, as the load
+// cases' solve gives them.)
+TEST(CriticalLoad, EveryLoadCaseGetsItsOwnFactor) {
+  Model model = column(8, End::clamped, End::free, 0.0);
+  model.loads.clear();
+  for (const auto& [name, force] : {std::pair{"push", -1000.0}, std::pair{"pull", 1000.0}}) {
+    LoadCase load_case;
+    load_case.name = name;
+    load_case.loads.push_back({"P8", std::nullopt, wrench(0, 0, force), false, {}});
+    model.add_load_case(load_case);
+  }
+  Result result = solve(column(8, End::clamped, End::free, -1000.0));
+  result.load_cases = {result, solve(column(8, End::clamped, End::free, +1000.0))};
+  detail::add_critical_loads(model, detail::build_topology(model), {}, with_critical_load(),
+                             result);
+  const double push = critical_factor(column(8, End::clamped, End::free, -1000.0));
+  ASSERT_TRUE(result.load_cases[0].critical_load && result.load_cases[0].critical_load->factor);
+  EXPECT_EQ(*result.load_cases[0].critical_load->factor, push);
+  ASSERT_TRUE(result.load_cases[1].critical_load);
+  EXPECT_FALSE(result.load_cases[1].critical_load->factor);
+  ASSERT_TRUE(result.critical_load && result.critical_load->factor);
+  EXPECT_EQ(*result.critical_load->factor, push);
+}
+
+// Greenhill: a clamped–free column under its own weight q per metre buckles at
+// qL³/EI = 7.837347… (9/4 · j², j the first zero of J₋₁/₃). The weight is lumped at the nodes
+// (qL/n inside, qL/2n at each end), which converges as h².
+double greenhill_factor(int elements, double weight_per_metre) {
+  Model m = column(elements, End::clamped, End::free, 0.0);
+  m.loads.clear();
+  const double share = weight_per_metre * kHeight / elements;
+  for (int i = 1; i <= elements; ++i)
+    m.add_load("P" + std::to_string(i), "L" + std::to_string(i),
+               wrench(0, 0, -(i == elements ? share / 2 : share)));
+  return critical_factor(m);
+}
+
+TEST(CriticalLoad, ColumnUnderItsOwnWeightConvergesToGreenhill) {
+  const double exact = 7.837347438943483;
+  constexpr double kWeight = 100.0;  // N/m
+  const double scale = kWeight * std::pow(kHeight, 3) / (kSteel.E * weak_inertia());
+  double previous_error = 0, previous = 0;
+  for (int elements = 8; elements <= 64; elements *= 2) {
+    const double value = greenhill_factor(elements, kWeight) * scale;
+    const double error = std::abs(value / exact - 1);
+    record("elements_" + std::to_string(elements), error);
+    if (previous_error > 0) {
+      EXPECT_NEAR(previous_error / error, 4.0, 0.2) << elements;
+    }
+    if (elements == 64) {
+      EXPECT_LT(error, 1e-3);
+      // Richardson, h²: the lumped weight's error removed.
+      record("richardson_32_64", (4 * value - previous) / 3 / exact - 1);
+      EXPECT_NEAR((4 * value - previous) / 3 / exact, 1.0, 1e-7);
+    }
+    previous_error = error;
+    previous = value;
+  }
+}
+
+// A rigid bar of length L standing on a torsional spring k (an elastic revolute support),
+// compressed by P at its top: P_cr = k/L, from the load term of the rigid link alone.
+TEST(CriticalLoad, RigidBarOnATorsionalSpringBucklesAtKOverL) {
+  constexpr double k = 5e4, L = 0.8, P = 1000;
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("E", Vec3(0, 0, L));
+  m.add_rigid_link("bar", "O", "E");
+  m.add_support("hinge", "O", {}, Connection::elastic(Kinematics::revolute(Vec3::UnitY()), k));
+  m.add_load("E", std::nullopt, wrench(0, 0, -P));
+  const Result r = solve(m, with_critical_load());
+  ASSERT_TRUE(r.critical_load && r.critical_load->factor);
+  EXPECT_NEAR(*r.critical_load->factor * P / (k / L), 1.0, 1e-12);
+  EXPECT_EQ(r.critical_load->mode, "support 'hinge' rotates");
+}
+
+// Two rigid bars L1 (below) and L2 on springs k1 (at the ground) and k2 (between them), P at the
+// top: K·θ = P·diag(L1, L2)·θ with K = [[k1 + k2, −k2], [−k2, k2]], θ the bars' tilts; the
+// smallest root of L1·L2·P² − (L1·k2 + L2·(k1 + k2))·P + k1·k2 = 0.
+TEST(CriticalLoad, TwoRigidBarsOnSpringsMatchTheirTwoByTwoEigenproblem) {
+  constexpr double k1 = 8e4, k2 = 3e4, L1 = 0.6, L2 = 0.9, P = 500;
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("B", Vec3(0, 0, L1));
+  m.add_point("C", Vec3(0, 0, L1 + L2));
+  m.add_rigid_link("lower", "O", "B");
+  m.add_rigid_link("upper", "B", "C");
+  m.add_support("ground", "O", {}, Connection::elastic(Kinematics::revolute(Vec3::UnitY()), k1));
+  m.add_joint("knee", "B", {"lower", "upper"},
+              Connection::elastic(Kinematics::revolute(Vec3::UnitY()), k2));
+  m.add_load("C", std::nullopt, wrench(0, 0, -P));
+  const double a = L1 * L2, b = -(L1 * k2 + L2 * (k1 + k2)), c = k1 * k2;
+  const double exact = (-b - std::sqrt(b * b - 4 * a * c)) / (2 * a);
+  const Result r = solve(m, with_critical_load());
+  ASSERT_TRUE(r.critical_load && r.critical_load->factor);
+  EXPECT_NEAR(*r.critical_load->factor * P / exact, 1.0, 1e-12);
+  // The first mode turns both springs; the knee's relative turn θ2 − θ1 and the ground's θ1.
+  EXPECT_NE(r.critical_load->mode.find("joint 'knee' rotates"), std::string::npos)
+      << r.critical_load->mode;
+}
+
+// The same column of bars, the top bar a lever sideways: a horizontal arm from C carries the
+// load at its end, so that the knee's moment about x is held by the hinge's constraint. The
+// arm's yaw under the load is what the joint's turned axis sees; the critical factor must not
+// depend on which of two equivalent descriptions of the top is used: the arm as one rigid link
+// or as two in line welded at their middle.
+TEST(CriticalLoad, ARigidLinkSplitInTwoGivesTheSameFactor) {
+  auto build = [](bool split) {
+    Model m;
+    m.add_point("O", Vec3::Zero());
+    m.add_point("B", Vec3(0, 0, 0.7));
+    m.add_point("C", Vec3(0.2, 0.1, 1.2));
+    m.add_point("M", Vec3(0.45, 0.1, 1.25));
+    m.add_point("T", Vec3(0.7, 0.1, 1.3));
+    m.add_beam("post", "O", "B", kSteel, Section::tube(0.05, 0.004));
+    m.add_rigid_link("upper", "B", "C");
+    if (split) {
+      m.add_rigid_link("arm1", "C", "M");
+      m.add_rigid_link("arm2", "M", "T");
+    } else {
+      m.add_rigid_link("arm", "C", "T");
+    }
+    m.add_support("ground", "O", {}, Connection::rigid());
+    m.add_joint("knee", "B", {"post", "upper"},
+                Connection::elastic(Kinematics::revolute(Vec3::UnitY()), 2e4));
+    m.add_joint("wrist", "C", {"upper", split ? "arm1" : "arm"},
+                Connection::elastic(Kinematics::revolute(Vec3::UnitZ()), 1e4));
+    m.add_load("T", std::nullopt, wrench(0, 0, -300, 0, 0, 0));
+    return m;
+  };
+  const double whole = critical_factor(build(false)), split = critical_factor(build(true));
+  EXPECT_NEAR(split / whole, 1.0, 1e-10);
+}
+
+// A post of height h on a torsional spring k1 about x (an elastic support), a wrist at its top
+// turning about z on a spring k2 (its first end the post), a rigid arm of length b along x,
+// and the dead force F = (−Q, 0, −P) at the arm's end T. With θ1, θ2 the two turns,
+// T = R_x(θ1)·(h·e_z + R_z(θ2)·b·e_x), and the load's potential −F·T has the Hessian −H,
+// H = [[−h·F_z, b·F_z], [b·F_z, −b·F_x]] = [[h·P, −b·P], [−b·P, b·Q]]: det(diag(k1, k2) − λ·H)
+// = 0. The cross term b·F_z is the wrist's: its moment b·P about y, across its axis, seen along
+// the axis turned by θ1.
+TEST(CriticalLoad, WristTurnedByItsPostMatchesTheEnergyHessian) {
+  constexpr double h = 1.0, b = 0.5, P = 100, Q = 300, k1 = 2e4, k2 = 1e4;
+  Model m;
+  m.add_point("O", Vec3::Zero());
+  m.add_point("A", Vec3(0, 0, h));
+  m.add_point("T", Vec3(b, 0, h));
+  m.add_rigid_link("post", "O", "A");
+  m.add_rigid_link("arm", "A", "T");
+  m.add_support("ground", "O", {}, Connection::elastic(Kinematics::revolute(Vec3::UnitX()), k1));
+  m.add_joint("wrist", "A", {"post", "arm"},
+              Connection::elastic(Kinematics::revolute(Vec3::UnitZ()), k2));
+  m.add_load("T", std::nullopt, wrench(-Q, 0, -P));
+  const double a2 = h * P * b * Q - b * b * P * P, a1 = -(k1 * b * Q + k2 * h * P), a0 = k1 * k2;
+  const double exact = (-a1 - std::sqrt(a1 * a1 - 4 * a2 * a0)) / (2 * a2);
+  const Result r = solve(m, with_critical_load());
+  ASSERT_TRUE(r.critical_load && r.critical_load->factor);
+  EXPECT_NEAR(*r.critical_load->factor / exact, 1.0, 1e-12);
+}
+
+// ---- kernels ---------------------------------------------------------------------------------
+
+// A rotation by the rotation vector v (Rodrigues).
+Mat3 rotation(const Vec3& v) {
+  const double angle = v.norm();
+  if (angle == 0) return Mat3::Identity();
+  return Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+}
+
+// The rigid link's moment balance about its from end in the turned geometry, M_from =
+// −M_to − R(φ)·d × F_to, changes with φ as the chord term says: M_from's change is
+// +[F×]·(Δp_to − Δp_from) with Δp_to − Δp_from = φ × d.
+TEST(LoadTerms, ChordTermIsTheTurnedLeversMoment) {
+  const Vec3 d(0.3, -0.2, 0.5), force(120, -40, 75), m_to(3, 1, -2);
+  const Mat12 k = detail::chord_load_stiffness(force);
+  for (int axis = 0; axis < 3; ++axis) {
+    const double h = 1e-6;
+    const Vec3 phi = h * Vec3::Unit(axis);
+    auto moment_from = [&](const Vec3& turn) {
+      return Vec3(-m_to - (rotation(turn) * d).cross(force));
+    };
+    const Vec3 change = (moment_from(phi) - moment_from(-phi)) / 2;
+    Eigen::Matrix<double, 12, 1> deflection = Eigen::Matrix<double, 12, 1>::Zero();
+    deflection.segment<3>(3) = phi;           // the from end turns
+    deflection.segment<3>(6) = phi.cross(d);  // and the to end follows rigidly
+    const Eigen::Matrix<double, 12, 1> extra = k * deflection;
+    // The wrench the link's from end needs beside the linear one: the turned balance's change.
+    EXPECT_LT((extra.segment<3>(3) - change).norm(), 1e-9 * change.norm() + 1e-15) << axis;
+    EXPECT_TRUE(extra.head<3>().isZero(0));
+    EXPECT_TRUE(extra.tail<6>().isZero(0));
+  }
+}
+
+// A joint whose axes turn with its first end: the generalised force along the turned free
+// directions, Λ_p(φ)·R = Λ_p·R(φ)ᵀ·R, changes by −Λ_p·[φ × F; φ × M]; the joint's linear rows
+// see the link end's wrench plus the term's, so Λ_p·(K_L·Δt) must be that change.
+TEST(LoadTerms, JointTermIsTheReactionSeenAlongTurnedAxes) {
+  for (const Kinematics& kinematics :
+       {Kinematics::revolute(Vec3(0.3, 0.4, 0.866).normalized()),
+        Kinematics::universal(Vec3::UnitX(), Vec3(0, 0.6, 0.8)),
+        Kinematics::prismatic(Vec3(1, 1, 0).normalized()), Kinematics::planar(Vec3::UnitZ())}) {
+    const detail::FreeDirections directions = detail::free_directions(kinematics);
+    const Vec6 reaction = (Vec6() << 50, -20, 35, 4, -7, 2).finished();
+    const MatX k = detail::joint_load_stiffness(directions, {reaction, -reaction});
+    const MatX free = directions.free();
+    for (int axis = 0; axis < 3; ++axis) {
+      const double h = 1e-6;
+      auto seen = [&](const Vec3& turn) {
+        Vec6 turned_back;
+        turned_back << rotation(turn).transpose() * reaction.head<3>(),
+            rotation(turn).transpose() * reaction.tail<3>();
+        return VecX(free * turned_back);
+      };
+      const VecX change = (seen(h * Vec3::Unit(axis)) - seen(-h * Vec3::Unit(axis))) / 2;
+      VecX deflection = VecX::Zero(12);
+      deflection.segment<3>(3) = h * Vec3::Unit(axis);
+      deflection.segment<3>(9) = h * Vec3::Unit(axis);
+      const VecX extra = k * deflection;
+      EXPECT_LT((free * extra.head<6>() - change).norm(), 1e-9 * reaction.norm() * h)
+          << to_string(kinematics.type) << " axis " << axis;
+      EXPECT_LT((extra.head<6>() + extra.tail<6>()).norm(), 1e-12 * reaction.norm() * h);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace stiffmsa
