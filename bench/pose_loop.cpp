@@ -7,7 +7,7 @@
 //   valgrind --tool=callgrind --toggle-collect='*run_poses*' stiffmsa_pose_loop 6axis 20
 //
 // and divide "Collected" by 16 × (ROUNDS + 1) poses (one warm-up round is collected too).
-// A third argument `loaded` solves each pose in the loaded mode (docs/theory.md §13).
+// A third argument `loaded` solves each pose in the loaded mode (docs/theory.md §14).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-// The loaded mode (docs/theory.md §13) against independent computations: the elastica of a
+// The loaded mode (docs/theory.md §14) against independent computations: the elastica of a
 // cantilever under a tip force, the exact equilibrium and loaded stiffness of a planar 2R arm
 // with joint springs, the linear results under tiny loads, and the critical point of a column.
 #include <gtest/gtest.h>

@@ -90,7 +90,7 @@ struct EndEffectorResult {
   std::optional<InAxes> in_own_axes;
   // In the loaded mode: the size of the non-symmetric part of the tangent stiffness,
   // ‖K − Kᵀ‖_F / ‖K + Kᵀ‖_F of K with rotations weighted by the model size (docs/theory.md
-  // §13.7); nullopt in the linear mode and where the stiffness is unbounded.
+  // §14.7); nullopt in the linear mode and where the stiffness is unbounded.
   std::optional<double> stiffness_asymmetry;
 };
 

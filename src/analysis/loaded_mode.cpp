@@ -1,5 +1,5 @@
 // The loaded mode: load steps of Newton iterations on the loaded blocks, then the tangent
-// compliance at the equilibrium (docs/theory.md §13).
+// compliance at the equilibrium (docs/theory.md §14).
 #include "analysis/loaded_mode.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,5 +1,5 @@
 #pragma once
-// The loaded mode (docs/theory.md §13): a load case's equilibrium in the deformed geometry,
+// The loaded mode (docs/theory.md §14): a load case's equilibrium in the deformed geometry,
 // reached in load steps of Newton iterations on the loaded blocks (elements/loaded_blocks.hpp),
 // and the tangent compliance and stiffness of every end effector there.
 #include "assembly/topology.hpp"

@@ -897,7 +897,7 @@ void add_gravity_deflections(const Result& weight, Result& result) {
 }
 
 // In the loaded mode (SolveOptions::mode, else the model's own), the loaded result in place of
-// the linear one, which it keeps as Result::linear (docs/theory.md §13).
+// the linear one, which it keeps as Result::linear (docs/theory.md §14).
 Result in_analysis_mode(const Model& model, const detail::Topology& topology,
                         const SolveOptions& options, Result result) {
   if (options.mode.value_or(model.options.mode) != AnalysisMode::loaded) return result;

@@ -1,4 +1,4 @@
-// A flexible link in the loaded mode: the co-rotational element of docs/theory.md §13.2.
+// A flexible link in the loaded mode: the co-rotational element of docs/theory.md §14.2.
 #include <cmath>
 
 #include "elements/loaded_derivatives.hpp"
@@ -67,16 +67,33 @@ class CorotationalLinkBlock final : public LoadedBlock {
     Mat3T<Outer> ri, rj;
     moved_pose(i, 0, xi, ri);
     moved_pose(j, 6, xj, rj);
-    const Outer e = energy(xi, ri, xj, rj);
-    Vec12 gradient = e.value().derivatives();
+    // E = ½·d̄ᵀ·K·d̄ (+ a beam's bowing) by the chain rule on d̄'s first and mixed second
+    // derivatives, so that K meets plain numbers only: with A = ∂d̄/∂a, B = ∂d̄/∂b, f = K·d̄,
+    // ∂E/∂a = Aᵀ·f and ∂²E/∂a∂b = Aᵀ·K·B + Σ_m f_m·∂²d̄_m/∂a∂b.
+    Eigen::Matrix<Outer, 12, 1> d;
+    Outer bow_energy;
+    deformation(xi, ri, xj, rj, d, bow_energy);
+    Mat12 a_part, b_part;
+    Vec12 value;
+    for (int m = 0; m < 12; ++m) {
+      value(m) = d(m).value().value();
+      a_part.row(m) = d(m).value().derivatives().transpose();
+      for (int b = 0; b < 12; ++b) b_part(m, b) = d(m).derivatives()(b).value();
+    }
+    const Vec12 force = link_.stiffness * value;
+    Vec12 gradient = a_part.transpose() * force + bow_energy.value().derivatives();
     residual.head<6>() = i.wrench - gradient.head<6>();
     residual.tail<6>() = j.wrench - gradient.tail<6>();
     if (!tangent) return;
+    Mat12 second = a_part.transpose() * link_.stiffness * b_part;
+    for (int m = 0; m < 12; ++m)
+      for (int b = 0; b < 12; ++b) second.col(b) += force(m) * d(m).derivatives()(b).derivatives();
+    for (int b = 0; b < 12; ++b) second.col(b) += bow_energy.derivatives()(b).derivatives();
     // Columns: end i [δx, δθ, δW], end j [δx, δθ, δW].
     tangent->setZero(12, 24);
     for (int b = 0; b < 12; ++b) {
       const int column = b < 6 ? b : b + 6;
-      for (int a = 0; a < 12; ++a) (*tangent)(a, column) = -e.derivatives()(b).derivatives()(a);
+      tangent->col(column).noalias() = -second.col(b);
     }
     tangent->block<6, 6>(0, 6).setIdentity();
     tangent->block<6, 6>(6, 18).setIdentity();
@@ -87,8 +104,10 @@ class CorotationalLinkBlock final : public LoadedBlock {
   // across the chord of the unloaded second axis turned by the mean of the ends' rotations.
   // Rr = [e1 e2 e3]·[n0 r0 n0×r0]ᵀ is the link's rigid rotation; what is left of each end's
   // rotation and of the chord's length is the deformation d̄.
+  // d̄ and, for a beam, the energy of its bowing beyond ½·d̄ᵀ·K·d̄ (zero for other links).
   template <class T>
-  T energy(const Vec3T<T>& xi, const Mat3T<T>& ri, const Vec3T<T>& xj, const Mat3T<T>& rj) const {
+  void deformation(const Vec3T<T>& xi, const Mat3T<T>& ri, const Vec3T<T>& xj, const Mat3T<T>& rj,
+                   Eigen::Matrix<T, 12, 1>& d, T& bow_energy) const {
     const Vec3T<T> chord = xj - xi;
     const T length = chord.norm();
     const Vec3T<T> e1 = chord / length;
@@ -104,17 +123,15 @@ class CorotationalLinkBlock final : public LoadedBlock {
     const Mat3T<T> rigid = current * frame_.transpose().cast<T>();
     const Mat3T<T> left_i = rigid.transpose() * ri;
     const Mat3T<T> left_j = rigid.transpose() * rj;
-    Eigen::Matrix<T, 12, 1> d;
     for (int k = 0; k < 3; ++k) d(k) = T(0.0);
     d.template segment<3>(3) = rotation_vector<T>(left_i);
     d.template segment<3>(6) = rigid.transpose() * chord - link_.d0.cast<T>();
     d.template segment<3>(9) = rotation_vector<T>(left_j);
-    const Eigen::Matrix<T, 12, 1> force = link_.stiffness.cast<T>() * d;
-    T e = T(0.5) * d.dot(force);
+    bow_energy = T(0.0);
     if (link_.axial) {
       // A beam's chord shortens as it bends: u_eff = u + L/30·(2|θ_i⊥|² − θ_i⊥·θ_j⊥ +
       // 2|θ_j⊥|²), the cubic's arc length beyond its chord, with θ⊥ the end rotations across
-      // the unloaded chord n0 (§13.2). Its energy replaces the axial ½·EA/L·u².
+      // the unloaded chord n0 (§14.2). Its energy replaces the axial ½·EA/L·u².
       const Vec3T<T> n0 = frame_.col(0).cast<T>();
       const Vec3T<T> ti = d.template segment<3>(3) - n0 * n0.dot(d.template segment<3>(3));
       const Vec3T<T> tj = d.template segment<3>(9) - n0 * n0.dot(d.template segment<3>(9));
@@ -122,9 +139,8 @@ class CorotationalLinkBlock final : public LoadedBlock {
       const T bow =
           T(length_ / 30.0) * (T(2) * ti.squaredNorm() - ti.dot(tj) + T(2) * tj.squaredNorm());
       const T stretch = u + bow;
-      e += T(0.5 * *link_.axial / length_) * (stretch * stretch - u * u);
+      bow_energy = T(0.5 * *link_.axial / length_) * (stretch * stretch - u * u);
     }
-    return e;
   }
 
   std::vector<int> ends_;

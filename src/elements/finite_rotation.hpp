@@ -1,5 +1,5 @@
 #pragma once
-// Finite rotations for the loaded mode (docs/theory.md §13): the rotation vector of a rotation
+// Finite rotations for the loaded mode (docs/theory.md §14): the rotation vector of a rotation
 // matrix (its logarithm), Rodrigues' formula, and the derivatives the loaded blocks need, taken
 // by forward automatic differentiation (Eigen's AutoDiffScalar, nested where a block needs the
 // derivative of a gradient). Every function is a template on the scalar so that one text gives

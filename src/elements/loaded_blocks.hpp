@@ -1,5 +1,5 @@
 #pragma once
-// The element blocks of the loaded mode (docs/theory.md §13): each writes the same rows as its
+// The element blocks of the loaded mode (docs/theory.md §14): each writes the same rows as its
 // linear block (§3, §4), as residuals of the deformed geometry, and their exact derivatives, the
 // Newton tangent. The unknowns of link end k are its current position x_k, the rotation R_k
 // that has turned it from the unloaded pose and its wrench W_k = [F; M] (moment about x_k);
@@ -40,7 +40,7 @@ class LoadedBlock {
   virtual void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const = 0;
 };
 
-// A flexible link as a co-rotational element (§13.2): the energy ½·d̄ᵀ·K·d̄ of its free-free
+// A flexible link as a co-rotational element (§14.2): the energy ½·d̄ᵀ·K·d̄ of its free-free
 // stiffness K (global axes of the unloaded pose) over the deformation d̄ left once the link's
 // rigid motion is taken out; a beam adds the shortening of its chord by bending (`axial`).
 // Rows: W_i − ∂E/∂t_i, W_j − ∂E/∂t_j.
@@ -52,23 +52,23 @@ struct CorotationalLink {
 std::unique_ptr<LoadedBlock> make_corotational_link(int end_i, int end_j,
                                                     const CorotationalLink& link);
 
-// A rigid link (§13.3): x_j = x_i + R_i·d0, R_j = R_i, and its balance about x_i.
+// A rigid link (§14.3): x_j = x_i + R_i·d0, R_j = R_i, and its balance about x_i.
 std::unique_ptr<LoadedBlock> make_loaded_rigid_link(int end_i, int end_j, const Vec3& d0);
 
-// A rigid, passive (or locked) joint over m ≥ 2 link ends (§13.4): its free and constrained
+// A rigid, passive (or locked) joint over m ≥ 2 link ends (§14.4): its free and constrained
 // directions turn with its first end.
 std::unique_ptr<LoadedBlock> make_loaded_constraint_joint(std::vector<int> ends,
                                                           const FreeDirections& directions,
                                                           const std::optional<VecX>& preload);
 
-// An elastic joint between two link ends (§13.4): the spring acts on the finite relative
+// An elastic joint between two link ends (§14.4): the spring acts on the finite relative
 // motion (a revolute joint's finite angle).
 std::unique_ptr<LoadedBlock> make_loaded_elastic_joint(int end_1, int end_2,
                                                        const FreeDirections& directions,
                                                        const MatX& stiffness,
                                                        const std::optional<VecX>& preload);
 
-// A support over m ≥ 1 link ends (§13.5): the ground's directions do not turn; a settlement
+// A support over m ≥ 1 link ends (§14.5): the ground's directions do not turn; a settlement
 // moves the ground by λ·s.
 std::unique_ptr<LoadedBlock> make_loaded_support(std::vector<int> ends,
                                                  const FreeDirections& directions,

@@ -1,4 +1,4 @@
-// Joints in the loaded mode (docs/theory.md §13.4): their free and constrained directions turn
+// Joints in the loaded mode (docs/theory.md §14.4): their free and constrained directions turn
 // with their first link end; relative motions are finite (a revolute joint's angle), wrenches
 // are taken about the first end's current point.
 #include <utility>

@@ -1,4 +1,4 @@
-// A rigid link in the loaded mode (docs/theory.md §13.3): it moves as a rigid body and balances
+// A rigid link in the loaded mode (docs/theory.md §14.3): it moves as a rigid body and balances
 // the wrenches at its ends about its current from end.
 #include "elements/loaded_derivatives.hpp"
 

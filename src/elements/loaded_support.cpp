@@ -1,4 +1,4 @@
-// Supports and free ends in the loaded mode (docs/theory.md §13.5): the ground does not turn
+// Supports and free ends in the loaded mode (docs/theory.md §14.5): the ground does not turn
 // with the structure; a settlement moves it by λ times its displacement.
 #include <utility>
 
