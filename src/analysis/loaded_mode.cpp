@@ -232,6 +232,9 @@ struct Path {
   Scales scales;
   int iterations = 0;
   int load_steps = 0;
+  // The size of the last converged step's last correction: where it is at rounding level the
+  // tangent factorised for it is the equilibrium's to as many digits.
+  double last_correction = 0;
 
   std::vector<Vec6> external_at(double factor) const {
     std::vector<Vec6> w(full_external.size());
@@ -263,7 +266,10 @@ struct Path {
                            wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
       const bool rounding =
           motion <= kRoundingFloor && wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
-      if (small || stalled || rounding) return true;
+      if (small || stalled || rounding) {
+        last_correction = state_motion > 0 ? motion / state_motion : motion;
+        return true;
+      }
       last_motion = motion;
     }
     return false;
@@ -279,8 +285,15 @@ std::string factor_text(double f) {
 
 }  // namespace
 
+std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
+  std::vector<Vec6> loads(static_cast<std::size_t>(topology.end_count()), Vec6::Zero());
+  for (std::size_t i = 0; i < model.loads.size(); ++i)
+    loads[static_cast<std::size_t>(topology.load_ends[i])] += model.loads[i].wrench;
+  return loads;
+}
+
 Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
-                     const Result& linear, int load_steps) {
+                     const Result& linear, const std::vector<Vec6>& loads, int load_steps) {
   if (!model.link_loads.empty() || model.gravity)
     throw UsageError(
         "the loaded mode takes loads at link ends and preloads; loads along links and gravity "
@@ -288,9 +301,7 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   const std::vector<std::unique_ptr<LoadedBlock>> blocks = make_loaded_blocks(model, topology);
   const int end_count = topology.end_count();
   Path path{blocks, Tangent(blocks, topology.unknowns()), {}, {}, {}, 0, 0};
-  path.full_external.assign(static_cast<std::size_t>(end_count), Vec6::Zero());
-  for (std::size_t i = 0; i < model.loads.size(); ++i)
-    path.full_external[static_cast<std::size_t>(topology.load_ends[i])] += model.loads[i].wrench;
+  path.full_external = loads;
   path.scales.length = characteristic_length(model);
   double force = 0;
   for (const Vec6& w : path.full_external)
@@ -357,7 +368,10 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   // effector: J·δ = r(W_ext) − r(W_ext + e_c) (the residual is linear in the external wrenches).
   const std::vector<Vec6> external = path.external_at(1.0);
   const LoadedInputs at_equilibrium{ends, external, 1.0};
-  if (!path.tangent.evaluate(at_equilibrium, residual, true))
+  // Formed again unless the last correction was at rounding level (the tangent then differs
+  // from the equilibrium's by as little).
+  constexpr double kTangentKept = 1e-13;
+  if (path.last_correction > kTangentKept && !path.tangent.evaluate(at_equilibrium, residual, true))
     throw NoEquilibriumError(
         "the loaded mode's tangent is singular at the equilibrium under the full loads: the "
         "structure is at a critical point there",

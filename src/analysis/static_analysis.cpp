@@ -902,7 +902,7 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
                         const SolveOptions& options, Result result) {
   if (options.mode.value_or(model.options.mode) != AnalysisMode::loaded) return result;
   Result loaded =
-      detail::loaded_result(model, topology, options, result,
+      detail::loaded_result(model, topology, options, result, detail::end_loads(model, topology),
                             model.options.load_steps.value_or(detail::kDefaultLoadSteps));
   add_results_in_own_axes(model, loaded);
   if (options.direction)
