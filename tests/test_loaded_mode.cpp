@@ -2,10 +2,15 @@
 // cantilever under a tip force, the exact equilibrium and loaded stiffness of a planar 2R arm
 // with joint springs, the linear results under tiny loads, and the critical point of a column.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include "stiffmsa/analysis.hpp"
@@ -305,6 +310,71 @@ TEST(LoadedMode, ColumnBeyondEulersLoadReportsTheCriticalLoadFactor) {
     EXPECT_NEAR(e.load_factor(), 0.5, 2e-3) << e.what();
     EXPECT_NE(std::string(e.what()).find("load factor"), std::string::npos) << e.what();
   }
+}
+
+// ---- the command line ----------------------------------------------------------------------
+
+int run_cli(const std::string& arguments, const std::string& output) {
+  const int status =
+      std::system((std::string(STIFFMSA_CLI) + " " + arguments + " >" + output + " 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(LoadedModeCli, LoadedFlagWritesTheAnalysisAndTheLinearResults) {
+  const auto dir = std::filesystem::temp_directory_path() / "stiffmsa-loaded-cli";
+  std::filesystem::create_directories(dir);
+  const std::string json = (dir / "arm.json").string();
+  ASSERT_EQ(run_cli("solve " + std::string(STIFFMSA_SOURCE_DIR) +
+                        "/examples/planar-2r.yaml --loaded --json " + json,
+                    (dir / "arm.txt").string()),
+            0)
+      << read_text(dir / "arm.txt");
+  const std::string text = read_text(json);
+  EXPECT_NE(text.find("\"analysis\": {\"mode\": \"loaded\""), std::string::npos) << text;
+  EXPECT_NE(text.find("\"linear\": {"), std::string::npos);
+  EXPECT_NE(text.find("\"stiffness_asymmetry\""), std::string::npos);
+}
+
+TEST(LoadedModeCli, ColumnBeyondItsCriticalLoadExitsWithOneAndTheLoadFactor) {
+  const auto dir = std::filesystem::temp_directory_path() / "stiffmsa-loaded-cli";
+  std::filesystem::create_directories(dir);
+  const auto model = dir / "column.yaml";
+  // Euler's load of this clamped-free column about its weak axis: π²·E·I/(4·L²) = 13 818 N.
+  std::ofstream(model) << R"(format: stiffmsa/1
+name: column
+analysis: {mode: loaded}
+materials:
+  steel: {E: 2.1e11, nu: 0.3}
+sections:
+  bar: {shape: rect, b: 0.02, h: 0.04}
+points:
+  p0: [0, 0, 0]
+  p1: [0, 0, 0.25]
+  p2: [0, 0, 0.5]
+  p3: [0, 0, 0.75]
+  p4: [0, 0, 1]
+links:
+  c1: {type: beam, from: p0, to: p1, material: steel, section: bar}
+  c2: {type: beam, from: p1, to: p2, material: steel, section: bar}
+  c3: {type: beam, from: p2, to: p3, material: steel, section: bar}
+  c4: {type: beam, from: p3, to: p4, material: steel, section: bar}
+supports:
+  base: {type: rigid, at: p0}
+loads:
+  - {at: p4, wrench: [0, 0, -30000, 0, 0, 0]}
+end_effectors:
+  top: {at: p4}
+)";
+  const auto out = dir / "column.txt";
+  EXPECT_EQ(run_cli("solve " + model.string(), out.string()), 1) << read_text(out);
+  EXPECT_NE(read_text(out).find("load factor"), std::string::npos) << read_text(out);
 }
 
 }  // namespace
