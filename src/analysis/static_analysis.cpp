@@ -916,7 +916,9 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
 // asked, with the blocks the solve used (the rods' spins held where it held them).
 void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
                        Result& result) {
-  if (!options.critical_load) return;
+  // The loaded mode always reports it (model-format.md).
+  if (!options.critical_load && options.mode.value_or(model.options.mode) != AnalysisMode::loaded)
+    return;
   const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   const Workspace::Impl& used =
