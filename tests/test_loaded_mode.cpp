@@ -72,7 +72,7 @@ ElasticaTip elastica(double alpha) {
   return {s.x, s.y, s.theta};
 }
 
-TEST(Elastica, ReferenceMatchesTheSmallLoadLimitAndKnownValue) {
+TEST(Elastica, ReferenceMatchesTheSmallLoadLimitAndIsConverged) {
   // Small α: y = −α/3 (the linear cantilever), x ≈ 1.
   const ElasticaTip small = elastica(1e-4);
   EXPECT_NEAR(small.y, -1e-4 / 3, 1e-11);
