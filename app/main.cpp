@@ -34,6 +34,7 @@ struct SolveCommand {
   std::string direction;              // "x,y,z": also the stiffness along it
   bool critical_load = false;         // --critical-load
   LoadLimits limits;
+  bool loaded = false;  // the loaded mode, whatever the model's `analysis:` says
 };
 
 // A model of issue 22's loads (load cases, loads along links, gravity, settlements) or of the
@@ -85,6 +86,7 @@ int run_solve(const SolveCommand& command) {
   if (!command.vtk_file.empty()) refuse_to_overwrite_model(command.model_file, command.vtk_file);
   SolveOptions options =
       solve_options(command.solver, command.accept_idle_motions, command.direction);
+  if (command.loaded) options.mode = AnalysisMode::loaded;
   // Without --set the file is read once, as any model; with it, as a family.
   const Model model = [&] {
     if (command.settings.empty()) return load_model(command.model_file, command.limits);
@@ -206,6 +208,9 @@ int run(int argc, char** argv) {
                       "structure buckles (always given for load cases, loads along links, "
                       "gravity and the loaded mode)");
   add_limit_options(*solve_app, solve_command.limits);
+  solve_app->add_flag("--loaded", solve_command.loaded,
+                      "The loaded mode: equilibrium in the deformed geometry and the tangent "
+                      "stiffness there; as `analysis: {mode: loaded}`");
 
   CheckCommand check_command;
   CLI::App* check_app =
@@ -269,6 +274,8 @@ int run(int argc, char** argv) {
                         "The named load case whose results the rows take (default: the "
                         "top-level results)");
   add_limit_options(*sweep_app, sweep_command.limits);
+  bool sweep_loaded = false;
+  sweep_app->add_flag("--loaded", sweep_loaded, "The loaded mode at every pose; as for solve");
 
   ViewCommand view_command;
   std::string view_solver = "auto";
@@ -310,6 +317,7 @@ int run(int argc, char** argv) {
   if (expand_app->parsed()) return run_expand(expand_command);
   if (sweep_app->parsed()) {
     sweep_command.solve = solve_options(sweep_solver, sweep_accept_idle_motions, sweep_direction);
+    if (sweep_loaded) sweep_command.solve.mode = AnalysisMode::loaded;
     return run_sweep(sweep_command);
   }
   if (merge_app->parsed()) return run_merge(merge_command);
@@ -323,6 +331,9 @@ int report_current_exception() noexcept {
       throw;
     } catch (const SingularModelError& e) {
       print_singular_model_error(std::cerr, e);
+      return exit_cannot_solve;
+    } catch (const NoEquilibriumError& e) {
+      print_error(std::cerr, e.what());
       return exit_cannot_solve;
     } catch (const InputError& e) {
       print_input_error(std::cerr, e);

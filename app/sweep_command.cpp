@@ -156,6 +156,7 @@ nlohmann::json sweep_identity(const SweepCommand& command, const std::vector<Gri
     identity["direction"] = {(*command.solve.direction)(0), (*command.solve.direction)(1),
                              (*command.solve.direction)(2)};
   identity["accept_idle_motions"] = command.solve.accept_idle_motions;
+  if (command.solve.mode) identity["mode"] = to_string(*command.solve.mode);
   return identity;
 }
 

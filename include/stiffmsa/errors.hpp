@@ -4,6 +4,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace stiffmsa {
@@ -61,6 +62,20 @@ class SingularModelError : public Error {
   Cause cause_;
   std::string summary_;
   std::vector<std::string> details_;
+};
+
+// The loaded mode found no equilibrium: Newton's iterations did not converge however small the
+// load step, or the load path passed a limit point or a bifurcation (the tangent turned
+// singular). load_factor() is the last load factor reached in equilibrium; what() says which
+// case it is and where.
+class NoEquilibriumError : public Error {
+ public:
+  NoEquilibriumError(std::string message, double load_factor)
+      : Error(std::move(message)), load_factor_(load_factor) {}
+  double load_factor() const { return load_factor_; }
+
+ private:
+  double load_factor_;
 };
 
 // Reading or writing a file failed (not a defect of the model's content).

@@ -88,6 +88,10 @@ struct EndEffectorResult {
     std::optional<Vec6> deflection, deflection_gravity;
   };
   std::optional<InAxes> in_own_axes;
+  // In the loaded mode: the size of the non-symmetric part of the tangent stiffness,
+  // ‖K − Kᵀ‖_F / ‖K + Kᵀ‖_F of K with rotations weighted by the model size (docs/theory.md
+  // §15.7); nullopt in the linear mode and where the stiffness is unbounded.
+  std::optional<double> stiffness_asymmetry;
 };
 
 // The method that solved a system (SolverKind chooses among them; docs/theory.md §7): the tree

@@ -11,6 +11,7 @@
 #include "analysis/case_loads.hpp"
 #include "analysis/critical_load.hpp"
 #include "analysis/free_motion.hpp"
+#include "analysis/loaded_mode.hpp"
 #include "analysis/plausibility.hpp"
 #include "analysis/workspace_access.hpp"
 #include "assembly/assembler.hpp"
@@ -1006,11 +1007,48 @@ void add_gravity_deflections(const Result& weight, Result& result) {
     result.end_effectors[e].deflection_gravity = weight.end_effectors[e].deflection;
 }
 
+// In the loaded mode (SolveOptions::mode, else the model's own), the loaded result in place of
+// the linear one, which it keeps as Result::linear (docs/theory.md §15).
+Result in_analysis_mode(const Model& model, const detail::Topology& topology,
+                        const SolveOptions& options, Result result) {
+  if (options.mode.value_or(model.options.mode) != AnalysisMode::loaded) return result;
+  const int load_steps = model.options.load_steps.value_or(detail::kDefaultLoadSteps);
+  // The linear results of a case, without the other cases, become its loaded result's `linear`.
+  auto loaded_case = [&](Result linear, const detail::CaseLoads& loads) {
+    if (!loads.link_loads.empty())
+      throw UsageError(
+          (loads.name.empty() ? std::string("the model's loads")
+                              : "load case '" + loads.name + "'") +
+          ": the loaded mode takes loads at link ends and preloads; loads along links and gravity "
+          "are not part of it yet: solve this model in the linear mode");
+    linear.load_cases.clear();
+    Result loaded =
+        detail::loaded_result(model, topology, options, linear, loads.external, load_steps);
+    add_results_in_own_axes(model, loaded);
+    if (options.direction)
+      for (EndEffectorResult& e : loaded.end_effectors)
+        if (e.compliance)
+          e.along_direction = directional_stiffness(*e.compliance, *options.direction);
+    return loaded;
+  };
+  const std::vector<detail::CaseLoads> cases = detail::case_loads(model, topology);
+  const bool unnamed = detail::has_unnamed_case(model);
+  std::vector<Result> named;
+  named.reserve(result.load_cases.size());
+  for (std::size_t c = 0; c < result.load_cases.size(); ++c)
+    named.push_back(loaded_case(result.load_cases[c], cases[c + (unnamed ? 1 : 0)]));
+  Result top = unnamed ? loaded_case(result, cases.front()) : named.front();
+  top.load_cases = std::move(named);
+  return top;
+}
+
 // The critical load factors of the result's load cases (analysis/critical_load.hpp), where
 // asked, with the blocks the solve used (the rods' spins held where it held them).
 void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
                        Result& result) {
-  if (!options.critical_load) return;
+  // The loaded mode always reports it (model-format.md).
+  if (!options.critical_load && options.mode.value_or(model.options.mode) != AnalysisMode::loaded)
+    return;
   const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   const Workspace::Impl& used =
@@ -1051,7 +1089,8 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
   Result result =
       results_of_cases(model, index, options, solve_validated(workspace, model, options, false));
   add_critical_load(workspace, model, options, result);
-  return result;
+  return in_analysis_mode(model, detail::WorkspaceAccess::impl(workspace).topology, options,
+                          std::move(result));
 }
 
 }  // namespace
@@ -1062,7 +1101,8 @@ Result solve(const Model& model, const SolveOptions& options) {
   Result result = results_of_cases(model, detail::ModelIndex(model), options,
                                    solve_validated(workspace, model, options, true));
   add_critical_load(workspace, model, options, result);
-  return result;
+  return in_analysis_mode(model, detail::WorkspaceAccess::impl(workspace).topology, options,
+                          std::move(result));
 }
 
 Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {

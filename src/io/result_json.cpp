@@ -238,6 +238,9 @@ void write_result(ResultWriter& out, const Result& result) {
                     out.member("rotational", [&] { out.number(e.along_direction->rotational); });
                   });
                 });
+              // Only in the loaded mode.
+              if (e.stiffness_asymmetry)
+                out.member("stiffness_asymmetry", [&] { out.number(*e.stiffness_asymmetry); });
               // Only where the model has self-weight loads (a robot block's `gravity:`).
               if (e.deflection_gravity)
                 out.member("deflection_gravity", [&] { vector(*e.deflection_gravity); });
@@ -347,6 +350,17 @@ void write_result(ResultWriter& out, const Result& result) {
             out.named(c.load_case, [&] { write_result(out, c); });
         });
       });
+    // Only in the loaded mode: how the equilibrium was reached, and the linear results.
+    if (result.analysis.mode == AnalysisMode::loaded) {
+      out.member("analysis", [&] {
+        out.object([&] {
+          out.member("mode", [&] { out.string(to_string(result.analysis.mode)); });
+          out.member("load_steps", [&] { out.integer(result.analysis.load_steps); });
+          out.member("iterations", [&] { out.integer(result.analysis.iterations); });
+        });
+      });
+      if (result.linear) out.member("linear", [&] { write_result(out, *result.linear); });
+    }
   });
 }
 

@@ -1,0 +1,479 @@
+// The loaded mode: load steps of Newton iterations on the loaded blocks, then the tangent
+// compliance at the equilibrium (docs/theory.md §15).
+#include "analysis/loaded_mode.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "analysis/cartesian.hpp"
+#include "elements/beam_element.hpp"
+#include "elements/cad_link.hpp"
+#include "elements/finite_rotation.hpp"
+#include "elements/loaded_blocks.hpp"
+#include "solver/sparse_solver.hpp"
+
+namespace stiffmsa::detail {
+
+namespace {
+
+// Newton's iterations have converged where the step's correction, in the scaled norm of
+// `correction_size`, is below this fraction of the state it corrects: the quadratic convergence
+// puts the state's own error far below it.
+constexpr double kNewtonTolerance = 1e-10;
+// Where rounding stops the corrections from shrinking (they no longer fall by this factor), a
+// correction below kNewtonFloor of the state is the equilibrium to working precision.
+constexpr double kStagnationRatio = 0.25;
+constexpr double kNewtonFloor = 1e-7;
+// A correction below this (of the model size, or in radians) is at the rounding of the state
+// itself, which holds positions and rotation matrices of size ~1: no iteration can do better.
+constexpr double kRoundingFloor = 1e-13;
+// At most this many iterations in a load step before it is cut in half.
+constexpr int kMostIterations = 30;
+// A correction that turns a link end by more than this (rad) is no Newton step near an
+// equilibrium: the step is cut.
+constexpr double kLargestTurn = 1.0;
+// The smallest load step tried before the path is declared to end (at the last equilibrium).
+constexpr double kSmallestLoadStep = 1e-5;
+// Where the path passes a critical point, the step is halved until the critical load factor is
+// known to this width.
+constexpr double kCriticalBracket = 1e-4;
+
+std::string message_of(const std::ostringstream& text) { return text.str(); }
+
+Vec3 position_of(const Model& model, const Topology& topology, int end) {
+  return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])]
+      .position;
+}
+
+std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(const Model& model,
+                                                             const Topology& topology) {
+  std::vector<std::unique_ptr<LoadedBlock>> blocks;
+  for (int l = 0; l < topology.link_count; ++l) {
+    const Link& link = model.links[static_cast<std::size_t>(l)];
+    const int from = 2 * l, to = 2 * l + 1;
+    const Vec3 p_from = position_of(model, topology, from), p_to = position_of(model, topology, to);
+    const Vec3 d = p_to - p_from;
+    if (std::holds_alternative<RigidLink>(link.kind)) {
+      blocks.push_back(make_loaded_rigid_link(from, to, d));
+      continue;
+    }
+    CorotationalLink element;
+    element.d0 = d;
+    if (const auto* beam = std::get_if<BeamLink>(&link.kind)) {
+      element.stiffness = beam_global_stiffness(*beam, p_from, p_to);
+      element.axial = beam->material.E * section_properties(beam->section).A;
+    } else if (const auto* matrix = std::get_if<MatrixLink>(&link.kind)) {
+      element.stiffness = matrix_link_global_stiffness(*matrix, p_from, p_to);
+    } else {
+      element.stiffness = free_free_stiffness(
+          compliance_link_global_compliance(std::get<ComplianceLink>(link.kind), p_from, p_to), d);
+    }
+    blocks.push_back(make_corotational_link(from, to, element));
+  }
+  FreeDirections locked;  // no free direction: a weld, a locked drive
+  for (const ConnectionGroup& g : topology.groups) {
+    switch (g.kind) {
+      case ConnectionGroup::Kind::free_end:
+        blocks.push_back(make_loaded_free_end(g.ends.front()));
+        break;
+      case ConnectionGroup::Kind::rigid_connection:
+        blocks.push_back(make_loaded_constraint_joint(g.ends, locked, std::nullopt));
+        break;
+      case ConnectionGroup::Kind::joint: {
+        const Connection& c = model.joints[static_cast<std::size_t>(g.source)].connection;
+        if (c.stiffness)
+          blocks.push_back(make_loaded_elastic_joint(
+              g.ends[0], g.ends[1], free_directions(c.kinematics), *c.stiffness, c.preload));
+        else if (c.is_actuated)
+          blocks.push_back(make_loaded_constraint_joint(g.ends, locked, std::nullopt));
+        else
+          blocks.push_back(
+              make_loaded_constraint_joint(g.ends, free_directions(c.kinematics), c.preload));
+        break;
+      }
+      case ConnectionGroup::Kind::support: {
+        const Support& s = model.supports[static_cast<std::size_t>(g.source)];
+        const Connection& c = s.connection;
+        const Vec3 at = position_of(model, topology, g.ends.front());
+        if (c.is_actuated && !c.stiffness)
+          blocks.push_back(
+              make_loaded_support(g.ends, locked, std::nullopt, std::nullopt, s.displacement, at));
+        else
+          blocks.push_back(make_loaded_support(g.ends, free_directions(c.kinematics), c.stiffness,
+                                               c.preload, s.displacement, at));
+        break;
+      }
+    }
+  }
+  return blocks;
+}
+
+// The tangent system: assembled from the blocks' tangents, equilibrated by powers of two and
+// factorised by sparse LU (its pattern analysed once: every block writes the same positions at
+// every state).
+class Tangent {
+ public:
+  Tangent(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns)
+      : blocks_(blocks), n_(unknowns) {
+    Index row = 0;
+    for (const auto& b : blocks_) {
+      first_row_.push_back(row);
+      row += b->equation_count();
+    }
+  }
+
+  // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where the
+  // tangent is singular.
+  bool evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
+    residual.resize(n_);
+    triplets_.clear();
+    MatX block_tangent;
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+      const LoadedBlock& block = *blocks_[b];
+      const Index rows = block.equation_count();
+      block.evaluate(in, residual.segment(first_row_[b], rows),
+                     factorise ? &block_tangent : nullptr);
+      if (!factorise) continue;
+      const auto& ends = block.ends();
+      for (std::size_t k = 0; k < ends.size(); ++k)
+        for (Index c = 0; c < 12; ++c)
+          for (Index i = 0; i < rows; ++i)
+            triplets_.emplace_back(static_cast<int>(first_row_[b] + i),
+                                   static_cast<int>(12 * ends[k] + c),
+                                   block_tangent(i, 12 * static_cast<Index>(k) + c));
+    }
+    if (!factorise) return true;
+    matrix_.resize(n_, n_);
+    matrix_.setFromTriplets(triplets_.begin(), triplets_.end());
+    matrix_.makeCompressed();
+    scaling_ = equilibrate(matrix_);
+    scaled_ = scaling_.row.asDiagonal() * matrix_ * scaling_.column.asDiagonal();
+    scaled_.makeCompressed();
+    if (!analysed_) {
+      lu_.analyzePattern(scaled_);
+      analysed_ = true;
+    }
+    lu_.factorize(scaled_);
+    return lu_.info() == Eigen::Success;
+  }
+
+  // Solves the last factorised tangent for the columns of b.
+  MatX solve(const MatX& b) {
+    MatX y = scaling_.row.asDiagonal() * b;
+    y = lu_.solve(y).eval();
+    return scaling_.column.asDiagonal() * y;
+  }
+
+  double determinant_sign() { return lu_.signDeterminant(); }
+  Index first_row(std::size_t block) const { return first_row_[block]; }
+
+ private:
+  const std::vector<std::unique_ptr<LoadedBlock>>& blocks_;
+  Index n_;
+  std::vector<Index> first_row_;
+  std::vector<Eigen::Triplet<double>> triplets_;
+  SparseMatrix matrix_, scaled_;
+  Equilibration scaling_;
+  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_;
+  bool analysed_ = false;
+};
+
+// The scales a correction is measured in: lengths against the model size, wrenches against the
+// largest force (and moment over the model size) of the loads and of the state.
+struct Scales {
+  double length = 1;
+  double force = 1;
+};
+
+// max(|δx|/L, |δθ|) and max(|δF|, |δM|/L)/force over the link ends.
+std::pair<double, double> correction_size(const VecX& step, const Scales& scales) {
+  double motion = 0, wrench = 0;
+  for (Index e = 0; e < step.size() / 12; ++e) {
+    const auto s = step.segment<12>(12 * e);
+    motion = std::max({motion, s.segment<3>(0).cwiseAbs().maxCoeff() / scales.length,
+                       s.segment<3>(3).cwiseAbs().maxCoeff()});
+    wrench = std::max({wrench, s.segment<3>(6).cwiseAbs().maxCoeff(),
+                       s.segment<3>(9).cwiseAbs().maxCoeff() / scales.length});
+  }
+  return {motion, wrench / scales.force};
+}
+
+// The same sizes of the state itself (its motion from the unloaded pose, its wrenches).
+std::pair<double, double> state_size(const std::vector<EndState>& ends,
+                                     const std::vector<Vec3>& unloaded, const Scales& scales) {
+  double motion = 0, wrench = 0;
+  for (std::size_t e = 0; e < ends.size(); ++e) {
+    motion =
+        std::max({motion, (ends[e].position - unloaded[e]).cwiseAbs().maxCoeff() / scales.length,
+                  rotation_vector_of(ends[e].rotation).cwiseAbs().maxCoeff()});
+    wrench = std::max({wrench, ends[e].wrench.head<3>().cwiseAbs().maxCoeff(),
+                       ends[e].wrench.tail<3>().cwiseAbs().maxCoeff() / scales.length});
+  }
+  return {motion, wrench / scales.force};
+}
+
+void apply(const VecX& step, std::vector<EndState>& ends) {
+  for (std::size_t e = 0; e < ends.size(); ++e) {
+    const auto s = step.segment<12>(12 * static_cast<Index>(e));
+    ends[e].position += s.segment<3>(0);
+    ends[e].rotation = rotation_matrix(s.segment<3>(3)) * ends[e].rotation;
+    ends[e].wrench += s.segment<6>(6);
+  }
+}
+
+struct Path {
+  const std::vector<std::unique_ptr<LoadedBlock>>& blocks;
+  Tangent tangent;
+  std::vector<Vec6> full_external;  // per link end, at λ = 1
+  std::vector<Vec3> unloaded;
+  Scales scales;
+  int iterations = 0;
+  int load_steps = 0;
+  // The size of the last converged step's last correction: where it is at rounding level the
+  // tangent factorised for it is the equilibrium's to as many digits.
+  double last_correction = 0;
+
+  std::vector<Vec6> external_at(double factor) const {
+    std::vector<Vec6> w(full_external.size());
+    for (std::size_t e = 0; e < w.size(); ++e) w[e] = factor * full_external[e];
+    return w;
+  }
+
+  // Newton's iterations at load factor `factor` from `ends`; true with `ends` in equilibrium and
+  // the tangent factorised at the last iterate, false (ends unspecified) where they do not
+  // converge.
+  bool equilibrium(double factor, std::vector<EndState>& ends) {
+    const std::vector<Vec6> external = external_at(factor);
+    VecX residual;
+    double last_motion = std::numeric_limits<double>::infinity();
+    for (int iteration = 0; iteration < kMostIterations; ++iteration) {
+      ++iterations;
+      const LoadedInputs in{ends, external, factor};
+      if (!tangent.evaluate(in, residual, true)) return false;
+      const VecX step = tangent.solve(-residual);
+      if (!step.allFinite()) return false;
+      const auto [motion, wrench] = correction_size(step, scales);
+      apply(step, ends);
+      const auto [state_motion, state_wrench] = state_size(ends, unloaded, scales);
+      if (motion > kLargestTurn) return false;
+      const bool small = motion <= kNewtonTolerance * state_motion &&
+                         wrench <= kNewtonTolerance * std::max(state_wrench, 1.0);
+      const bool stalled = motion > kStagnationRatio * last_motion &&
+                           motion <= kNewtonFloor * state_motion &&
+                           wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
+      const bool rounding =
+          motion <= kRoundingFloor && wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
+      if (small || stalled || rounding) {
+        last_correction = state_motion > 0 ? motion / state_motion : motion;
+        return true;
+      }
+      last_motion = motion;
+    }
+    return false;
+  }
+};
+
+std::string factor_text(double f) {
+  std::ostringstream text;
+  text.precision(6);
+  text << f;
+  return text.str();
+}
+
+}  // namespace
+
+std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
+  std::vector<Vec6> loads(static_cast<std::size_t>(topology.end_count()), Vec6::Zero());
+  for (std::size_t i = 0; i < model.loads.size(); ++i)
+    loads[static_cast<std::size_t>(topology.load_ends[i])] += model.loads[i].wrench;
+  return loads;
+}
+
+Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
+                     const Result& linear, const std::vector<Vec6>& loads, int load_steps) {
+  if (!model.link_loads.empty() || model.gravity)
+    throw UsageError(
+        "the loaded mode takes loads at link ends and preloads; loads along links and gravity "
+        "are not part of it yet: solve this model in the linear mode");
+  const std::vector<std::unique_ptr<LoadedBlock>> blocks = make_loaded_blocks(model, topology);
+  const int end_count = topology.end_count();
+  Path path{blocks, Tangent(blocks, topology.unknowns()), {}, {}, {}, 0, 0};
+  path.full_external = loads;
+  path.scales.length = characteristic_length(model);
+  double force = 0;
+  for (const Vec6& w : path.full_external)
+    force = std::max({force, w.head<3>().cwiseAbs().maxCoeff(),
+                      w.tail<3>().cwiseAbs().maxCoeff() / path.scales.length});
+  for (const LinkResult& l : linear.links)
+    for (const LinkEndResult* end : {&l.from, &l.to})
+      if (end->wrench)
+        force = std::max({force, end->wrench->head<3>().cwiseAbs().maxCoeff(),
+                          end->wrench->tail<3>().cwiseAbs().maxCoeff() / path.scales.length});
+  path.scales.force = force > 0 ? force : 1.0;
+
+  std::vector<EndState> ends(static_cast<std::size_t>(end_count));
+  for (int e = 0; e < end_count; ++e) {
+    ends[static_cast<std::size_t>(e)].position = position_of(model, topology, e);
+    path.unloaded.push_back(ends[static_cast<std::size_t>(e)].position);
+  }
+
+  // The tangent's determinant keeps its sign along the path until it passes a critical point.
+  VecX residual;
+  const std::vector<Vec6> none(static_cast<std::size_t>(end_count), Vec6::Zero());
+  if (!path.tangent.evaluate(LoadedInputs{ends, none, 0.0}, residual, true))
+    throw SingularModelError(SingularModelError::Cause::numerical,
+                             "the loaded mode needs a regular tangent at the unloaded pose, and "
+                             "this model's is singular (a mechanism, or idle motions that the "
+                             "linear mode accepted)",
+                             {});
+  const double unloaded_sign = path.tangent.determinant_sign();
+
+  const double nominal = 1.0 / std::max(load_steps, 1);
+  double reached = 0, step = nominal;
+  while (reached < 1.0) {
+    const double target = std::min(1.0, reached + step);
+    std::vector<EndState> trial = ends;
+    const bool converged = path.equilibrium(target, trial);
+    const bool critical = converged && path.tangent.determinant_sign() != unloaded_sign;
+    if (converged && !critical) {
+      ends = std::move(trial);
+      reached = target;
+      ++path.load_steps;
+      step = std::min(nominal, 2 * step);
+      continue;
+    }
+    if (critical && step < kCriticalBracket) {
+      std::ostringstream text;
+      text << "the loaded mode passed a critical point (a limit point or a bifurcation: the "
+              "tangent stiffness turned singular) between load factors "
+           << factor_text(reached) << " and " << factor_text(target)
+           << " of the loads; the structure buckles or snaps there";
+      throw NoEquilibriumError(message_of(text), reached);
+    }
+    if (!critical && step < kSmallestLoadStep) {
+      std::ostringstream text;
+      text << "the loaded mode found no equilibrium beyond load factor " << factor_text(reached)
+           << " of the loads: Newton's iterations do not converge however small the load step "
+              "(a limit point, where the structure snaps or collapses, or loads beyond what it "
+              "can carry)";
+      throw NoEquilibriumError(message_of(text), reached);
+    }
+    step /= 2;
+  }
+
+  // The tangent at the equilibrium itself, and its response to a unit wrench at each end
+  // effector: J·δ = r(W_ext) − r(W_ext + e_c) (the residual is linear in the external wrenches).
+  const std::vector<Vec6> external = path.external_at(1.0);
+  const LoadedInputs at_equilibrium{ends, external, 1.0};
+  // Formed again unless the last correction was at rounding level (the tangent then differs
+  // from the equilibrium's by as little).
+  constexpr double kTangentKept = 1e-13;
+  if (path.last_correction > kTangentKept && !path.tangent.evaluate(at_equilibrium, residual, true))
+    throw NoEquilibriumError(
+        "the loaded mode's tangent is singular at the equilibrium under the full loads: the "
+        "structure is at a critical point there",
+        1.0);
+
+  Result result = linear;
+  result.linear = std::make_shared<const Result>(linear);
+  result.analysis = {AnalysisMode::loaded, path.load_steps, path.iterations};
+  result.report.solver = SolverUsed::sparse_lu;
+  result.report.reciprocal_condition = 0;
+  // The linear method's range no longer applies.
+  std::erase_if(result.report.warnings, [&](const std::string& w) {
+    return !result.report.large_deflection.empty() && w == result.report.large_deflection;
+  });
+  result.report.large_deflection.clear();
+
+  auto deflection_of = [&](int e) {
+    Vec6 t;
+    t.head<3>() =
+        ends[static_cast<std::size_t>(e)].position - path.unloaded[static_cast<std::size_t>(e)];
+    t.tail<3>() = rotation_vector_of(ends[static_cast<std::size_t>(e)].rotation);
+    return t;
+  };
+  for (int l = 0; l < topology.link_count; ++l) {
+    LinkResult& r = result.links[static_cast<std::size_t>(l)];
+    r.from = {deflection_of(2 * l), ends[static_cast<std::size_t>(2 * l)].wrench};
+    r.to = {deflection_of(2 * l + 1), ends[static_cast<std::size_t>(2 * l + 1)].wrench};
+  }
+  for (const ConnectionGroup& g : topology.groups) {
+    const EndState& first = ends[static_cast<std::size_t>(g.ends.front())];
+    if (g.kind == ConnectionGroup::Kind::joint) {
+      const Joint& joint = model.joints[static_cast<std::size_t>(g.source)];
+      const FreeDirections directions = free_directions(joint.connection.kinematics);
+      JointResult& r = result.joints[static_cast<std::size_t>(g.source)];
+      std::vector<VecX> q;
+      for (std::size_t k = 1; k < g.ends.size(); ++k) {
+        const EndState& other = ends[static_cast<std::size_t>(g.ends[k])];
+        Vec6 motion;
+        motion.head<3>() = first.rotation.transpose() * (other.position - first.position);
+        motion.tail<3>() = rotation_vector_of(first.rotation.transpose() * other.rotation);
+        q.push_back(directions.free() * motion);
+      }
+      r.relative_deflection = std::move(q);
+      const Vec6 wrench = first.wrench - external[static_cast<std::size_t>(g.ends.front())];
+      r.wrench = wrench;
+      if (joint.connection.is_actuated) {
+        Vec6 in_axes;
+        in_axes.head<3>() = first.rotation.transpose() * wrench.head<3>();
+        in_axes.tail<3>() = first.rotation.transpose() * wrench.tail<3>();
+        r.effort = VecX(directions.gram().ldlt().solve(directions.free() * in_axes));
+      }
+    } else if (g.kind == ConnectionGroup::Kind::support) {
+      Vec6 reaction = Vec6::Zero();
+      for (int end : g.ends) {
+        const EndState& s = ends[static_cast<std::size_t>(end)];
+        const Vec6 w = s.wrench - external[static_cast<std::size_t>(end)];
+        reaction.head<3>() += w.head<3>();
+        reaction.tail<3>() += w.tail<3>() + (s.position - first.position).cross(w.head<3>());
+      }
+      result.supports[static_cast<std::size_t>(g.source)].reaction = reaction;
+    }
+  }
+
+  const double length = path.scales.length;
+  for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
+    const int end = topology.effector_ends[e];
+    const std::size_t holder = static_cast<std::size_t>(
+        topology.link_count + topology.group_of_end[static_cast<std::size_t>(end)]);
+    const LoadedBlock& block = *blocks[holder];
+    const Index rows = block.equation_count(), first_row = path.tangent.first_row(holder);
+    VecX base(rows), moved(rows);
+    block.evaluate(at_equilibrium, base, nullptr);
+    MatX rhs = MatX::Zero(topology.unknowns(), 6);
+    for (int c = 0; c < 6; ++c) {
+      std::vector<Vec6> pushed = external;
+      pushed[static_cast<std::size_t>(end)] += Vec6::Unit(c);
+      block.evaluate(LoadedInputs{ends, pushed, 1.0}, moved, nullptr);
+      rhs.col(c).segment(first_row, rows) = base - moved;
+    }
+    const MatX x = path.tangent.solve(rhs);
+    EndEffectorResult& r = result.end_effectors[e];
+    const Mat6 compliance = x.middleRows<6>(12 * static_cast<Index>(end));
+    r.compliance = compliance;
+    r.deflection = deflection_of(end);
+    r.reduced_stiffness.reset();
+    r.along_direction.reset();
+    r.in_own_axes.reset();
+    const CartesianStiffness cartesian =
+        cartesian_stiffness(compliance, length, options.warn_condition);
+    r.stiffness = cartesian.stiffness;
+    if (r.stiffness) {
+      Mat6 weighted = *r.stiffness;  // rotations weighted by the model size, as in C's checks
+      weighted.topRightCorner<3, 3>() *= length;
+      weighted.bottomLeftCorner<3, 3>() *= length;
+      weighted.bottomRightCorner<3, 3>() *= length * length;
+      const double sum = (weighted + weighted.transpose()).norm();
+      r.stiffness_asymmetry = sum > 0 ? (weighted - weighted.transpose()).norm() / sum : 0.0;
+    } else {
+      r.reduced_stiffness = reduced_stiffness(compliance, length);
+    }
+  }
+  return result;
+}
+
+}  // namespace stiffmsa::detail

@@ -1,0 +1,79 @@
+#pragma once
+// Finite rotations for the loaded mode (docs/theory.md §15): the rotation vector of a rotation
+// matrix (its logarithm), Rodrigues' formula, and the derivatives the loaded blocks need, taken
+// by forward automatic differentiation (Eigen's AutoDiffScalar, nested where a block needs the
+// derivative of a gradient). Every function is a template on the scalar so that one text gives
+// the value and its exact derivatives.
+#include <Eigen/Core>
+#include <cmath>
+#include <unsupported/Eigen/AutoDiff>
+
+#include "stiffmsa/types.hpp"
+
+namespace stiffmsa::detail {
+
+template <class T>
+using Vec3T = Eigen::Matrix<T, 3, 1>;
+template <class T>
+using Mat3T = Eigen::Matrix<T, 3, 3>;
+
+// A forward-mode scalar with N derivatives (Eigen::Dynamic: as many as it is given).
+template <int N>
+using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+// Its derivatives are themselves Duals: the second derivatives ∂²f/∂a∂b of two sets of N
+// variables a (inner) and b (outer).
+template <int N>
+using Dual2 = Eigen::AutoDiffScalar<Eigen::Matrix<Dual<N>, N, 1>>;
+
+inline double value_of(double x) { return x; }
+template <class D>
+double value_of(const Eigen::AutoDiffScalar<D>& x) {
+  return value_of(x.value());
+}
+
+template <class T>
+Mat3T<T> skew_of(const Vec3T<T>& v) {
+  Mat3T<T> s;
+  s << T(0), -v.z(), v.y(), v.z(), T(0), -v.x(), -v.y(), v.x(), T(0);
+  return s;
+}
+
+// A rotation increment δθ (spatial, global axes) applied to R: (I + [δθ×])·R. The loaded
+// blocks evaluate at δθ = 0, where this has the first derivatives of exp([δθ×])·R, which is
+// all a Newton tangent needs (the mixed second derivatives of nested duals use one increment of
+// each set, so no pure second derivative is ever taken).
+template <class T>
+Mat3T<T> turned(const Mat3& rotation, const Vec3T<T>& increment) {
+  Mat3T<T> r = rotation.cast<T>();
+  return r + skew_of(increment) * r;
+}
+
+// The rotation vector φ of a rotation matrix A, A = exp([φ×]), |φ| < π. With s = axial(A) =
+// sin|φ|·φ/|φ| and c = (tr A − 1)/2 = cos|φ|: φ = atan2(|s|, c)/|s|·s; near φ = 0, where |s|
+// has no derivative, the series θ/sin θ = 1 + x/6 + 3x²/40 + O(x³), x = |s|² = sin²θ.
+template <class T>
+Vec3T<T> rotation_vector(const Mat3T<T>& a) {
+  const Vec3T<T> s(T(0.5) * (a(2, 1) - a(1, 2)), T(0.5) * (a(0, 2) - a(2, 0)),
+                   T(0.5) * (a(1, 0) - a(0, 1)));
+  const T c = T(0.5) * (a(0, 0) + a(1, 1) + a(2, 2) - T(1));
+  const T x = s.squaredNorm();
+  constexpr double kSeriesBelow = 1e-8;  // x³ ≤ 1e-24: the series is exact in double
+  if (value_of(x) < kSeriesBelow && value_of(c) > 0)
+    return s * (T(1) + x / T(6) + T(3.0 / 40.0) * x * x);
+  using std::atan2;
+  using std::sqrt;
+  const T sine = sqrt(x);
+  return s * (atan2(sine, c) / sine);
+}
+
+// exp([φ×]) by Rodrigues' formula.
+inline Mat3 rotation_matrix(const Vec3& phi) {
+  const double angle = phi.norm();
+  if (angle == 0) return Mat3::Identity();
+  return Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
+}
+
+// The rotation vector of a rotation matrix in double.
+inline Vec3 rotation_vector_of(const Mat3& rotation) { return rotation_vector<double>(rotation); }
+
+}  // namespace stiffmsa::detail

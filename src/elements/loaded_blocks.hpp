@@ -1,0 +1,83 @@
+#pragma once
+// The element blocks of the loaded mode (docs/theory.md §15): each writes the same rows as its
+// linear block (§3, §4), as residuals of the deformed geometry, and their exact derivatives, the
+// Newton tangent. The unknowns of link end k are its current position x_k, the rotation R_k
+// that has turned it from the unloaded pose and its wrench W_k = [F; M] (moment about x_k);
+// an increment is [δx; δθ; δW] with δθ a small rotation in global axes, R_k ← exp([δθ×])·R_k,
+// so that the tangent has the linear system's 12 columns per link end, in its order.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "elements/element_block.hpp"
+#include "elements/free_directions.hpp"
+
+namespace stiffmsa::detail {
+
+struct EndState {
+  Vec3 position = Vec3::Zero();
+  Mat3 rotation = Mat3::Identity();
+  Vec6 wrench = Vec6::Zero();
+};
+
+// What a block reads besides its ends' states: the external wrenches at every link end and the
+// load factor λ, both of the current load step (preloads and settlements are taken times λ;
+// `external` already is).
+struct LoadedInputs {
+  const std::vector<EndState>& ends;
+  const std::vector<Vec6>& external;
+  double load_factor = 1;
+};
+
+class LoadedBlock {
+ public:
+  virtual ~LoadedBlock() = default;
+  virtual Index equation_count() const = 0;
+  // The link ends whose unknowns the rows involve, in the order of the tangent's columns.
+  virtual const std::vector<int>& ends() const = 0;
+  // The residual rows, and where `tangent` is given their derivatives (equation_count() ×
+  // 12·ends().size(), 12 columns per end: δx, δθ, δW).
+  virtual void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const = 0;
+};
+
+// A flexible link as a co-rotational element (§15.2): the energy ½·d̄ᵀ·K·d̄ of its free-free
+// stiffness K (global axes of the unloaded pose) over the deformation d̄ left once the link's
+// rigid motion is taken out; a beam adds the shortening of its chord by bending (`axial`).
+// Rows: W_i − ∂E/∂t_i, W_j − ∂E/∂t_j.
+struct CorotationalLink {
+  Mat12 stiffness;
+  Vec3 d0;                      // p_to − p_from, unloaded
+  std::optional<double> axial;  // E·A of a beam
+};
+std::unique_ptr<LoadedBlock> make_corotational_link(int end_i, int end_j,
+                                                    const CorotationalLink& link);
+
+// A rigid link (§15.3): x_j = x_i + R_i·d0, R_j = R_i, and its balance about x_i.
+std::unique_ptr<LoadedBlock> make_loaded_rigid_link(int end_i, int end_j, const Vec3& d0);
+
+// A rigid, passive (or locked) joint over m ≥ 2 link ends (§15.4): its free and constrained
+// directions turn with its first end.
+std::unique_ptr<LoadedBlock> make_loaded_constraint_joint(std::vector<int> ends,
+                                                          const FreeDirections& directions,
+                                                          const std::optional<VecX>& preload);
+
+// An elastic joint between two link ends (§15.4): the spring acts on the finite relative
+// motion (a revolute joint's finite angle).
+std::unique_ptr<LoadedBlock> make_loaded_elastic_joint(int end_1, int end_2,
+                                                       const FreeDirections& directions,
+                                                       const MatX& stiffness,
+                                                       const std::optional<VecX>& preload);
+
+// A support over m ≥ 1 link ends (§15.5): the ground's directions do not turn; a settlement
+// moves the ground by λ·s.
+std::unique_ptr<LoadedBlock> make_loaded_support(std::vector<int> ends,
+                                                 const FreeDirections& directions,
+                                                 const std::optional<MatX>& stiffness,
+                                                 const std::optional<VecX>& preload,
+                                                 const std::optional<Vec6>& settlement,
+                                                 const Vec3& unloaded_position);
+
+// A free end: W = W_ext.
+std::unique_ptr<LoadedBlock> make_loaded_free_end(int end);
+
+}  // namespace stiffmsa::detail
