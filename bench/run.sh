@@ -9,7 +9,7 @@
 #      (bench/make_models.py): the 100 000-link chain and the frame, wall time and peak memory
 #      from /usr/bin/time; and the chain file read by stiffmsa_chain, which times load_model
 #      apart from the solve;
-#   4. stiffmsa_sweep on both cores: sweeps of the parametric examples over fixed grids
+#   4. stiffmsa_sweep_throughput on both cores: sweeps of the parametric examples over fixed grids
 #      with 1 and 2 threads (poses/s, speed-up of the second core), the per-pose split
 #      between building the member and solving it, and the two Delta robots in turn on one
 #      thread, saved to bench/results-<date>-sweep.jsonl;
@@ -32,7 +32,7 @@ pin=(taskset -c "$cpu")
 bash "$root/scripts/install-deps.sh" bench
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DSTIFFMSA_BUILD_BENCH=ON -DSTIFFMSA_BUILD_TESTS=OFF >/dev/null
-cmake --build "$build" -j2 --target stiffmsa_bench stiffmsa_chain stiffmsa_cli stiffmsa_sweep
+cmake --build "$build" -j2 --target stiffmsa_bench stiffmsa_chain stiffmsa_cli stiffmsa_sweep_throughput
 
 # The library measured: the last commit that changed its sources, and whether src/ or
 # include/ differ from it.
@@ -86,7 +86,7 @@ fi
 if [[ -z "${SKIP_SWEEP:-}" ]]; then
   # Not pinned to one core like the rest: the point is what the second core adds.
   echo "== 4. sweeps with 1 and 2 threads (JSON lines); machine: $(uptime)"
-  taskset -c "${BENCH_SWEEP_CPUS:-0,1}" "$build/bench/stiffmsa_sweep" --repeats "${SWEEP_REPEATS:-7}" \
+  taskset -c "${BENCH_SWEEP_CPUS:-0,1}" "$build/bench/stiffmsa_sweep_throughput" --repeats "${SWEEP_REPEATS:-7}" \
     | tee "$out-sweep.jsonl"
 fi
 

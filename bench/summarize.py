@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Prints the Markdown tables of bench/README.md from the files bench/run.sh writes:
 PREFIX.json (Google Benchmark), PREFIX-chain.jsonl (stiffmsa_chain), PREFIX-cli.txt and
-PREFIX-sweep.jsonl (stiffmsa_sweep).
+PREFIX-sweep.jsonl (stiffmsa_sweep_throughput).
 
     bench/summarize.py bench/results-2026-11-21-run1 [bench/results-2026-11-21-run2 ...]
 
@@ -189,7 +189,7 @@ def klu_fill_table(runs):
 
 
 def sweep_rows(prefixes):
-    """Per model, every repeat of every run pooled (stiffmsa_sweep prints each repeat)."""
+    """Per model, every repeat of every run pooled (stiffmsa_sweep_throughput prints each repeat)."""
     pooled_keys = ["wall_s_1", "wall_s_2", "cpu_s_1", "cpu_s_2", "steal_ticks_1", "steal_ticks_2", "build_s", "solve_s"]
     rows = {}
     for _, r in jsonl_records(prefixes, "-sweep.jsonl"):
@@ -342,11 +342,11 @@ def main():
             print(f"| {model} | {solver} | {seconds:.2f} | {kib / 1024:.0f} |")
     sweeps = sweep_rows(prefixes)
     if sweeps:
-        print("\n### Sweeps (stiffmsa_sweep, wall time, not pinned to one core)\n")
+        print("\n### Sweeps (stiffmsa_sweep_throughput, wall time, not pinned to one core)\n")
         sweep_tables(sweeps, runs)
     pairs = pair_rows(prefixes)
     if pairs:
-        print("\n### Sweeps of two models in turn (stiffmsa_sweep, one thread, wall time)\n")
+        print("\n### Sweeps of two models in turn (stiffmsa_sweep_throughput, one thread, wall time)\n")
         pair_table(pairs)
 
 
