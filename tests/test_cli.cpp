@@ -615,6 +615,40 @@ TEST_F(Cli, ViewOfAMechanismStillShowsTheModel) {
   EXPECT_TRUE(contains(read_file(page), "\"solved\":false"));
 }
 
+// `view --case NAME` draws that case's loads and deflections, and names the case in the title.
+TEST_F(Cli, ViewDrawsTheNamedLoadCaseAndRefusesAnUnknownOne) {
+  const fs::path model = write_model("cases.yaml", R"(format: stiffmsa/1
+name: cases
+materials: {steel: {E: 2.1e11, nu: 0.3}}
+sections: {tube: {shape: tube, D: 0.06, t: 0.004}}
+points: {root: [0, 0, 0], tip: [1.2, 0, 0]}
+links: {arm: {type: beam, from: root, to: tip, material: steel, section: tube}}
+supports: {clamp: {type: rigid, at: root}}
+load_cases:
+  down: [{at: tip, wrench: [0, 0, -500, 0, 0, 0]}]
+  sideways: [{link: arm, distributed: [0, 300, 0]}]
+end_effectors: {end: {at: tip}}
+)");
+  const fs::path down = folder_ / "down.html", sideways = folder_ / "sideways.html";
+  const CliRun first = run("view " + shell_quoted(model.string()) + " --case down -o " +
+                           shell_quoted(down.string()));
+  ASSERT_EQ(first.exit_code, exit_success) << first.err;
+  const CliRun second = run("view " + shell_quoted(model.string()) + " --case sideways -o " +
+                            shell_quoted(sideways.string()));
+  ASSERT_EQ(second.exit_code, exit_success) << second.err;
+  const std::string down_page = read_file(down), sideways_page = read_file(sideways);
+  EXPECT_TRUE(contains(down_page, "load case: down")) << down_page.substr(0, 400);
+  EXPECT_TRUE(contains(sideways_page, "load case: sideways"));
+  EXPECT_NE(down_page, sideways_page);
+  const fs::path other = folder_ / "other.html";
+  const CliRun unknown =
+      run("view " + shell_quoted(model.string()) + " --case up -o " + shell_quoted(other.string()));
+  EXPECT_EQ(unknown.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(unknown.err, "--case 'up'")) << unknown.err;
+  EXPECT_TRUE(contains(unknown.err, "'down', 'sideways'")) << unknown.err;
+  EXPECT_FALSE(fs::exists(other));
+}
+
 TEST_F(Cli, SolveWritesAParaViewFileAndRefusesAnotherExtension) {
   const fs::path model = write_model("cantilever.yaml", cantilever_model);
   const CliRun r = run("solve " + shell_quoted(model.string()) + " --vtk " +
