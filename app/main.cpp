@@ -1,7 +1,6 @@
 // The stiffmsa command: parses the command line, runs the library, and turns every failure into
 // a message on stderr and an exit code. What is printed is formatted in summary.cpp.
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <filesystem>
@@ -36,17 +35,6 @@ struct SolveCommand {
   LoadLimits limits;
   bool loaded = false;  // the loaded mode, whatever the model's `analysis:` says
 };
-
-// A model of issue 22's loads (load cases, loads along links, gravity, settlements) or of the
-// loaded mode gets its critical load factors without asking: its result file's contract has
-// them. Others only with --critical-load, so that their results stay as they were and their
-// solves pay nothing for it.
-bool uses_load_analysis(const Model& model) {
-  return !model.load_cases.empty() || !model.link_loads.empty() || model.gravity ||
-         model.options.mode == AnalysisMode::loaded ||
-         std::any_of(model.supports.begin(), model.supports.end(),
-                     [](const Support& s) { return s.displacement.has_value(); });
-}
 
 struct CheckCommand {
   std::string model_file;
@@ -94,7 +82,7 @@ int run_solve(const SolveCommand& command) {
         load_model_family(command.model_file, command.limits, parse_settings(command.settings));
     return family.build(family.default_values());
   }();
-  options.critical_load = command.critical_load || uses_load_analysis(model);
+  options.critical_load = command.critical_load;
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);

@@ -46,7 +46,9 @@ struct SolveOptions {
   std::optional<Vec3> direction;
   // The analysis mode; unset: the model's own (ModelOptions::mode).
   std::optional<AnalysisMode> mode;
-  // Also find every load case's critical load factor (Result::critical_load).
+  // Also find every load case's critical load factor (Result::critical_load). A model with
+  // load cases, loads along links, gravity or settlements, and the loaded mode, get it always:
+  // their result file's contract has it.
   bool critical_load = false;
 
   // Throws UsageError with a sentence when an option is out of range.

@@ -1042,13 +1042,22 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
   return top;
 }
 
+// A model of issue 22's loads (load cases, loads along links, gravity, settlements) or of the
+// loaded mode gets its critical load factors without asking: its result file's contract has
+// them (model-format.md). Others only where asked, so that their results stay as they were and
+// their solves pay nothing for it.
+bool always_finds_critical_load(const Model& model, const SolveOptions& options) {
+  return !model.load_cases.empty() || !model.link_loads.empty() || model.gravity ||
+         options.mode.value_or(model.options.mode) == AnalysisMode::loaded ||
+         std::any_of(model.supports.begin(), model.supports.end(),
+                     [](const Support& s) { return s.displacement.has_value(); });
+}
+
 // The critical load factors of the result's load cases (analysis/critical_load.hpp), where
 // asked, with the blocks the solve used (the rods' spins held where it held them).
 void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
                        Result& result) {
-  // The loaded mode always reports it (model-format.md).
-  if (!options.critical_load && options.mode.value_or(model.options.mode) != AnalysisMode::loaded)
-    return;
+  if (!options.critical_load && !always_finds_critical_load(model, options)) return;
   const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   const Workspace::Impl& used =
