@@ -266,9 +266,8 @@ TEST(SolvePaths, TreeAndSparseAgreeWithLinkLoadsCasesAndSettlement) {
   expect_same_results(tree, lu);
 }
 
-// A closed square of beams on one clamp: a loop not through the ground, which the frame solve
-// takes.
-TEST(SolvePaths, FrameAndSparseAgreeWithLinkLoads) {
+// A closed square of steel beams (one corner raised), clamped at P0.
+Model closed_square_on_a_clamp() {
   Model m;
   const std::array<Vec3, 4> corners = {Vec3(0, 0, 0), Vec3(kL, 0, 0), Vec3(kL, kL, 0),
                                        Vec3(0, kL, 0.3)};
@@ -277,6 +276,13 @@ TEST(SolvePaths, FrameAndSparseAgreeWithLinkLoads) {
     m.add_beam("b" + std::to_string(i), "P" + std::to_string(i), "P" + std::to_string((i + 1) % 4),
                kSteel, kSection);
   m.add_support("left", "P0", {}, Connection::rigid());
+  return m;
+}
+
+// A closed square of beams on one clamp: a loop not through the ground, which the frame solve
+// takes.
+TEST(SolvePaths, FrameAndSparseAgreeWithLinkLoads) {
+  Model m = closed_square_on_a_clamp();
   m.add_end_effector("tip", "P2", std::string("b1"));
   m.add_link_load("b1", DistributedLinkLoad{Vec3(0, 300, -300), Vec3(0, 0, -900)});
   m.add_link_load("b2", PointLinkLoad{Vec3(0, 40, -500), Vec3(10, 0, 0), 0.2});
@@ -292,14 +298,7 @@ TEST(SolvePaths, FrameAndSparseAgreeWithLinkLoads) {
 // A frame whose support settles: the frame solve moves the settled ends by d and loads the
 // nodes with −K·d, as the sparse LU of the whole system does.
 TEST(SolvePaths, FrameAndSparseAgreeWithASettlement) {
-  Model m;
-  const std::array<Vec3, 4> corners = {Vec3(0, 0, 0), Vec3(kL, 0, 0), Vec3(kL, kL, 0),
-                                       Vec3(0, kL, 0.3)};
-  for (int i = 0; i < 4; ++i) m.add_point("P" + std::to_string(i), corners[i]);
-  for (int i = 0; i < 4; ++i)
-    m.add_beam("b" + std::to_string(i), "P" + std::to_string(i), "P" + std::to_string((i + 1) % 4),
-               kSteel, kSection);
-  m.add_support("left", "P0", {}, Connection::rigid());
+  Model m = closed_square_on_a_clamp();
   m.add_support("far", "P2", {}, Connection::rigid());
   m.support(SupportIndex{1}).displacement = (Vec6() << 0.0005, 0, -0.001, 0, 0.0002, 0).finished();
   m.add_end_effector("corner", "P1", std::string("b0"));
