@@ -3,7 +3,6 @@
 #include "analysis/loaded_mode.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -12,8 +11,6 @@
 #include "elements/beam_element.hpp"
 #include "elements/cad_link.hpp"
 #include "elements/finite_rotation.hpp"
-#include "elements/loaded_blocks.hpp"
-#include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
 
@@ -111,76 +108,6 @@ std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(const Model& model,
   return blocks;
 }
 
-// The tangent system: assembled from the blocks' tangents, equilibrated by powers of two and
-// factorised by sparse LU (its pattern analysed once: every block writes the same positions at
-// every state).
-class Tangent {
- public:
-  Tangent(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns)
-      : blocks_(blocks), n_(unknowns) {
-    Index row = 0;
-    for (const auto& b : blocks_) {
-      first_row_.push_back(row);
-      row += b->equation_count();
-    }
-  }
-
-  // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where the
-  // tangent is singular.
-  bool evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
-    residual.resize(n_);
-    triplets_.clear();
-    MatX block_tangent;
-    for (std::size_t b = 0; b < blocks_.size(); ++b) {
-      const LoadedBlock& block = *blocks_[b];
-      const Index rows = block.equation_count();
-      block.evaluate(in, residual.segment(first_row_[b], rows),
-                     factorise ? &block_tangent : nullptr);
-      if (!factorise) continue;
-      const auto& ends = block.ends();
-      for (std::size_t k = 0; k < ends.size(); ++k)
-        for (Index c = 0; c < 12; ++c)
-          for (Index i = 0; i < rows; ++i)
-            triplets_.emplace_back(static_cast<int>(first_row_[b] + i),
-                                   static_cast<int>(12 * ends[k] + c),
-                                   block_tangent(i, 12 * static_cast<Index>(k) + c));
-    }
-    if (!factorise) return true;
-    matrix_.resize(n_, n_);
-    matrix_.setFromTriplets(triplets_.begin(), triplets_.end());
-    matrix_.makeCompressed();
-    scaling_ = equilibrate(matrix_);
-    scaled_ = scaling_.row.asDiagonal() * matrix_ * scaling_.column.asDiagonal();
-    scaled_.makeCompressed();
-    if (!analysed_) {
-      lu_.analyzePattern(scaled_);
-      analysed_ = true;
-    }
-    lu_.factorize(scaled_);
-    return lu_.info() == Eigen::Success;
-  }
-
-  // Solves the last factorised tangent for the columns of b.
-  MatX solve(const MatX& b) {
-    MatX y = scaling_.row.asDiagonal() * b;
-    y = lu_.solve(y).eval();
-    return scaling_.column.asDiagonal() * y;
-  }
-
-  double determinant_sign() { return lu_.signDeterminant(); }
-  Index first_row(std::size_t block) const { return first_row_[block]; }
-
- private:
-  const std::vector<std::unique_ptr<LoadedBlock>>& blocks_;
-  Index n_;
-  std::vector<Index> first_row_;
-  std::vector<Eigen::Triplet<double>> triplets_;
-  SparseMatrix matrix_, scaled_;
-  Equilibration scaling_;
-  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_;
-  bool analysed_ = false;
-};
-
 // The scales a correction is measured in: lengths against the model size, wrenches against the
 // largest force (and moment over the model size) of the loads and of the state.
 struct Scales {
@@ -189,7 +116,8 @@ struct Scales {
 };
 
 // max(|δx|/L, |δθ|) and max(|δF|, |δM|/L)/force over the link ends.
-std::pair<double, double> correction_size(const VecX& step, const Scales& scales) {
+std::pair<double, double> correction_size(const Eigen::Ref<const VecX>& step,
+                                          const Scales& scales) {
   double motion = 0, wrench = 0;
   for (Index e = 0; e < step.size() / 12; ++e) {
     const auto s = step.segment<12>(12 * e);
@@ -215,7 +143,7 @@ std::pair<double, double> state_size(const std::vector<EndState>& ends,
   return {motion, wrench / scales.force};
 }
 
-void apply(const VecX& step, std::vector<EndState>& ends) {
+void apply_correction(const Eigen::Ref<const VecX>& step, std::vector<EndState>& ends) {
   for (std::size_t e = 0; e < ends.size(); ++e) {
     const auto s = step.segment<12>(12 * static_cast<Index>(e));
     ends[e].position += s.segment<3>(0);
@@ -226,9 +154,13 @@ void apply(const VecX& step, std::vector<EndState>& ends) {
 
 struct Path {
   const std::vector<std::unique_ptr<LoadedBlock>>& blocks;
-  Tangent tangent;
+  LoadedTangent& tangent;
   std::vector<Vec6> full_external;  // per link end, at λ = 1
   std::vector<Vec3> unloaded;
+  // The linear solution of the full loads (with the preloads and settlements) per link end, as
+  // a state: the start of the path's first step, times its load factor. Empty where the linear
+  // result lacks a link end's deflection or wrench.
+  std::vector<Vec6> linear_deflection, linear_wrench;
   Scales scales;
   int iterations = 0;
   int load_steps = 0;
@@ -242,21 +174,42 @@ struct Path {
     return w;
   }
 
+  // The state λ·linear (rotations exp(λ·φ)) in `ends`: the linear solution of the loads λ·W,
+  // where Newton's first step from the unloaded pose would land but for the terms of the
+  // tangent proportional to the loads. False (`ends` unchanged) where it turns some link end by
+  // more than kLargestTurn, as that first step would have been refused.
+  bool start_from_linear(double factor, std::vector<EndState>& ends) const {
+    double motion = 0;
+    for (const Vec6& t : linear_deflection)
+      motion = std::max({motion, factor * t.head<3>().cwiseAbs().maxCoeff() / scales.length,
+                         factor * t.tail<3>().cwiseAbs().maxCoeff()});
+    if (motion > kLargestTurn) return false;
+    for (std::size_t e = 0; e < ends.size(); ++e) {
+      ends[e].position = unloaded[e] + factor * linear_deflection[e].head<3>();
+      ends[e].rotation = rotation_matrix(Vec3(factor * linear_deflection[e].tail<3>()));
+      ends[e].wrench = factor * linear_wrench[e];
+    }
+    return true;
+  }
+
   // Newton's iterations at load factor `factor` from `ends`; true with `ends` in equilibrium and
   // the tangent factorised at the last iterate, false (ends unspecified) where they do not
   // converge.
   bool equilibrium(double factor, std::vector<EndState>& ends) {
     const std::vector<Vec6> external = external_at(factor);
     VecX residual;
+    MatX correction;
     double last_motion = std::numeric_limits<double>::infinity();
     for (int iteration = 0; iteration < kMostIterations; ++iteration) {
       ++iterations;
       const LoadedInputs in{ends, external, factor};
       if (!tangent.evaluate(in, residual, true)) return false;
-      const VecX step = tangent.solve(-residual);
+      correction = -residual;
+      tangent.solve(correction);
+      const auto step = correction.col(0);
       if (!step.allFinite()) return false;
       const auto [motion, wrench] = correction_size(step, scales);
-      apply(step, ends);
+      apply_correction(step, ends);
       const auto [state_motion, state_wrench] = state_size(ends, unloaded, scales);
       if (motion > kLargestTurn) return false;
       const bool small = motion <= kNewtonTolerance * state_motion &&
@@ -285,6 +238,90 @@ std::string factor_text(double f) {
 
 }  // namespace
 
+void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns) {
+  blocks_ = &blocks;
+  std::vector<int> layout;
+  layout.reserve(layout_.size());
+  layout.push_back(static_cast<int>(unknowns));
+  for (const auto& b : blocks) {
+    layout.push_back(static_cast<int>(b->equation_count()));
+    layout.push_back(static_cast<int>(b->ends().size()));
+    layout.insert(layout.end(), b->ends().begin(), b->ends().end());
+  }
+  if (!solver_ || layout != layout_) {
+    layout_ = std::move(layout);
+    n_ = unknowns;
+    record_pattern();
+  }
+  solver_->renew_reference();
+  reference_scaling_.reset();
+}
+
+void LoadedTangent::record_pattern() {
+  first_row_.clear();
+  std::vector<Eigen::Triplet<double>> entries;
+  Index row = 0;
+  for (const auto& b : *blocks_) {
+    first_row_.push_back(row);
+    const Index rows = b->equation_count();
+    const auto& ends = b->ends();
+    for (std::size_t k = 0; k < ends.size(); ++k)
+      for (Index c = 0; c < 12; ++c)
+        for (Index i = 0; i < rows; ++i)
+          entries.emplace_back(static_cast<int>(row + i), static_cast<int>(12 * ends[k] + c), 1.0);
+    row += rows;
+  }
+  matrix_.resize(n_, n_);
+  matrix_.setFromTriplets(entries.begin(), entries.end());
+  matrix_.makeCompressed();
+  positions_.clear();
+  positions_.reserve(entries.size());
+  for (const auto& e : entries) {
+    const int* first = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[e.col()];
+    const int* last = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[e.col() + 1];
+    positions_.push_back(
+        static_cast<int>(std::lower_bound(first, last, e.row()) - matrix_.innerIndexPtr()));
+  }
+  scaled_ = matrix_;
+  solver_ = make_linear_solver(kind_);
+  solver_->analyze(scaled_);
+}
+
+bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
+  residual.resize(n_);
+  double* const values = matrix_.valuePtr();
+  if (factorise) std::fill(values, values + matrix_.nonZeros(), 0.0);
+  const int* position = positions_.data();
+  for (std::size_t b = 0; b < blocks_->size(); ++b) {
+    const LoadedBlock& block = *(*blocks_)[b];
+    const Index rows = block.equation_count();
+    block.evaluate(in, residual.segment(first_row_[b], rows),
+                   factorise ? &block_tangent_ : nullptr);
+    if (!factorise) continue;
+    const Index count = rows * 12 * static_cast<Index>(block.ends().size());
+    const double* entry = block_tangent_.data();
+    for (Index k = 0; k < count; ++k) values[position[k]] += entry[k];
+    position += count;
+  }
+  if (!factorise) return true;
+  scaling_ = equilibrate(matrix_, reference_scaling_ ? &*reference_scaling_ : nullptr);
+  if (!reference_scaling_) reference_scaling_ = scaling_;
+  double* const scaled = scaled_.valuePtr();
+  const int* const rows = matrix_.innerIndexPtr();
+  for (Index j = 0; j < n_; ++j) {
+    const double column = scaling_.column(j);
+    for (int k = matrix_.outerIndexPtr()[j]; k < matrix_.outerIndexPtr()[j + 1]; ++k)
+      scaled[k] = values[k] * scaling_.row(rows[k]) * column;
+  }
+  return solver_->factorize(scaled_);
+}
+
+void LoadedTangent::solve(MatX& b) const {
+  b.array().colwise() *= scaling_.row.array();
+  solver_->solve(b);
+  b.array().colwise() *= scaling_.column.array();
+}
+
 std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
   std::vector<Vec6> loads(static_cast<std::size_t>(topology.end_count()), Vec6::Zero());
   for (std::size_t i = 0; i < model.loads.size(); ++i)
@@ -293,15 +330,16 @@ std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
 }
 
 Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
-                     const Result& linear, const std::vector<Vec6>& loads, int load_steps) {
+                     const Result& linear, const std::vector<Vec6>& loads, int load_steps,
+                     LoadedTangent& tangent) {
   if (!model.link_loads.empty() || model.gravity)
     throw UsageError(
         "the loaded mode takes loads at link ends and preloads; loads along links and gravity "
         "are not part of it yet: solve this model in the linear mode");
   const std::vector<std::unique_ptr<LoadedBlock>> blocks = make_loaded_blocks(model, topology);
   const int end_count = topology.end_count();
-  Path path{blocks, Tangent(blocks, topology.unknowns()), {}, {}, {}, 0, 0};
-  path.full_external = loads;
+  tangent.begin(blocks, topology.unknowns());
+  Path path{blocks, tangent, loads, {}, {}, {}, {}, 0, 0};
   path.scales.length = characteristic_length(model);
   double force = 0;
   for (const Vec6& w : path.full_external)
@@ -313,6 +351,16 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
         force = std::max({force, end->wrench->head<3>().cwiseAbs().maxCoeff(),
                           end->wrench->tail<3>().cwiseAbs().maxCoeff() / path.scales.length});
   path.scales.force = force > 0 ? force : 1.0;
+  for (const LinkResult& l : linear.links)
+    for (const LinkEndResult* end : {&l.from, &l.to})
+      if (end->deflection && end->wrench) {
+        path.linear_deflection.push_back(*end->deflection);
+        path.linear_wrench.push_back(*end->wrench);
+      }
+  if (path.linear_deflection.size() != static_cast<std::size_t>(topology.end_count())) {
+    path.linear_deflection.clear();
+    path.linear_wrench.clear();
+  }
 
   std::vector<EndState> ends(static_cast<std::size_t>(end_count));
   for (int e = 0; e < end_count; ++e) {
@@ -336,7 +384,10 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   while (reached < 1.0) {
     const double target = std::min(1.0, reached + step);
     std::vector<EndState> trial = ends;
-    const bool converged = path.equilibrium(target, trial);
+    // The first step starts from the linear solution of its loads.
+    const bool from_linear = reached == 0 && !path.linear_deflection.empty();
+    const bool converged =
+        (!from_linear || path.start_from_linear(target, trial)) && path.equilibrium(target, trial);
     const bool critical = converged && path.tangent.determinant_sign() != unloaded_sign;
     if (converged && !critical) {
       ends = std::move(trial);
@@ -380,7 +431,8 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   Result result = linear;
   result.linear = std::make_shared<const Result>(linear);
   result.analysis = {AnalysisMode::loaded, path.load_steps, path.iterations};
-  result.report.solver = SolverUsed::sparse_lu;
+  result.report.solver =
+      solver_used_from_string(tangent.solver_name()).value_or(SolverUsed::sparse_lu);
   result.report.reciprocal_condition = 0;
   // The linear method's range no longer applies.
   std::erase_if(result.report.warnings, [&](const std::string& w) {
@@ -451,7 +503,8 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
       block.evaluate(LoadedInputs{ends, pushed, 1.0}, moved, nullptr);
       rhs.col(c).segment(first_row, rows) = base - moved;
     }
-    const MatX x = path.tangent.solve(rhs);
+    MatX x = std::move(rhs);
+    path.tangent.solve(x);
     EndEffectorResult& r = result.end_effectors[e];
     const Mat6 compliance = x.middleRows<6>(12 * static_cast<Index>(end));
     r.compliance = compliance;
