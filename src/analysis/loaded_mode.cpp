@@ -238,7 +238,8 @@ std::string factor_text(double f) {
 
 }  // namespace
 
-void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns) {
+void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks,
+                          Index unknowns) {
   blocks_ = &blocks;
   std::vector<int> layout;
   layout.reserve(layout_.size());
@@ -254,7 +255,7 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
     record_pattern();
   }
   solver_->renew_reference();
-  reference_scaling_.reset();
+  scaling_.reset();
 }
 
 void LoadedTangent::record_pattern() {
@@ -285,41 +286,62 @@ void LoadedTangent::record_pattern() {
   scaled_ = matrix_;
   solver_ = make_linear_solver(kind_);
   solver_->analyze(scaled_);
+  unloaded_solver_ = make_linear_solver(kind_);
+  unloaded_solver_->analyze(scaled_);
+  unloaded_scaling_.reset();
 }
 
-bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
+void LoadedTangent::assemble(const LoadedInputs& in, VecX& residual, bool with_tangent) {
   residual.resize(n_);
   double* const values = matrix_.valuePtr();
-  if (factorise) std::fill(values, values + matrix_.nonZeros(), 0.0);
+  if (with_tangent) std::fill(values, values + matrix_.nonZeros(), 0.0);
   const int* position = positions_.data();
   for (std::size_t b = 0; b < blocks_->size(); ++b) {
     const LoadedBlock& block = *(*blocks_)[b];
     const Index rows = block.equation_count();
     block.evaluate(in, residual.segment(first_row_[b], rows),
-                   factorise ? &block_tangent_ : nullptr);
-    if (!factorise) continue;
+                   with_tangent ? &block_tangent_ : nullptr);
+    if (!with_tangent) continue;
     const Index count = rows * 12 * static_cast<Index>(block.ends().size());
     const double* entry = block_tangent_.data();
     for (Index k = 0; k < count; ++k) values[position[k]] += entry[k];
     position += count;
   }
-  if (!factorise) return true;
-  scaling_ = equilibrate(matrix_, reference_scaling_ ? &*reference_scaling_ : nullptr);
-  if (!reference_scaling_) reference_scaling_ = scaling_;
+}
+
+void LoadedTangent::scale(const Equilibration& scaling) {
+  const double* const values = matrix_.valuePtr();
   double* const scaled = scaled_.valuePtr();
   const int* const rows = matrix_.innerIndexPtr();
   for (Index j = 0; j < n_; ++j) {
-    const double column = scaling_.column(j);
+    const double column = scaling.column(j);
     for (int k = matrix_.outerIndexPtr()[j]; k < matrix_.outerIndexPtr()[j + 1]; ++k)
-      scaled[k] = values[k] * scaling_.row(rows[k]) * column;
+      scaled[k] = values[k] * scaling.row(rows[k]) * column;
   }
+}
+
+bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
+  assemble(in, residual, factorise);
+  if (!factorise) return true;
+  // The tangents of a case's Newton iterations differ little: the first one's scaling serves
+  // them all, as its pivot order does.
+  if (!scaling_) scaling_ = equilibrate(matrix_);
+  scale(*scaling_);
   return solver_->factorize(scaled_);
 }
 
+double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
+  VecX residual;
+  assemble(in, residual, true);
+  unloaded_scaling_ = equilibrate(matrix_, unloaded_scaling_ ? &*unloaded_scaling_ : nullptr);
+  scale(*unloaded_scaling_);
+  return unloaded_solver_->factorize(scaled_) ? unloaded_solver_->determinant_sign() : 0.0;
+}
+
 void LoadedTangent::solve(MatX& b) const {
-  b.array().colwise() *= scaling_.row.array();
+  b.array().colwise() *= scaling_->row.array();
   solver_->solve(b);
-  b.array().colwise() *= scaling_.column.array();
+  b.array().colwise() *= scaling_->column.array();
 }
 
 std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
@@ -371,13 +393,13 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   // The tangent's determinant keeps its sign along the path until it passes a critical point.
   VecX residual;
   const std::vector<Vec6> none(static_cast<std::size_t>(end_count), Vec6::Zero());
-  if (!path.tangent.evaluate(LoadedInputs{ends, none, 0.0}, residual, true))
+  const double unloaded_sign = path.tangent.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0});
+  if (unloaded_sign == 0)
     throw SingularModelError(SingularModelError::Cause::numerical,
                              "the loaded mode needs a regular tangent at the unloaded pose, and "
                              "this model's is singular (a mechanism, or idle motions that the "
                              "linear mode accepted)",
                              {});
-  const double unloaded_sign = path.tangent.determinant_sign();
 
   const double nominal = 1.0 / std::max(load_steps, 1);
   double reached = 0, step = nominal;

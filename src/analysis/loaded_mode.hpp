@@ -15,11 +15,14 @@ namespace stiffmsa::detail {
 
 // The Newton tangent of the loaded mode, which a workspace keeps from one pose to the next
 // (docs/theory.md §15.7): its pattern, where each block's entries go in the compressed matrix,
-// and the factorising solver's analysis of that pattern. The first matrix factorised after
-// `begin` is the reference: its own equilibration and pivots; later matrices start their
-// equilibration from its scaling and keep its pivot order where it stays stable (KluLU in
-// sparse_solver.cpp). So a load case's factors depend on its pose alone, never on the poses
-// the workspace solved before.
+// and the factorising solvers' analyses of that pattern. Two factorisations:
+// - the Newton tangents of a load case: the first after `begin` is the reference, equilibrated
+//   from scratch and pivoted afresh; later ones take its scaling as it is and keep its pivot
+//   order where that stays stable (KluLU in sparse_solver.cpp). So a case's results depend on
+//   its pose alone, never on the poses the workspace solved before.
+// - the unloaded tangent, whose determinant's sign alone is used (the critical-point check): it
+//   starts its equilibration from, and keeps the pivot order of, the first unloaded tangent the
+//   workspace factorised (a sign does not depend on the pivots).
 class LoadedTangent {
  public:
   explicit LoadedTangent(SolverKind kind) : kind_(kind) {}
@@ -27,14 +30,18 @@ class LoadedTangent {
 
   // Takes `blocks` (kept by reference until the next begin) over `unknowns` unknowns: their
   // pattern is recorded and analysed again only where the blocks' rows and ends differ from the
-  // last ones'. The next factorisation is the reference.
+  // last ones'. The next Newton tangent is the reference.
   void begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns);
 
   // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where
   // the tangent is singular (a zero pivot).
   bool evaluate(const LoadedInputs& in, VecX& residual, bool factorise);
 
-  // Solves the last factorised tangent for the columns of b, in place.
+  // The sign of the determinant of the tangent at `in` (the unloaded pose under no load); 0
+  // where it is singular (a zero pivot).
+  double unloaded_determinant_sign(const LoadedInputs& in);
+
+  // Solves the last factorised Newton tangent for the columns of b, in place.
   void solve(MatX& b) const;
 
   double determinant_sign() const { return solver_->determinant_sign(); }
@@ -43,6 +50,10 @@ class LoadedTangent {
 
  private:
   void record_pattern();
+  // The blocks' tangents at `in` into matrix_, their residuals into `residual`.
+  void assemble(const LoadedInputs& in, VecX& residual, bool with_tangent);
+  // scaled_ = S_r·matrix_·S_c.
+  void scale(const Equilibration& scaling);
 
   SolverKind kind_;
   const std::vector<std::unique_ptr<LoadedBlock>>* blocks_ = nullptr;
@@ -55,9 +66,10 @@ class LoadedTangent {
   std::vector<int> positions_;
   SparseMatrix matrix_, scaled_;
   MatX block_tangent_;
-  Equilibration scaling_;
-  std::optional<Equilibration> reference_scaling_;
+  std::optional<Equilibration> scaling_;  // the Newton tangents', from their reference
   std::unique_ptr<LinearSolver> solver_;
+  std::optional<Equilibration> unloaded_scaling_;
+  std::unique_ptr<LinearSolver> unloaded_solver_;
 };
 
 // The external wrench at every link end (global axes, moment about the end) of the model's own
