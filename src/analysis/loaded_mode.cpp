@@ -27,6 +27,12 @@ constexpr double kNewtonFloor = 1e-7;
 // A correction below this (of the model size, or in radians) is at the rounding of the state
 // itself, which holds positions and rotation matrices of size ~1: no iteration can do better.
 constexpr double kRoundingFloor = 1e-13;
+// The last iterate's tangent is the equilibrium's where the last correction is below this
+// fraction of the state's motion, or where it is at the rounding of the state's own storage: a
+// motion below kStateRounding of the model size (positions of size L and rotation matrices of
+// size 1 hold no finer digit) and wrenches below kStateRounding of their scale.
+constexpr double kTangentKept = 1e-13;
+constexpr double kStateRounding = 1e-15;
 // At most this many iterations in a load step before it is cut in half.
 constexpr int kMostIterations = 30;
 // A correction that turns a link end by more than this (rad) is no Newton step near an
@@ -164,9 +170,9 @@ struct Path {
   Scales scales;
   int iterations = 0;
   int load_steps = 0;
-  // The size of the last converged step's last correction: where it is at rounding level the
+  // Whether the last converged step's last correction was at rounding level, so that the
   // tangent factorised for it is the equilibrium's to as many digits.
-  double last_correction = 0;
+  bool tangent_at_equilibrium = false;
 
   std::vector<Vec6> external_at(double factor) const {
     std::vector<Vec6> w(full_external.size());
@@ -220,7 +226,9 @@ struct Path {
       const bool rounding =
           motion <= kRoundingFloor && wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
       if (small || stalled || rounding) {
-        last_correction = state_motion > 0 ? motion / state_motion : motion;
+        tangent_at_equilibrium =
+            motion <= kTangentKept * state_motion ||
+            (motion <= kStateRounding && wrench <= kStateRounding * std::max(state_wrench, 1.0));
         return true;
       }
       last_motion = motion;
@@ -443,8 +451,7 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   const LoadedInputs at_equilibrium{ends, external, 1.0};
   // Formed again unless the last correction was at rounding level (the tangent then differs
   // from the equilibrium's by as little).
-  constexpr double kTangentKept = 1e-13;
-  if (path.last_correction > kTangentKept && !path.tangent.evaluate(at_equilibrium, residual, true))
+  if (!path.tangent_at_equilibrium && !path.tangent.evaluate(at_equilibrium, residual, true))
     throw NoEquilibriumError(
         "the loaded mode's tangent is singular at the equilibrium under the full loads: the "
         "structure is at a critical point there",
