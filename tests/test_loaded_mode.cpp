@@ -328,7 +328,8 @@ double largest_relative_difference(const Result& a, const Result& b) {
   double deflection = 0, wrench = 0;
   for (const LinkResult& l : b.links)
     for (const LinkEndResult* end : {&l.from, &l.to}) {
-      if (end->deflection) deflection = std::max(deflection, end->deflection->cwiseAbs().maxCoeff());
+      if (end->deflection)
+        deflection = std::max(deflection, end->deflection->cwiseAbs().maxCoeff());
       if (end->wrench) wrench = std::max(wrench, end->wrench->cwiseAbs().maxCoeff());
     }
   for (std::size_t l = 0; l < a.links.size(); ++l) {

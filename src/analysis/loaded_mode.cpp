@@ -246,8 +246,7 @@ std::string factor_text(double f) {
 
 }  // namespace
 
-void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks,
-                          Index unknowns) {
+void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns) {
   blocks_ = &blocks;
   std::vector<int> layout;
   layout.reserve(layout_.size());
@@ -401,7 +400,8 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   // The tangent's determinant keeps its sign along the path until it passes a critical point.
   VecX residual;
   const std::vector<Vec6> none(static_cast<std::size_t>(end_count), Vec6::Zero());
-  const double unloaded_sign = path.tangent.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0});
+  const double unloaded_sign =
+      path.tangent.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0});
   if (unloaded_sign == 0)
     throw SingularModelError(SingularModelError::Cause::numerical,
                              "the loaded mode needs a regular tangent at the unloaded pose, and "
