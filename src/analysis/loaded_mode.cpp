@@ -342,7 +342,11 @@ double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
   assemble(in, residual, true);
   unloaded_scaling_ = equilibrate(matrix_, unloaded_scaling_ ? &*unloaded_scaling_ : nullptr);
   scale(*unloaded_scaling_);
-  return unloaded_solver_->factorize(scaled_) ? unloaded_solver_->determinant_sign() : 0.0;
+  if (!unloaded_solver_->factorize(scaled_)) return 0.0;
+  // The next pose's unloaded tangent is likelier to suit this one's pivots than an older one's
+  // (a sweep's neighbouring poses); which pivots give the sign does not matter.
+  unloaded_solver_->adopt_last_as_reference();
+  return unloaded_solver_->determinant_sign();
 }
 
 void LoadedTangent::solve(MatX& b) const {

@@ -129,6 +129,7 @@ class KluLU final : public LinearSolver {
     reference_state_ = Reference::none_yet;
   }
   bool factorize(const SparseMatrix& a) override {
+    last_ = &a;
     int* const ap = const_cast<int*>(a.outerIndexPtr());
     int* const ai = const_cast<int*>(a.innerIndexPtr());
     double* const ax = const_cast<double*>(a.valuePtr());
@@ -163,6 +164,16 @@ class KluLU final : public LinearSolver {
   const char* name() const override { return "klu"; }
   bool reused_pivot_order() const override { return reused_; }
   void renew_reference() override { reference_state_ = Reference::none_yet; }
+  void adopt_last_as_reference() override {
+    if (reference_state_ != Reference::fixed || reused_ || !fresh_ || active_ != fresh_ || !last_)
+      return;
+    int* const ap = const_cast<int*>(last_->outerIndexPtr());
+    int* const ai = const_cast<int*>(last_->innerIndexPtr());
+    double* const ax = const_cast<double*>(last_->valuePtr());
+    if (!klu_rgrowth(ap, ai, ax, symbolic_, fresh_, &common_)) return;
+    std::swap(reference_, fresh_);
+    reference_growth_ = common_.rgrowth;
+  }
   // P·A·Q = L·U with L's diagonal of ones: det A = det P · det Q · Π U_kk (KLU's own row
   // scaling, which would add positive factors, is off).
   double determinant_sign() const override {
@@ -232,6 +243,7 @@ class KluLU final : public LinearSolver {
   klu_numeric* active_ = nullptr;     // the factorisation of the last matrix
   Reference reference_state_ = Reference::none_yet;
   double reference_growth_ = 0;
+  const SparseMatrix* last_ = nullptr;  // the matrix factorised last
   bool reused_ = false;
   std::vector<double> multipliers_;  // L of a refactorisation, to check
   std::vector<int> multiplier_rows_, multiplier_starts_;
@@ -268,6 +280,9 @@ class AutomaticLU final : public LinearSolver {
   double determinant_sign() const override { return chosen_->determinant_sign(); }
   void renew_reference() override {
     if (chosen_) chosen_->renew_reference();
+  }
+  void adopt_last_as_reference() override {
+    if (chosen_) chosen_->adopt_last_as_reference();
   }
 
  private:

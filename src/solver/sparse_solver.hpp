@@ -30,6 +30,9 @@ class LinearSolver {
   // The next factorisation becomes the reference whose pivot order later ones keep (KLU), as
   // after a pattern analysis, without analysing the pattern again.
   virtual void renew_reference() {}
+  // Where the last factorisation was made afresh (the reference's pivot order did not suit it),
+  // it becomes the reference (KLU): for a sequence of matrices that drift away from the first.
+  virtual void adopt_last_as_reference() {}
 };
 
 std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
