@@ -21,8 +21,8 @@ namespace stiffmsa::detail {
 //   order where that stays stable (KluLU in sparse_solver.cpp). So a case's results depend on
 //   its pose alone, never on the poses the workspace solved before.
 // - the unloaded tangent, whose determinant's sign alone is used (the critical-point check): it
-//   starts its equilibration from, and keeps the pivot order of, the first unloaded tangent the
-//   workspace factorised (a sign does not depend on the pivots).
+//   starts its equilibration from the last unloaded tangent's scaling and keeps the pivot order
+//   of the last one factorised afresh (a sign does not depend on the pivots).
 class LoadedTangent {
  public:
   explicit LoadedTangent(SolverKind kind) : kind_(kind) {}
