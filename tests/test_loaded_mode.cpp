@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/model.hpp"
+#include "stiffmsa/parametric.hpp"
 
 namespace stiffmsa {
 namespace {
@@ -310,6 +312,87 @@ TEST(LoadedMode, ColumnBeyondEulersLoadReportsTheCriticalLoadFactor) {
     EXPECT_NEAR(e.load_factor(), 0.5, 2e-3) << e.what();
     EXPECT_NE(std::string(e.what()).find("load factor"), std::string::npos) << e.what();
   }
+}
+
+// ---- a workspace's poses ------------------------------------------------------------------
+
+// Of two results of one pose: the largest difference of every end effector's compliance,
+// stiffness and deflection and of every link end's deflection and wrench, each relative to the
+// largest entry of its kind.
+double largest_relative_difference(const Result& a, const Result& b) {
+  double largest = 0;
+  auto compare = [&](const auto& x, const auto& y, double scale) {
+    EXPECT_EQ(x.has_value(), y.has_value());
+    if (x && y && scale > 0) largest = std::max(largest, (*x - *y).cwiseAbs().maxCoeff() / scale);
+  };
+  double deflection = 0, wrench = 0;
+  for (const LinkResult& l : b.links)
+    for (const LinkEndResult* end : {&l.from, &l.to}) {
+      if (end->deflection)
+        deflection = std::max(deflection, end->deflection->cwiseAbs().maxCoeff());
+      if (end->wrench) wrench = std::max(wrench, end->wrench->cwiseAbs().maxCoeff());
+    }
+  for (std::size_t l = 0; l < a.links.size(); ++l) {
+    compare(a.links[l].from.deflection, b.links[l].from.deflection, deflection);
+    compare(a.links[l].to.deflection, b.links[l].to.deflection, deflection);
+    compare(a.links[l].from.wrench, b.links[l].from.wrench, wrench);
+    compare(a.links[l].to.wrench, b.links[l].to.wrench, wrench);
+  }
+  for (std::size_t e = 0; e < a.end_effectors.size(); ++e) {
+    const EndEffectorResult &x = a.end_effectors[e], &y = b.end_effectors[e];
+    compare(x.compliance, y.compliance, y.compliance ? y.compliance->cwiseAbs().maxCoeff() : 0);
+    compare(x.stiffness, y.stiffness, y.stiffness ? y.stiffness->cwiseAbs().maxCoeff() : 0);
+    compare(x.deflection, y.deflection, y.deflection ? y.deflection->cwiseAbs().maxCoeff() : 0);
+  }
+  return largest;
+}
+
+// The loaded poses of a family solved through one workspace (the tangent's pattern, analysis
+// and position map kept from pose to pose, docs/theory.md §15.7), in either order, against the
+// one-shot loaded solve of each pose's model: the same results to 1e-12, the same iterations.
+void expect_workspace_poses_equal_one_shot_solves(const std::string& file,
+                                                  const std::vector<std::vector<double>>& poses,
+                                                  const std::vector<std::string>& parameters) {
+  SCOPED_TRACE(file);
+  const ModelFamily family =
+      load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + file);
+  const Structure structure = family.structure();
+  std::vector<std::vector<double>> members;
+  for (const std::vector<double>& pose : poses) {
+    std::vector<double> values = family.default_values();
+    for (std::size_t p = 0; p < parameters.size(); ++p)
+      values[*family.find_parameter(parameters[p])] = pose[p];
+    members.push_back(values);
+  }
+  std::vector<Result> one_shot;
+  for (const std::vector<double>& member : members)
+    one_shot.push_back(solve(family.build(member), loaded_options()));
+  for (const bool reversed : {false, true}) {
+    Workspace workspace(structure);
+    ModelFamily::ValueWriter write = family.make_writer(structure);
+    std::vector<double> slots = structure.default_values();
+    std::vector<Diagnostic> warnings;
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const std::size_t pose = reversed ? members.size() - 1 - k : k;
+      SCOPED_TRACE("pose " + std::to_string(pose) + (reversed ? " (reversed)" : ""));
+      write(members[pose], slots, warnings);
+      const Result through_workspace = solve(workspace, slots, loaded_options());
+      ASSERT_EQ(through_workspace.analysis.mode, AnalysisMode::loaded);
+      EXPECT_EQ(through_workspace.analysis.iterations, one_shot[pose].analysis.iterations);
+      EXPECT_EQ(through_workspace.analysis.load_steps, one_shot[pose].analysis.load_steps);
+      EXPECT_LE(largest_relative_difference(through_workspace, one_shot[pose]), 1e-12);
+    }
+  }
+}
+
+TEST(LoadedMode, WorkspacePosesEqualOneShotSolves) {
+  expect_workspace_poses_equal_one_shot_solves(
+      "tripteron-parametric.yaml",
+      {{0.32, 0.28, 0.30}, {0.25, 0.35, 0.27}, {0.38, 0.22, 0.33}, {0.30, 0.30, 0.24}},
+      {"px", "py", "pz"});
+  expect_workspace_poses_equal_one_shot_solves(
+      "planar-3rpr-parametric.yaml", {{0.46, 0.33, 0.0831}, {0.40, 0.30, 0.0}, {0.50, 0.36, 0.15}},
+      {"x", "y", "phi"});
 }
 
 // ---- the command line ----------------------------------------------------------------------

@@ -441,10 +441,9 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
 
 void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<SpinLock>& locks, const SolveOptions& options,
-                        Result& result) {
+                        const std::vector<CaseLoads>& cases, Result& result) {
   // The cases in the order case_loads gives them: the unnamed one where there is one, then
   // the named ones, as Result holds them (the self-weight column after them is no case).
-  const std::vector<CaseLoads> cases = case_loads(model, topology);
   const bool unnamed = has_unnamed_case(model);
   const std::size_t first_named = unnamed ? 1 : 0;
   for (std::size_t c = 0; c < result.load_cases.size(); ++c) {

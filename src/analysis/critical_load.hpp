@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/case_loads.hpp"
 #include "assembly/topology.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/result.hpp"
@@ -37,8 +38,9 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
 // joints' reactions from the loads applied at link ends). The top level's is the unnamed case's
 // where the model has one (any load, load along a link or gravity) or no named case, else a copy
 // of the first case's, as the top-level results are.
+// `cases`: case_loads(model, topology), as the solve computed them.
 void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<SpinLock>& locks, const SolveOptions& options,
-                        Result& result);
+                        const std::vector<CaseLoads>& cases, Result& result);
 
 }  // namespace stiffmsa::detail

@@ -3,7 +3,6 @@
 #include "analysis/loaded_mode.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -12,8 +11,6 @@
 #include "elements/beam_element.hpp"
 #include "elements/cad_link.hpp"
 #include "elements/finite_rotation.hpp"
-#include "elements/loaded_blocks.hpp"
-#include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
 
@@ -30,6 +27,12 @@ constexpr double kNewtonFloor = 1e-7;
 // A correction below this (of the model size, or in radians) is at the rounding of the state
 // itself, which holds positions and rotation matrices of size ~1: no iteration can do better.
 constexpr double kRoundingFloor = 1e-13;
+// The last iterate's tangent is the equilibrium's where the last correction is below this
+// fraction of the state's motion, or where it is at the rounding of the state's own storage: a
+// motion below kStateRounding of the model size (positions of size L and rotation matrices of
+// size 1 hold no finer digit) and wrenches below kStateRounding of their scale.
+constexpr double kTangentKept = 1e-13;
+constexpr double kStateRounding = 1e-15;
 // At most this many iterations in a load step before it is cut in half.
 constexpr int kMostIterations = 30;
 // A correction that turns a link end by more than this (rad) is no Newton step near an
@@ -111,76 +114,6 @@ std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(const Model& model,
   return blocks;
 }
 
-// The tangent system: assembled from the blocks' tangents, equilibrated by powers of two and
-// factorised by sparse LU (its pattern analysed once: every block writes the same positions at
-// every state).
-class Tangent {
- public:
-  Tangent(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns)
-      : blocks_(blocks), n_(unknowns) {
-    Index row = 0;
-    for (const auto& b : blocks_) {
-      first_row_.push_back(row);
-      row += b->equation_count();
-    }
-  }
-
-  // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where the
-  // tangent is singular.
-  bool evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
-    residual.resize(n_);
-    triplets_.clear();
-    MatX block_tangent;
-    for (std::size_t b = 0; b < blocks_.size(); ++b) {
-      const LoadedBlock& block = *blocks_[b];
-      const Index rows = block.equation_count();
-      block.evaluate(in, residual.segment(first_row_[b], rows),
-                     factorise ? &block_tangent : nullptr);
-      if (!factorise) continue;
-      const auto& ends = block.ends();
-      for (std::size_t k = 0; k < ends.size(); ++k)
-        for (Index c = 0; c < 12; ++c)
-          for (Index i = 0; i < rows; ++i)
-            triplets_.emplace_back(static_cast<int>(first_row_[b] + i),
-                                   static_cast<int>(12 * ends[k] + c),
-                                   block_tangent(i, 12 * static_cast<Index>(k) + c));
-    }
-    if (!factorise) return true;
-    matrix_.resize(n_, n_);
-    matrix_.setFromTriplets(triplets_.begin(), triplets_.end());
-    matrix_.makeCompressed();
-    scaling_ = equilibrate(matrix_);
-    scaled_ = scaling_.row.asDiagonal() * matrix_ * scaling_.column.asDiagonal();
-    scaled_.makeCompressed();
-    if (!analysed_) {
-      lu_.analyzePattern(scaled_);
-      analysed_ = true;
-    }
-    lu_.factorize(scaled_);
-    return lu_.info() == Eigen::Success;
-  }
-
-  // Solves the last factorised tangent for the columns of b.
-  MatX solve(const MatX& b) {
-    MatX y = scaling_.row.asDiagonal() * b;
-    y = lu_.solve(y).eval();
-    return scaling_.column.asDiagonal() * y;
-  }
-
-  double determinant_sign() { return lu_.signDeterminant(); }
-  Index first_row(std::size_t block) const { return first_row_[block]; }
-
- private:
-  const std::vector<std::unique_ptr<LoadedBlock>>& blocks_;
-  Index n_;
-  std::vector<Index> first_row_;
-  std::vector<Eigen::Triplet<double>> triplets_;
-  SparseMatrix matrix_, scaled_;
-  Equilibration scaling_;
-  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_;
-  bool analysed_ = false;
-};
-
 // The scales a correction is measured in: lengths against the model size, wrenches against the
 // largest force (and moment over the model size) of the loads and of the state.
 struct Scales {
@@ -189,7 +122,8 @@ struct Scales {
 };
 
 // max(|δx|/L, |δθ|) and max(|δF|, |δM|/L)/force over the link ends.
-std::pair<double, double> correction_size(const VecX& step, const Scales& scales) {
+std::pair<double, double> correction_size(const Eigen::Ref<const VecX>& step,
+                                          const Scales& scales) {
   double motion = 0, wrench = 0;
   for (Index e = 0; e < step.size() / 12; ++e) {
     const auto s = step.segment<12>(12 * e);
@@ -215,7 +149,7 @@ std::pair<double, double> state_size(const std::vector<EndState>& ends,
   return {motion, wrench / scales.force};
 }
 
-void apply(const VecX& step, std::vector<EndState>& ends) {
+void apply_correction(const Eigen::Ref<const VecX>& step, std::vector<EndState>& ends) {
   for (std::size_t e = 0; e < ends.size(); ++e) {
     const auto s = step.segment<12>(12 * static_cast<Index>(e));
     ends[e].position += s.segment<3>(0);
@@ -226,20 +160,42 @@ void apply(const VecX& step, std::vector<EndState>& ends) {
 
 struct Path {
   const std::vector<std::unique_ptr<LoadedBlock>>& blocks;
-  Tangent tangent;
+  LoadedTangent& tangent;
   std::vector<Vec6> full_external;  // per link end, at λ = 1
   std::vector<Vec3> unloaded;
+  // The linear solution of the full loads (with the preloads and settlements) per link end, as
+  // a state: the start of the path's first step, times its load factor. Empty where the linear
+  // result lacks a link end's deflection or wrench.
+  std::vector<Vec6> linear_deflection, linear_wrench;
   Scales scales;
   int iterations = 0;
   int load_steps = 0;
-  // The size of the last converged step's last correction: where it is at rounding level the
+  // Whether the last converged step's last correction was at rounding level, so that the
   // tangent factorised for it is the equilibrium's to as many digits.
-  double last_correction = 0;
+  bool tangent_at_equilibrium = false;
 
   std::vector<Vec6> external_at(double factor) const {
     std::vector<Vec6> w(full_external.size());
     for (std::size_t e = 0; e < w.size(); ++e) w[e] = factor * full_external[e];
     return w;
+  }
+
+  // The state λ·linear (rotations exp(λ·φ)) in `ends`: the linear solution of the loads λ·W,
+  // where Newton's first step from the unloaded pose would land but for the terms of the
+  // tangent proportional to the loads. False (`ends` unchanged) where it turns some link end by
+  // more than kLargestTurn, as that first step would have been refused.
+  bool start_from_linear(double factor, std::vector<EndState>& ends) const {
+    double motion = 0;
+    for (const Vec6& t : linear_deflection)
+      motion = std::max({motion, factor * t.head<3>().cwiseAbs().maxCoeff() / scales.length,
+                         factor * t.tail<3>().cwiseAbs().maxCoeff()});
+    if (motion > kLargestTurn) return false;
+    for (std::size_t e = 0; e < ends.size(); ++e) {
+      ends[e].position = unloaded[e] + factor * linear_deflection[e].head<3>();
+      ends[e].rotation = rotation_matrix(Vec3(factor * linear_deflection[e].tail<3>()));
+      ends[e].wrench = factor * linear_wrench[e];
+    }
+    return true;
   }
 
   // Newton's iterations at load factor `factor` from `ends`; true with `ends` in equilibrium and
@@ -248,15 +204,18 @@ struct Path {
   bool equilibrium(double factor, std::vector<EndState>& ends) {
     const std::vector<Vec6> external = external_at(factor);
     VecX residual;
+    MatX correction;
     double last_motion = std::numeric_limits<double>::infinity();
     for (int iteration = 0; iteration < kMostIterations; ++iteration) {
       ++iterations;
       const LoadedInputs in{ends, external, factor};
       if (!tangent.evaluate(in, residual, true)) return false;
-      const VecX step = tangent.solve(-residual);
+      correction = -residual;
+      tangent.solve(correction);
+      const auto step = correction.col(0);
       if (!step.allFinite()) return false;
       const auto [motion, wrench] = correction_size(step, scales);
-      apply(step, ends);
+      apply_correction(step, ends);
       const auto [state_motion, state_wrench] = state_size(ends, unloaded, scales);
       if (motion > kLargestTurn) return false;
       const bool small = motion <= kNewtonTolerance * state_motion &&
@@ -267,7 +226,9 @@ struct Path {
       const bool rounding =
           motion <= kRoundingFloor && wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
       if (small || stalled || rounding) {
-        last_correction = state_motion > 0 ? motion / state_motion : motion;
+        tangent_at_equilibrium =
+            motion <= kTangentKept * state_motion ||
+            (motion <= kStateRounding && wrench <= kStateRounding * std::max(state_wrench, 1.0));
         return true;
       }
       last_motion = motion;
@@ -285,6 +246,115 @@ std::string factor_text(double f) {
 
 }  // namespace
 
+void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns) {
+  blocks_ = &blocks;
+  std::vector<int> layout;
+  layout.reserve(layout_.size());
+  layout.push_back(static_cast<int>(unknowns));
+  for (const auto& b : blocks) {
+    layout.push_back(static_cast<int>(b->equation_count()));
+    layout.push_back(static_cast<int>(b->ends().size()));
+    layout.insert(layout.end(), b->ends().begin(), b->ends().end());
+  }
+  if (!solver_ || layout != layout_) {
+    layout_ = std::move(layout);
+    n_ = unknowns;
+    record_pattern();
+  }
+  solver_->renew_reference();
+  scaling_.reset();
+}
+
+void LoadedTangent::record_pattern() {
+  first_row_.clear();
+  std::vector<Eigen::Triplet<double>> entries;
+  Index row = 0;
+  for (const auto& b : *blocks_) {
+    first_row_.push_back(row);
+    const Index rows = b->equation_count();
+    const auto& ends = b->ends();
+    for (std::size_t k = 0; k < ends.size(); ++k)
+      for (Index c = 0; c < 12; ++c)
+        for (Index i = 0; i < rows; ++i)
+          entries.emplace_back(static_cast<int>(row + i), static_cast<int>(12 * ends[k] + c), 1.0);
+    row += rows;
+  }
+  matrix_.resize(n_, n_);
+  matrix_.setFromTriplets(entries.begin(), entries.end());
+  matrix_.makeCompressed();
+  positions_.clear();
+  positions_.reserve(entries.size());
+  for (const auto& e : entries) {
+    const int* first = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[e.col()];
+    const int* last = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[e.col() + 1];
+    positions_.push_back(
+        static_cast<int>(std::lower_bound(first, last, e.row()) - matrix_.innerIndexPtr()));
+  }
+  scaled_ = matrix_;
+  solver_ = make_linear_solver(kind_);
+  solver_->analyze(scaled_);
+  unloaded_solver_ = make_linear_solver(kind_);
+  unloaded_solver_->analyze(scaled_);
+  unloaded_scaling_.reset();
+}
+
+void LoadedTangent::assemble(const LoadedInputs& in, VecX& residual, bool with_tangent) {
+  residual.resize(n_);
+  double* const values = matrix_.valuePtr();
+  if (with_tangent) std::fill(values, values + matrix_.nonZeros(), 0.0);
+  const int* position = positions_.data();
+  for (std::size_t b = 0; b < blocks_->size(); ++b) {
+    const LoadedBlock& block = *(*blocks_)[b];
+    const Index rows = block.equation_count();
+    block.evaluate(in, residual.segment(first_row_[b], rows),
+                   with_tangent ? &block_tangent_ : nullptr);
+    if (!with_tangent) continue;
+    const Index count = rows * 12 * static_cast<Index>(block.ends().size());
+    const double* entry = block_tangent_.data();
+    for (Index k = 0; k < count; ++k) values[position[k]] += entry[k];
+    position += count;
+  }
+}
+
+void LoadedTangent::scale(const Equilibration& scaling) {
+  const double* const values = matrix_.valuePtr();
+  double* const scaled = scaled_.valuePtr();
+  const int* const rows = matrix_.innerIndexPtr();
+  for (Index j = 0; j < n_; ++j) {
+    const double column = scaling.column(j);
+    for (int k = matrix_.outerIndexPtr()[j]; k < matrix_.outerIndexPtr()[j + 1]; ++k)
+      scaled[k] = values[k] * scaling.row(rows[k]) * column;
+  }
+}
+
+bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
+  assemble(in, residual, factorise);
+  if (!factorise) return true;
+  // The tangents of a case's Newton iterations differ little: the first one's scaling serves
+  // them all, as its pivot order does.
+  if (!scaling_) scaling_ = equilibrate(matrix_);
+  scale(*scaling_);
+  return solver_->factorize(scaled_);
+}
+
+double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
+  VecX residual;
+  assemble(in, residual, true);
+  unloaded_scaling_ = equilibrate(matrix_, unloaded_scaling_ ? &*unloaded_scaling_ : nullptr);
+  scale(*unloaded_scaling_);
+  if (!unloaded_solver_->factorize(scaled_)) return 0.0;
+  // The next pose's unloaded tangent is likelier to suit this one's pivots than an older one's
+  // (a sweep's neighbouring poses); which pivots give the sign does not matter.
+  unloaded_solver_->adopt_last_as_reference();
+  return unloaded_solver_->determinant_sign();
+}
+
+void LoadedTangent::solve(MatX& b) const {
+  b.array().colwise() *= scaling_->row.array();
+  solver_->solve(b);
+  b.array().colwise() *= scaling_->column.array();
+}
+
 std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
   std::vector<Vec6> loads(static_cast<std::size_t>(topology.end_count()), Vec6::Zero());
   for (std::size_t i = 0; i < model.loads.size(); ++i)
@@ -293,15 +363,16 @@ std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
 }
 
 Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
-                     const Result& linear, const std::vector<Vec6>& loads, int load_steps) {
+                     const Result& linear, const std::vector<Vec6>& loads, int load_steps,
+                     LoadedTangent& tangent) {
   if (!model.link_loads.empty() || model.gravity)
     throw UsageError(
         "the loaded mode takes loads at link ends and preloads; loads along links and gravity "
         "are not part of it yet: solve this model in the linear mode");
   const std::vector<std::unique_ptr<LoadedBlock>> blocks = make_loaded_blocks(model, topology);
   const int end_count = topology.end_count();
-  Path path{blocks, Tangent(blocks, topology.unknowns()), {}, {}, {}, 0, 0};
-  path.full_external = loads;
+  tangent.begin(blocks, topology.unknowns());
+  Path path{blocks, tangent, loads, {}, {}, {}, {}, 0, 0};
   path.scales.length = characteristic_length(model);
   double force = 0;
   for (const Vec6& w : path.full_external)
@@ -313,6 +384,16 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
         force = std::max({force, end->wrench->head<3>().cwiseAbs().maxCoeff(),
                           end->wrench->tail<3>().cwiseAbs().maxCoeff() / path.scales.length});
   path.scales.force = force > 0 ? force : 1.0;
+  for (const LinkResult& l : linear.links)
+    for (const LinkEndResult* end : {&l.from, &l.to})
+      if (end->deflection && end->wrench) {
+        path.linear_deflection.push_back(*end->deflection);
+        path.linear_wrench.push_back(*end->wrench);
+      }
+  if (path.linear_deflection.size() != static_cast<std::size_t>(topology.end_count())) {
+    path.linear_deflection.clear();
+    path.linear_wrench.clear();
+  }
 
   std::vector<EndState> ends(static_cast<std::size_t>(end_count));
   for (int e = 0; e < end_count; ++e) {
@@ -323,20 +404,24 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   // The tangent's determinant keeps its sign along the path until it passes a critical point.
   VecX residual;
   const std::vector<Vec6> none(static_cast<std::size_t>(end_count), Vec6::Zero());
-  if (!path.tangent.evaluate(LoadedInputs{ends, none, 0.0}, residual, true))
+  const double unloaded_sign =
+      path.tangent.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0});
+  if (unloaded_sign == 0)
     throw SingularModelError(SingularModelError::Cause::numerical,
                              "the loaded mode needs a regular tangent at the unloaded pose, and "
                              "this model's is singular (a mechanism, or idle motions that the "
                              "linear mode accepted)",
                              {});
-  const double unloaded_sign = path.tangent.determinant_sign();
 
   const double nominal = 1.0 / std::max(load_steps, 1);
   double reached = 0, step = nominal;
   while (reached < 1.0) {
     const double target = std::min(1.0, reached + step);
     std::vector<EndState> trial = ends;
-    const bool converged = path.equilibrium(target, trial);
+    // The first step starts from the linear solution of its loads.
+    const bool from_linear = reached == 0 && !path.linear_deflection.empty();
+    const bool converged =
+        (!from_linear || path.start_from_linear(target, trial)) && path.equilibrium(target, trial);
     const bool critical = converged && path.tangent.determinant_sign() != unloaded_sign;
     if (converged && !critical) {
       ends = std::move(trial);
@@ -370,8 +455,7 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   const LoadedInputs at_equilibrium{ends, external, 1.0};
   // Formed again unless the last correction was at rounding level (the tangent then differs
   // from the equilibrium's by as little).
-  constexpr double kTangentKept = 1e-13;
-  if (path.last_correction > kTangentKept && !path.tangent.evaluate(at_equilibrium, residual, true))
+  if (!path.tangent_at_equilibrium && !path.tangent.evaluate(at_equilibrium, residual, true))
     throw NoEquilibriumError(
         "the loaded mode's tangent is singular at the equilibrium under the full loads: the "
         "structure is at a critical point there",
@@ -380,7 +464,8 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   Result result = linear;
   result.linear = std::make_shared<const Result>(linear);
   result.analysis = {AnalysisMode::loaded, path.load_steps, path.iterations};
-  result.report.solver = SolverUsed::sparse_lu;
+  result.report.solver =
+      solver_used_from_string(tangent.solver_name()).value_or(SolverUsed::sparse_lu);
   result.report.reciprocal_condition = 0;
   // The linear method's range no longer applies.
   std::erase_if(result.report.warnings, [&](const std::string& w) {
@@ -451,7 +536,8 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
       block.evaluate(LoadedInputs{ends, pushed, 1.0}, moved, nullptr);
       rhs.col(c).segment(first_row, rows) = base - moved;
     }
-    const MatX x = path.tangent.solve(rhs);
+    MatX x = std::move(rhs);
+    path.tangent.solve(x);
     EndEffectorResult& r = result.end_effectors[e];
     const Mat6 compliance = x.middleRows<6>(12 * static_cast<Index>(end));
     r.compliance = compliance;

@@ -2,11 +2,75 @@
 // The loaded mode (docs/theory.md §15): a load case's equilibrium in the deformed geometry,
 // reached in load steps of Newton iterations on the loaded blocks (elements/loaded_blocks.hpp),
 // and the tangent compliance and stiffness of every end effector there.
+#include <memory>
+#include <optional>
+
 #include "assembly/topology.hpp"
+#include "elements/loaded_blocks.hpp"
+#include "solver/sparse_solver.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/result.hpp"
 
 namespace stiffmsa::detail {
+
+// The Newton tangent of the loaded mode, which a workspace keeps from one pose to the next
+// (docs/theory.md §15.7): its pattern, where each block's entries go in the compressed matrix,
+// and the factorising solvers' analyses of that pattern. Two factorisations:
+// - the Newton tangents of a load case: the first after `begin` is the reference, equilibrated
+//   from scratch and pivoted afresh; later ones take its scaling as it is and keep its pivot
+//   order where that stays stable (KluLU in sparse_solver.cpp). So a case's results depend on
+//   its pose alone, never on the poses the workspace solved before.
+// - the unloaded tangent, whose determinant's sign alone is used (the critical-point check): it
+//   starts its equilibration from the last unloaded tangent's scaling and keeps the pivot order
+//   of the last one factorised afresh (a sign does not depend on the pivots).
+class LoadedTangent {
+ public:
+  explicit LoadedTangent(SolverKind kind) : kind_(kind) {}
+  SolverKind kind() const { return kind_; }
+
+  // Takes `blocks` (kept by reference until the next begin) over `unknowns` unknowns: their
+  // pattern is recorded and analysed again only where the blocks' rows and ends differ from the
+  // last ones'. The next Newton tangent is the reference.
+  void begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns);
+
+  // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where
+  // the tangent is singular (a zero pivot).
+  bool evaluate(const LoadedInputs& in, VecX& residual, bool factorise);
+
+  // The sign of the determinant of the tangent at `in` (the unloaded pose under no load); 0
+  // where it is singular (a zero pivot).
+  double unloaded_determinant_sign(const LoadedInputs& in);
+
+  // Solves the last factorised Newton tangent for the columns of b, in place.
+  void solve(MatX& b) const;
+
+  double determinant_sign() const { return solver_->determinant_sign(); }
+  Index first_row(std::size_t block) const { return first_row_[block]; }
+  const char* solver_name() const { return solver_->name(); }
+
+ private:
+  void record_pattern();
+  // The blocks' tangents at `in` into matrix_, their residuals into `residual`.
+  void assemble(const LoadedInputs& in, VecX& residual, bool with_tangent);
+  // scaled_ = S_r·matrix_·S_c.
+  void scale(const Equilibration& scaling);
+
+  SolverKind kind_;
+  const std::vector<std::unique_ptr<LoadedBlock>>* blocks_ = nullptr;
+  Index n_ = 0;
+  // Per block: its rows, its number of ends and the ends; the pattern is recorded for these.
+  std::vector<int> layout_;
+  std::vector<Index> first_row_;
+  // Where each entry of every block's tangent (in the order of the blocks, each column-major)
+  // goes in the compressed matrix's values.
+  std::vector<int> positions_;
+  SparseMatrix matrix_, scaled_;
+  MatX block_tangent_;
+  std::optional<Equilibration> scaling_;  // the Newton tangents', from their reference
+  std::unique_ptr<LinearSolver> solver_;
+  std::optional<Equilibration> unloaded_scaling_;
+  std::unique_ptr<LinearSolver> unloaded_solver_;
+};
 
 // The external wrench at every link end (global axes, moment about the end) of the model's own
 // `loads`: the unnamed load case's end loads.
@@ -15,12 +79,15 @@ std::vector<Vec6> end_loads(const Model& model, const Topology& topology);
 // The loaded results of a load case from `linear`, the linear result of the same case, which
 // the loaded result keeps as Result::linear and whose layout, notes and names it takes.
 // `loads`: the case's wrench at every link end (end_loads for the unnamed case); preloads and
-// support settlements come from the model. `load_steps`: the number of equal steps to start
-// from (each is cut in halves where Newton's iterations do not converge). Throws
-// NoEquilibriumError where no equilibrium is found or the path passes a critical point, and
+// support settlements come from the model. The path starts from λ·`linear`'s state, the
+// linear solution of the step's loads, in place of the unloaded pose. `load_steps`: the number of
+// equal steps to start from (each is cut in halves where Newton's iterations do not converge).
+// Throws NoEquilibriumError where no equilibrium is found or the path passes a critical point, and
 // UsageError for what the loaded mode does not take (loads along links, gravity).
+// `tangent`: the workspace's (its solver kind options.solver's).
 Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
-                     const Result& linear, const std::vector<Vec6>& loads, int load_steps);
+                     const Result& linear, const std::vector<Vec6>& loads, int load_steps,
+                     LoadedTangent& tangent);
 
 // The number of load steps the loaded mode starts from where neither the model nor the caller
 // gives one: one step, cut where Newton's iterations do not converge.

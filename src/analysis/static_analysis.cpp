@@ -87,6 +87,9 @@ struct Workspace::Impl {
   // which `auto` solves, where idle motions are accepted, instead of analysing the free motions
   // of a singular system at every pose. Its own workspace, as its blocks have another pattern.
   std::unique_ptr<Impl> spin_locked;
+  // The loaded mode's Newton tangent (its pattern, analysis and buffers), made at the first
+  // loaded solve.
+  std::unique_ptr<detail::LoadedTangent> loaded_tangent;
 
   // The blocks of `model` (this topology's), and what the solves without factorising need.
   void record(const Model& model) {
@@ -170,8 +173,9 @@ struct Problem {
   const SolveOptions& options;
   detail::Blocks blocks;
   // The load cases, one right-hand side column each (case_loads.hpp): the unnamed case where
-  // there is one, every named case, and the robot's self-weight alone where it has one.
-  std::vector<detail::CaseLoads> cases;
+  // there is one, every named case, and the robot's self-weight alone where it has one. The
+  // solve's own (CaseSolve::cases), which the critical load and the loaded mode take too.
+  std::vector<detail::CaseLoads>& cases;
   Index state_columns = 0;                // the cases that carry the preloads and settlements
   bool loaded = false;                    // any nonzero load, preload or settlement
   bool blocks_are_the_reference = false;  // a one-shot solve's: its own pattern
@@ -182,8 +186,9 @@ struct Problem {
   }
 
   // `topology_known`: the workspace was built from this very model.
-  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known)
-      : model(m), ws(w), options(o) {
+  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known,
+          std::vector<detail::CaseLoads>& case_storage)
+      : model(m), ws(w), options(o), cases(case_storage) {
     if (topology_known && !ws.recorded_blocks.empty()) {
       blocks = std::move(ws.recorded_blocks);
       ws.recorded_blocks.clear();
@@ -892,7 +897,8 @@ void report_held_spins(const Model& model, const detail::Topology& topology,
 // The solve with one set of blocks: the model's own, or those with the rods' spins held.
 struct CaseSolve {
   CaseResults results;
-  std::vector<bool> with_state;  // per result: a load case (else the self-weight alone)
+  std::vector<bool> with_state;          // per result: a load case (else the self-weight alone)
+  std::vector<detail::CaseLoads> cases;  // case_loads(model, topology), computed once
 };
 
 CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
@@ -913,8 +919,8 @@ CaseSolve solve_validated(Workspace& workspace, const Model& model, const SolveO
 
 CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
                    bool topology_known) {
-  Problem problem(model, ws, options, topology_known);
   CaseSolve solved;
+  Problem problem(model, ws, options, topology_known, solved.cases);
   CaseResults& results = solved.results;
   results.reserve(problem.cases.size());
   results.push_back(empty_result(model, ws));  // a large model's result is copied only per case
@@ -1009,8 +1015,8 @@ void add_gravity_deflections(const Result& weight, Result& result) {
 
 // In the loaded mode (SolveOptions::mode, else the model's own), the loaded result in place of
 // the linear one, which it keeps as Result::linear (docs/theory.md §15).
-Result in_analysis_mode(const Model& model, const detail::Topology& topology,
-                        const SolveOptions& options, Result result) {
+Result in_analysis_mode(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
+                        const std::vector<detail::CaseLoads>& cases, Result result) {
   if (options.mode.value_or(model.options.mode) != AnalysisMode::loaded) return result;
   const int load_steps = model.options.load_steps.value_or(detail::kDefaultLoadSteps);
   // The linear results of a case, without the other cases, become its loaded result's `linear`.
@@ -1022,8 +1028,10 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
           ": the loaded mode takes loads at link ends and preloads; loads along links and gravity "
           "are not part of it yet: solve this model in the linear mode");
     linear.load_cases.clear();
-    Result loaded =
-        detail::loaded_result(model, topology, options, linear, loads.external, load_steps);
+    if (!ws.loaded_tangent || ws.loaded_tangent->kind() != options.solver)
+      ws.loaded_tangent = std::make_unique<detail::LoadedTangent>(options.solver);
+    Result loaded = detail::loaded_result(model, ws.topology, options, linear, loads.external,
+                                          load_steps, *ws.loaded_tangent);
     add_results_in_own_axes(model, loaded);
     if (options.direction)
       for (EndEffectorResult& e : loaded.end_effectors)
@@ -1031,7 +1039,6 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
           e.along_direction = directional_stiffness(*e.compliance, *options.direction);
     return loaded;
   };
-  const std::vector<detail::CaseLoads> cases = detail::case_loads(model, topology);
   const bool unnamed = detail::has_unnamed_case(model);
   std::vector<Result> named;
   named.reserve(result.load_cases.size());
@@ -1056,14 +1063,14 @@ bool always_finds_critical_load(const Model& model, const SolveOptions& options)
 // The critical load factors of the result's load cases (analysis/critical_load.hpp), where
 // asked, with the blocks the solve used (the rods' spins held where it held them).
 void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
-                       Result& result) {
+                       const std::vector<detail::CaseLoads>& cases, Result& result) {
   if (!options.critical_load && !always_finds_critical_load(model, options)) return;
   const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   const Workspace::Impl& used =
       accept_idle && options.solver == SolverKind::automatic && ws.spin_locked ? *ws.spin_locked
                                                                                : ws;
-  detail::add_critical_loads(model, used.topology, used.spin_locks, options, result);
+  detail::add_critical_loads(model, used.topology, used.spin_locks, options, cases, result);
 }
 
 // The results of the solved cases as a Result: the robot's self-weight column gives the unnamed
@@ -1094,11 +1101,12 @@ Result results_of_cases(const Model& model, const detail::ModelIndex& index,
 // factorisation (the robot's self-weight alone among them), and what every result reports
 // beside.
 Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
-                     const SolveOptions& options) {
-  Result result =
-      results_of_cases(model, index, options, solve_validated(workspace, model, options, false));
-  add_critical_load(workspace, model, options, result);
-  return in_analysis_mode(model, detail::WorkspaceAccess::impl(workspace).topology, options,
+                     const SolveOptions& options, bool topology_known = false) {
+  CaseSolve solved = solve_validated(workspace, model, options, topology_known);
+  const std::vector<detail::CaseLoads> cases = std::move(solved.cases);
+  Result result = results_of_cases(model, index, options, std::move(solved));
+  add_critical_load(workspace, model, options, cases, result);
+  return in_analysis_mode(detail::WorkspaceAccess::impl(workspace), model, options, cases,
                           std::move(result));
 }
 
@@ -1107,11 +1115,7 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
   Workspace workspace(model);  // validates the model
-  Result result = results_of_cases(model, detail::ModelIndex(model), options,
-                                   solve_validated(workspace, model, options, true));
-  add_critical_load(workspace, model, options, result);
-  return in_analysis_mode(model, detail::WorkspaceAccess::impl(workspace).topology, options,
-                          std::move(result));
+  return solve_checked(workspace, model, detail::ModelIndex(model), options, true);
 }
 
 Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {

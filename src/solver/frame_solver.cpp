@@ -93,6 +93,7 @@ class StiffnessCholesky final : public LinearSolver {
   void solve(MatX& b) const override { b = cholesky_.solve(b); }
   void solve_transposed(MatX& b) const override { solve(b); }  // symmetric
   const char* name() const override { return "cholesky"; }
+  double determinant_sign() const override { return 1; }  // positive definite once factorised
 
  private:
 #if STIFFMSA_HAVE_SUITESPARSE

@@ -32,6 +32,11 @@ class EigenSparseLU final : public LinearSolver {
             .solve(b);
   }
   const char* name() const override { return "sparse_lu"; }
+  double determinant_sign() const override {
+    // SparseLU's determinant queries are not const-qualified.
+    return const_cast<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>&>(lu_)
+        .signDeterminant();
+  }
 
  private:
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_;
@@ -63,6 +68,12 @@ class UmfpackLU final : public LinearSolver {
   void solve(MatX& b) const override { run(b, UMFPACK_A); }
   void solve_transposed(MatX& b) const override { run(b, UMFPACK_At); }
   const char* name() const override { return "umfpack"; }
+  double determinant_sign() const override {
+    double mantissa = 0;
+    double exponent = 0;
+    umfpack_di_get_determinant(&mantissa, &exponent, numeric_, nullptr);
+    return mantissa > 0 ? 1.0 : mantissa < 0 ? -1.0 : 0.0;
+  }
 
  private:
   void run(MatX& b, int system) const {
@@ -118,6 +129,7 @@ class KluLU final : public LinearSolver {
     reference_state_ = Reference::none_yet;
   }
   bool factorize(const SparseMatrix& a) override {
+    last_ = &a;
     int* const ap = const_cast<int*>(a.outerIndexPtr());
     int* const ai = const_cast<int*>(a.innerIndexPtr());
     double* const ax = const_cast<double*>(a.valuePtr());
@@ -151,6 +163,29 @@ class KluLU final : public LinearSolver {
   }
   const char* name() const override { return "klu"; }
   bool reused_pivot_order() const override { return reused_; }
+  void renew_reference() override { reference_state_ = Reference::none_yet; }
+  void adopt_last_as_reference() override {
+    if (reference_state_ != Reference::fixed || reused_ || !fresh_ || active_ != fresh_ || !last_)
+      return;
+    int* const ap = const_cast<int*>(last_->outerIndexPtr());
+    int* const ai = const_cast<int*>(last_->innerIndexPtr());
+    double* const ax = const_cast<double*>(last_->valuePtr());
+    if (!klu_rgrowth(ap, ai, ax, symbolic_, fresh_, &common_)) return;
+    std::swap(reference_, fresh_);
+    reference_growth_ = common_.rgrowth;
+  }
+  // P·A·Q = L·U with L's diagonal of ones: det A = det P · det Q · Π U_kk (KLU's own row
+  // scaling, which would add positive factors, is off).
+  double determinant_sign() const override {
+    if (!active_) return 0;
+    const auto* diagonal = static_cast<const double*>(active_->Udiag);
+    double sign = 1;
+    for (int k = 0; k < n_; ++k) {
+      if (diagonal[k] == 0) return 0;
+      if (diagonal[k] < 0) sign = -sign;
+    }
+    return sign * permutation_sign(active_->Pnum) * permutation_sign(symbolic_->Q);
+  }
   // The entries of L + U that KLU's ordering predicts, before pivoting.
   double predicted_factor_entries() const { return symbolic_->lnz + symbolic_->unz; }
 
@@ -158,6 +193,22 @@ class KluLU final : public LinearSolver {
   // none_yet: the next factorisation is the reference; unusable: the reference failed, so
   // every matrix is factorised afresh.
   enum class Reference { none_yet, fixed, unusable };
+
+  // +1 for an even permutation, −1 for an odd one: each cycle of length c is c − 1 swaps.
+  double permutation_sign(const int* permutation) const {
+    visited_.assign(static_cast<std::size_t>(n_), 0);
+    double sign = 1;
+    for (int start = 0; start < n_; ++start) {
+      if (visited_[static_cast<std::size_t>(start)]) continue;
+      int length = 0;
+      for (int k = start; !visited_[static_cast<std::size_t>(k)]; k = permutation[k]) {
+        visited_[static_cast<std::size_t>(k)] = 1;
+        ++length;
+      }
+      if (length % 2 == 0) sign = -sign;
+    }
+    return sign;
+  }
 
   bool multipliers_within_threshold() {
     // klu_extract writes L only with its column starts and row indices too.
@@ -192,9 +243,11 @@ class KluLU final : public LinearSolver {
   klu_numeric* active_ = nullptr;     // the factorisation of the last matrix
   Reference reference_state_ = Reference::none_yet;
   double reference_growth_ = 0;
+  const SparseMatrix* last_ = nullptr;  // the matrix factorised last
   bool reused_ = false;
   std::vector<double> multipliers_;  // L of a refactorisation, to check
   std::vector<int> multiplier_rows_, multiplier_starts_;
+  mutable std::vector<char> visited_;  // permutation_sign's
   int n_ = 0;
 };
 #endif
@@ -224,6 +277,13 @@ class AutomaticLU final : public LinearSolver {
   void solve_transposed(MatX& b) const override { chosen_->solve_transposed(b); }
   const char* name() const override { return chosen_ ? chosen_->name() : "auto"; }
   bool reused_pivot_order() const override { return chosen_ && chosen_->reused_pivot_order(); }
+  double determinant_sign() const override { return chosen_->determinant_sign(); }
+  void renew_reference() override {
+    if (chosen_) chosen_->renew_reference();
+  }
+  void adopt_last_as_reference() override {
+    if (chosen_) chosen_->adopt_last_as_reference();
+  }
 
  private:
   std::unique_ptr<LinearSolver> chosen_;

@@ -25,6 +25,14 @@ class LinearSolver {
   virtual const char* name() const = 0;
   // Whether the last factorisation kept an earlier matrix's pivot order (KLU, see KluLU).
   virtual bool reused_pivot_order() const { return false; }
+  // The sign of the last factorised matrix's determinant (+1 or −1; 0 where a pivot is zero).
+  virtual double determinant_sign() const = 0;
+  // The next factorisation becomes the reference whose pivot order later ones keep (KLU), as
+  // after a pattern analysis, without analysing the pattern again.
+  virtual void renew_reference() {}
+  // Where the last factorisation was made afresh (the reference's pivot order did not suit it),
+  // it becomes the reference (KLU): for a sequence of matrices that drift away from the first.
+  virtual void adopt_last_as_reference() {}
 };
 
 std::unique_ptr<LinearSolver> make_linear_solver(SolverKind kind);
