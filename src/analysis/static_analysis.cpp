@@ -1015,15 +1015,10 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
   const int load_steps = model.options.load_steps.value_or(detail::kDefaultLoadSteps);
   // The linear results of a case, without the other cases, become its loaded result's `linear`.
   auto loaded_case = [&](Result linear, const detail::CaseLoads& loads) {
-    if (!loads.link_loads.empty())
-      throw UsageError(
-          (loads.name.empty() ? std::string("the model's loads")
-                              : "load case '" + loads.name + "'") +
-          ": the loaded mode takes loads at link ends and preloads; loads along links and gravity "
-          "are not part of it yet: solve this model in the linear mode");
     linear.load_cases.clear();
-    Result loaded =
-        detail::loaded_result(model, topology, options, linear, loads.external, load_steps);
+    Result loaded = detail::loaded_result(model, topology, options, linear,
+                                          loads.applied_at_ends(), load_steps, loads.link_loads);
+    detail::add_loaded_internal_forces(model, topology, loads, loaded);
     add_results_in_own_axes(model, loaded);
     if (options.direction)
       for (EndEffectorResult& e : loaded.end_effectors)
