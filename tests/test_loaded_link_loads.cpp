@@ -55,8 +55,8 @@ class NoRows final : public detail::LoadedBlock {
 const Vec3 kFrom(0.2, -0.1, 0.3), kTo(1.1, 0.5, 0.9);
 
 Link timoshenko_beam() {
-  BeamLink beam{Material{2.1e11, 0.3, std::nullopt, std::nullopt}, Section::rect(0.03, 0.08),
-                true, std::nullopt};
+  BeamLink beam{Material{2.1e11, 0.3, std::nullopt, std::nullopt}, Section::rect(0.03, 0.08), true,
+                std::nullopt};
   return Link{"beam", "a", "b", beam, {}};
 }
 
@@ -229,7 +229,8 @@ double largest_difference(const Result& loaded) {
       for (const InternalForces& f : l.internal_forces)
         internal = std::max(internal, f.forces.norm());
     }
-    for (const SupportResult& s : linear.supports) reaction = std::max(reaction, s.reaction->norm());
+    for (const SupportResult& s : linear.supports)
+      reaction = std::max(reaction, s.reaction->norm());
     for (std::size_t l = 0; l < r.links.size(); ++l) {
       const LinkResult &a = r.links[l], &b = linear.links[l];
       worst = std::max({worst, (*a.from.deflection - *b.from.deflection).norm() / deflection,
@@ -238,13 +239,12 @@ double largest_difference(const Result& loaded) {
                         (*a.to.wrench - *b.to.wrench).norm() / wrench});
       EXPECT_EQ(a.internal_forces.size(), b.internal_forces.size());
       for (std::size_t k = 0; k < a.internal_forces.size(); ++k)
-        worst = std::max(worst,
-                         (a.internal_forces[k].forces - b.internal_forces[k].forces).norm() /
-                             internal);
+        worst = std::max(
+            worst, (a.internal_forces[k].forces - b.internal_forces[k].forces).norm() / internal);
     }
     for (std::size_t s = 0; s < r.supports.size(); ++s)
-      worst = std::max(
-          worst, (*r.supports[s].reaction - *linear.supports[s].reaction).norm() / reaction);
+      worst = std::max(worst,
+                       (*r.supports[s].reaction - *linear.supports[s].reaction).norm() / reaction);
   };
   compare(loaded);
   for (const Result& c : loaded.load_cases) compare(c);
@@ -254,8 +254,8 @@ double largest_difference(const Result& loaded) {
 TEST(LoadedLinkLoads, TinyLoadsAlongLinksAndSelfWeightGiveTheLinearResults) {
   // The portal frame: a linearly varying wind load, a settlement, a uniform snow load, a point
   // load on the beam and the frame's own weight, in four cases.
-  const Model file = load_model(std::string(STIFFMSA_SOURCE_DIR) +
-                                "/examples/portal-frame-load-cases.yaml");
+  const Model file =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/portal-frame-load-cases.yaml");
   double previous = 0;
   for (const double factor : {1e-2, 1e-3, 1e-4}) {
     const double difference = largest_difference(solve(scaled(file, factor), loaded_options()));
@@ -333,8 +333,8 @@ Model uniformly_loaded_cantilever(int n, double load) {
   for (int k = 0; k < n; ++k) {
     m.add_beam("b" + std::to_string(k), "p" + std::to_string(k), "p" + std::to_string(k + 1),
                material, section);
-    m.add_link_load("b" + std::to_string(k), DistributedLinkLoad{Vec3(0, -load, 0),
-                                                                 Vec3(0, -load, 0)});
+    m.add_link_load("b" + std::to_string(k),
+                    DistributedLinkLoad{Vec3(0, -load, 0), Vec3(0, -load, 0)});
   }
   m.add_support("clamp", "p0", {}, Connection::rigid());
   m.add_end_effector("tip", "p" + std::to_string(n));
@@ -346,8 +346,8 @@ double uniform_tip_error(int n, double alpha) {
   const Result r = solve(uniformly_loaded_cantilever(n, alpha * ei), loaded_options());
   const ElasticaState exact = elastica(alpha);
   const Vec6 d = *r.end_effector("tip").deflection;
-  return std::max({std::abs(d[0] - (exact.x - 1)), std::abs(d[1] - exact.y),
-                   std::abs(d[5] - exact.theta)});
+  return std::max(
+      {std::abs(d[0] - (exact.x - 1)), std::abs(d[1] - exact.y), std::abs(d[5] - exact.theta)});
 }
 
 TEST(LoadedLinkLoads, CantileverUnderALargeUniformDeadLoadConvergesToItsElastica) {
@@ -481,8 +481,7 @@ Placed placed(const Link& link, const Vec3& from, const Vec3& to, const LinkResu
   const Vec3 ti = across(ri * n0), tj = across(rj * n0);
   auto at = [&](double s) -> Vec3 {
     if (std::holds_alternative<RigidLink>(link.kind)) return xi + s * (ri * (to - from));
-    return xi + s * chord +
-           length * ((s - 2 * s * s + s * s * s) * ti + (-s * s + s * s * s) * tj);
+    return xi + s * chord + length * ((s - 2 * s * s + s * s * s) * ti + (-s * s + s * s * s) * tj);
   };
   Placed p;
   if (const auto* q = std::get_if<DistributedLinkLoad>(&load.load)) {
@@ -520,8 +519,8 @@ TEST(LoadedLinkLoads, ReactionsBalanceTheLoadsWhereTheDeformedFrameCarriesThem) 
   std::vector<LinkLoad> loads = m.link_loads;
   for (const Link& link : m.links)
     if (const auto* beam = std::get_if<BeamLink>(&link.kind)) {
-      const Vec3 weight = *beam->material.density * 3.14159265358979323846 * 0.02 * 0.02 / 4 *
-                          *m.gravity;
+      const Vec3 weight =
+          *beam->material.density * 3.14159265358979323846 * 0.02 * 0.02 / 4 * *m.gravity;
       loads.push_back(LinkLoad{link.name, DistributedLinkLoad{weight, weight}, {}});
     }
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();
@@ -557,6 +556,11 @@ TEST(LoadedLinkLoads, ReactionsBalanceTheLoadsWhereTheDeformedFrameCarriesThem) 
   add(tip_load.head<3>(), tip_load.tail<3>() + tip.cross(tip_load.head<3>()));
   const Vec6 reaction = *r.support("base").reaction;  // about the base, which stays at 0
   add(reaction.head<3>(), reaction.tail<3>());
+  std::printf(
+      "tip turned by %.3f rad; reactions and loads balance to %.1e (forces), %.1e "
+      "(moments)\n",
+      r.end_effector("tip").deflection->tail<3>().norm(), force.norm() / force_scale,
+      moment.norm() / moment_scale);
   EXPECT_LT(force.norm(), 1e-10 * force_scale);
   EXPECT_LT(moment.norm(), 1e-10 * moment_scale);
   // And they differ from the linear reaction by the deformation's moment arms.

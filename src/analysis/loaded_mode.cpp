@@ -73,8 +73,8 @@ std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(
       element.stiffness = free_free_stiffness(
           compliance_link_global_compliance(std::get<ComplianceLink>(link.kind), p_from, p_to), d);
     }
-    blocks.push_back(with_loads_along(make_corotational_link(from, to, element), link, p_from,
-                                      p_to, along[l]));
+    blocks.push_back(
+        with_loads_along(make_corotational_link(from, to, element), link, p_from, p_to, along[l]));
   }
   FreeDirections locked;  // no free direction: a weld, a locked drive
   for (const ConnectionGroup& g : topology.groups) {

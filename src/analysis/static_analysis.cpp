@@ -1016,8 +1016,8 @@ Result in_analysis_mode(const Model& model, const detail::Topology& topology,
   // The linear results of a case, without the other cases, become its loaded result's `linear`.
   auto loaded_case = [&](Result linear, const detail::CaseLoads& loads) {
     linear.load_cases.clear();
-    Result loaded = detail::loaded_result(model, topology, options, linear,
-                                          loads.applied_at_ends(), load_steps, loads.link_loads);
+    Result loaded = detail::loaded_result(model, topology, options, linear, loads.applied_at_ends(),
+                                          load_steps, loads.link_loads);
     detail::add_loaded_internal_forces(model, topology, loads, loaded);
     add_results_in_own_axes(model, loaded);
     if (options.direction)

@@ -175,8 +175,8 @@ class LinkWithLoadsBlock final : public LoadedBlock {
           ReducedLoads::Moment m{p.moment, {}};
           const Mat3& axes = shape_.unloaded_axes();
           for (int k = 0; k < 3; ++k) {
-            const Vec12 local = beam_fixed_end_forces(
-                c, PointLoad{Vec3::Zero(), axes * Vec3::Unit(k), p.position});
+            const Vec12 local =
+                beam_fixed_end_forces(c, PointLoad{Vec3::Zero(), axes * Vec3::Unit(k), p.position});
             for (int part = 0; part < 4; ++part)
               m.clamp.block<3, 1>(3 * part, k) = axes.transpose() * local.segment<3>(3 * part);
           }
@@ -198,9 +198,7 @@ class LinkWithLoadsBlock final : public LoadedBlock {
     const EndState& i = in.ends[static_cast<std::size_t>(ends()[0])];
     const EndState& j = in.ends[static_cast<std::size_t>(ends()[1])];
     switch (shape_.kind()) {
-      case LoadedLinkShape::Kind::rigid:
-        add_rigid(i, lambda, residual, tangent);
-        return;
+      case LoadedLinkShape::Kind::rigid: add_rigid(i, lambda, residual, tangent); return;
       case LoadedLinkShape::Kind::chord:
         // The lever rule along the chord: clamp wrenches −Q_i, −Q_j and the couples at the
         // `from` end, dead, whatever the geometry (no load stiffness).
@@ -208,24 +206,20 @@ class LinkWithLoadsBlock final : public LoadedBlock {
         residual.segment<3>(3) += lambda * r_.couple;
         residual.segment<3>(6) += lambda * r_.share_j;
         return;
-      case LoadedLinkShape::Kind::beam:
-        add_beam(i, j, lambda, residual, tangent);
-        return;
+      case LoadedLinkShape::Kind::beam: add_beam(i, j, lambda, residual, tangent); return;
     }
   }
 
  private:
   // The load rides with the rigid link, at x_i + ξ·R_i·d0: its resultant Q_i + Q_j and its
   // moment about x_i, (R_i·d0) × Q_j + ΣM, enter the link's balance rows (7–12, §15.3).
-  void add_rigid(const EndState& i, double lambda, Eigen::Ref<VecX> residual,
-                 MatX* tangent) const {
+  void add_rigid(const EndState& i, double lambda, Eigen::Ref<VecX> residual, MatX* tangent) const {
     const Vec3 arm = i.rotation * shape_.unloaded_chord();
     residual.segment<3>(6) += lambda * (r_.share_i + r_.share_j);
     residual.segment<3>(9) += lambda * (arm.cross(r_.share_j) + r_.couple);
     if (!tangent) return;
     // δ(arm × Q) = (δθ_i × arm) × Q = [Q×]·[arm×]·δθ_i
-    tangent->block<3, 3>(9, 3) +=
-        lambda * skew_of<double>(r_.share_j) * skew_of<double>(arm);
+    tangent->block<3, 3>(9, 3) += lambda * skew_of<double>(r_.share_j) * skew_of<double>(arm);
   }
 
   // A beam: the clamp wrenches are the gradient of the load's potential V = −Σ q·x over the
@@ -259,8 +253,7 @@ class LinkWithLoadsBlock final : public LoadedBlock {
   // A point moment M on a beam: its fixed-end wrenches of §12.2 for the moment seen in the
   // co-rotated frame Rc, turned back by Rc, the forces scaled by L0/l so that the wrenches
   // balance the couple about the current chord exactly.
-  void add_moments(const Current<Outer>& c, Vec12d& clamp,
-                   Mat12& clamp_derivative) const {
+  void add_moments(const Current<Outer>& c, Vec12d& clamp, Mat12& clamp_derivative) const {
     const Mat3T<Outer> turn = c.axes * shape_.unloaded_axes().cast<Outer>();
     const Outer lever = Outer(shape_.length()) / c.length;
     for (const ReducedLoads::Moment& m : r_.moments) {
