@@ -598,6 +598,55 @@ TEST(LoadedLinkLoads, InternalForcesRunFromTheFromEndsWrenchToTheToEnds) {
   }
 }
 
+// CAD links (compliance and matrix links) refuse loads along them in the loaded mode as in the
+// linear one: their stiffness says nothing of what lies between their ends.
+TEST(LoadedLinkLoads, ACadLinkRefusesLoadsAlongItAsInTheLinearMode) {
+  Model m;
+  m.name = "compliance-cantilever";
+  m.add_point("O", Vec3::Zero());
+  m.add_point("E", Vec3(1, 0, 0));
+  Vec6 diagonal;
+  diagonal << 1e-8, 3e-3, 2e-3, 5e-3, 6e-3, 9e-3;
+  m.add_compliance_link("arm", "O", "E", Mat6(diagonal.asDiagonal()));
+  m.add_support("clamp", "O", {}, Connection::rigid());
+  m.add_end_effector("tip", "E");
+  m.add_link_load("arm", DistributedLinkLoad{Vec3(0, -40, 10), Vec3(5, -20, 30)});
+  try {
+    solve(m, loaded_options());
+    FAIL() << "a load along a compliance link was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a compliance link"), std::string::npos) << e.what();
+  }
+}
+
+// At the block, a link without a shape along its length (neither beam nor rigid) takes its
+// loads by the lever rule on its chord, with couples at its `from` end, as the linear mode
+// does for such a link (§13.2).
+TEST(LoadedLinkLoads, ALinkWithoutAShapeTakesItsLoadsByTheLeverRule) {
+  const Link link{"arm", "a", "b", ComplianceLink{Mat6::Identity(), LinkFrame::global, {}}, {}};
+  const auto block =
+      detail::with_loads_along(std::make_unique<NoRows>(), link, kFrom, kTo, some_loads());
+  EndState i, j;
+  i.position = kFrom + Vec3(0.05, -0.02, 0.03);
+  i.rotation = detail::rotation_matrix(Vec3(0.25, -0.4, 0.1));
+  j.position = kTo + Vec3(-0.1, 0.07, 0.12);
+  const VecX r = residual_of(*block, i, j);
+  Vec12 expected = Vec12::Zero();  // minus the clamp wrenches
+  const double length = (kTo - kFrom).norm();
+  for (const LoadAlongLink& load : some_loads()) {
+    if (const auto* q = std::get_if<DistributedLinkLoad>(&load)) {
+      expected.segment<3>(0) += length * (2 * q->from + q->to) / 6;
+      expected.segment<3>(6) += length * (q->from + 2 * q->to) / 6;
+    } else {
+      const auto& p = std::get<PointLinkLoad>(load);
+      expected.segment<3>(0) += (1 - p.position) * p.force;
+      expected.segment<3>(3) += p.moment;
+      expected.segment<3>(6) += p.position * p.force;
+    }
+  }
+  EXPECT_LT((r - expected).norm(), 1e-13 * expected.norm());
+}
+
 // ---- the command line -------------------------------------------------------------------------
 
 int run_cli(const std::string& arguments, const std::string& output) {
