@@ -11,9 +11,11 @@ namespace stiffmsa::detail {
 
 namespace {
 
-using Inner = Dual<12>;
-using Outer = Dual2<12>;
 using Vec12d = Eigen::Matrix<double, 12, 1>;
+// Forward duals of the 12 increments, nested (the derivative of a gradient), spelled out here so
+// that this file does not depend on how the co-rotational link takes its own derivatives.
+using Inner = Eigen::AutoDiffScalar<Vec12d>;
+using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, 12, 1>>;
 
 // A scalar of value v whose inner derivative `inner` and outer derivative `outer` are 1 (−1:
 // none): inner variables a are the virtual motion whose work defines the clamp wrenches, outer
