@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "elements/beam_element.hpp"
+#include "elements/finite_rotation.hpp"
+#include "elements/loaded_blocks.hpp"
 #include "stiffmsa/number_text.hpp"
 
 namespace stiffmsa::detail {
@@ -212,6 +214,60 @@ void add_internal_forces(const Model& model, const Topology& topology, const Cas
     for (double station : stations)
       r.internal_forces.push_back(
           {station, beam_internal_forces(length, from_end, local, station)});
+  }
+}
+
+void add_loaded_internal_forces(const Model& model, const Topology& topology,
+                                const CaseLoads& loads, Result& result) {
+  std::map<int, std::vector<const ResolvedLinkLoad*>> along;
+  for (const ResolvedLinkLoad& load : loads.link_loads) along[load.link].push_back(&load);
+  // Three Gauss points integrate a linear load over the cubic shape (degree 4) exactly.
+  constexpr double kGaussPoints[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+  constexpr double kGaussWeights[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    LinkResult& r = result.links[l];
+    if (r.internal_forces.empty() || !r.from.wrench || !r.from.deflection || !r.to.deflection)
+      continue;
+    const int from = 2 * static_cast<int>(l);
+    const Vec3& p_from = end_position(model, topology, from);
+    const Vec3& p_to = end_position(model, topology, from + 1);
+    const LoadedLinkShape shape(model.links[l], p_from, p_to);
+    auto state = [](const Vec3& unloaded, const Vec6& deflection) {
+      EndState s;
+      s.position = unloaded + deflection.head<3>();
+      s.rotation = rotation_matrix(deflection.tail<3>());
+      return s;
+    };
+    const EndState i = state(p_from, *r.from.deflection), j = state(p_to, *r.to.deflection);
+    const Mat3 axes = shape.axes(i, j);
+    const double length = shape.length();
+    std::vector<const ResolvedLinkLoad*> none;
+    const auto found = along.find(static_cast<int>(l));
+    const auto& on_link = found == along.end() ? none : found->second;
+    for (InternalForces& at : r.internal_forces) {
+      const double station = at.position;
+      const Vec3 cut = shape.point(i, j, station);
+      Vec3 force = r.from.wrench->head<3>();
+      Vec3 moment = r.from.wrench->tail<3>() + (i.position - cut).cross(force);
+      for (const ResolvedLinkLoad* load : on_link) {
+        if (const auto* q = std::get_if<DistributedLinkLoad>(&load->load)) {
+          for (int g = 0; g < 3; ++g) {
+            const double s = station * (1 + kGaussPoints[g]) / 2;
+            const double weight = kGaussWeights[g] * station / 2 * length;
+            const Vec3 per_length = q->from + s * (q->to - q->from);
+            force += weight * per_length;
+            moment += weight * (shape.point(i, j, s) - cut).cross(per_length);
+          }
+        } else {
+          const auto& point = std::get<PointLinkLoad>(load->load);
+          if (point.position < station) {
+            force += point.force;
+            moment += point.moment + (shape.point(i, j, point.position) - cut).cross(point.force);
+          }
+        }
+      }
+      at.forces << -(axes * force), -(axes * moment);
+    }
   }
 }
 

@@ -66,4 +66,11 @@ LoadResultant resultant(const Model& model, const Topology& topology, const Reso
 void add_internal_forces(const Model& model, const Topology& topology, const CaseLoads& loads,
                          Result& result);
 
+// The same in the loaded mode, from `result`'s loaded state (end deflections and true end
+// wrenches, docs/theory.md §15.9): at the stations the linear result gave each beam, the wrench
+// about the section's point on the beam's current shape that the part beyond exerts on the part
+// before, in the beam's co-rotated axes, the loads acting on that shape.
+void add_loaded_internal_forces(const Model& model, const Topology& topology,
+                                const CaseLoads& loads, Result& result);
+
 }  // namespace stiffmsa::detail

@@ -51,8 +51,9 @@ Vec3 position_of(const Model& model, const Topology& topology, int end) {
       .position;
 }
 
-std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(const Model& model,
-                                                             const Topology& topology) {
+std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(
+    const Model& model, const Topology& topology,
+    const std::vector<std::vector<LoadAlongLink>>& along) {
   std::vector<std::unique_ptr<LoadedBlock>> blocks;
   for (int l = 0; l < topology.link_count; ++l) {
     const Link& link = model.links[static_cast<std::size_t>(l)];
@@ -60,7 +61,8 @@ std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(const Model& model,
     const Vec3 p_from = position_of(model, topology, from), p_to = position_of(model, topology, to);
     const Vec3 d = p_to - p_from;
     if (std::holds_alternative<RigidLink>(link.kind)) {
-      blocks.push_back(make_loaded_rigid_link(from, to, d));
+      blocks.push_back(
+          with_loads_along(make_loaded_rigid_link(from, to, d), link, p_from, p_to, along[l]));
       continue;
     }
     CorotationalLink element;
@@ -74,7 +76,8 @@ std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(const Model& model,
       element.stiffness = free_free_stiffness(
           compliance_link_global_compliance(std::get<ComplianceLink>(link.kind), p_from, p_to), d);
     }
-    blocks.push_back(make_corotational_link(from, to, element));
+    blocks.push_back(
+        with_loads_along(make_corotational_link(from, to, element), link, p_from, p_to, along[l]));
   }
   FreeDirections locked;  // no free direction: a weld, a locked drive
   for (const ConnectionGroup& g : topology.groups) {
@@ -364,12 +367,12 @@ std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
 
 Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
                      const Result& linear, const std::vector<Vec6>& loads, int load_steps,
-                     LoadedTangent& tangent) {
-  if (!model.link_loads.empty() || model.gravity)
-    throw UsageError(
-        "the loaded mode takes loads at link ends and preloads; loads along links and gravity "
-        "are not part of it yet: solve this model in the linear mode");
-  const std::vector<std::unique_ptr<LoadedBlock>> blocks = make_loaded_blocks(model, topology);
+                     LoadedTangent& tangent, const std::vector<ResolvedLinkLoad>& link_loads) {
+  std::vector<std::vector<LoadAlongLink>> along(model.links.size());
+  for (const ResolvedLinkLoad& l : link_loads)
+    along[static_cast<std::size_t>(l.link)].push_back(l.load);
+  const std::vector<std::unique_ptr<LoadedBlock>> blocks =
+      make_loaded_blocks(model, topology, along);
   const int end_count = topology.end_count();
   tangent.begin(blocks, topology.unknowns());
   Path path{blocks, tangent, loads, {}, {}, {}, {}, 0, 0};

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include "analysis/case_loads.hpp"
 #include "assembly/topology.hpp"
 #include "elements/loaded_blocks.hpp"
 #include "solver/sparse_solver.hpp"
@@ -78,16 +79,17 @@ std::vector<Vec6> end_loads(const Model& model, const Topology& topology);
 
 // The loaded results of a load case from `linear`, the linear result of the same case, which
 // the loaded result keeps as Result::linear and whose layout, notes and names it takes.
-// `loads`: the case's wrench at every link end (end_loads for the unnamed case); preloads and
-// support settlements come from the model. The path starts from λ·`linear`'s state, the
-// linear solution of the step's loads, in place of the unloaded pose. `load_steps`: the number of
-// equal steps to start from (each is cut in halves where Newton's iterations do not converge).
-// Throws NoEquilibriumError where no equilibrium is found or the path passes a critical point, and
-// UsageError for what the loaded mode does not take (loads along links, gravity).
-// `tangent`: the workspace's (its solver kind options.solver's).
+// `loads`: the case's wrench applied at every link end (end_loads for the unnamed case; no
+// equivalent end loads), `link_loads` its loads along links and self-weight, dead, whose clamp
+// wrenches follow each link's geometry (§15.9); preloads and support settlements come from the
+// model. The path starts from λ·`linear`'s state, the linear solution of the step's loads, in
+// place of the unloaded pose. `load_steps`: the number of equal steps to start from (each is cut
+// in halves where Newton's iterations do not converge). Throws NoEquilibriumError where no
+// equilibrium is found or the path passes a critical point. `tangent`: the workspace's (its
+// solver kind options.solver's).
 Result loaded_result(const Model& model, const Topology& topology, const SolveOptions& options,
                      const Result& linear, const std::vector<Vec6>& loads, int load_steps,
-                     LoadedTangent& tangent);
+                     LoadedTangent& tangent, const std::vector<ResolvedLinkLoad>& link_loads = {});
 
 // The number of load steps the loaded mode starts from where neither the model nor the caller
 // gives one: one step, cut where Newton's iterations do not converge.

@@ -1021,17 +1021,13 @@ Result in_analysis_mode(Workspace::Impl& ws, const Model& model, const SolveOpti
   const int load_steps = model.options.load_steps.value_or(detail::kDefaultLoadSteps);
   // The linear results of a case, without the other cases, become its loaded result's `linear`.
   auto loaded_case = [&](Result linear, const detail::CaseLoads& loads) {
-    if (!loads.link_loads.empty())
-      throw UsageError(
-          (loads.name.empty() ? std::string("the model's loads")
-                              : "load case '" + loads.name + "'") +
-          ": the loaded mode takes loads at link ends and preloads; loads along links and gravity "
-          "are not part of it yet: solve this model in the linear mode");
     linear.load_cases.clear();
     if (!ws.loaded_tangent || ws.loaded_tangent->kind() != options.solver)
       ws.loaded_tangent = std::make_unique<detail::LoadedTangent>(options.solver);
-    Result loaded = detail::loaded_result(model, ws.topology, options, linear, loads.external,
-                                          load_steps, *ws.loaded_tangent);
+    Result loaded =
+        detail::loaded_result(model, ws.topology, options, linear, loads.applied_at_ends(),
+                              load_steps, *ws.loaded_tangent, loads.link_loads);
+    detail::add_loaded_internal_forces(model, ws.topology, loads, loaded);
     add_results_in_own_axes(model, loaded);
     if (options.direction)
       for (EndEffectorResult& e : loaded.end_effectors)

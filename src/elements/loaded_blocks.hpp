@@ -7,8 +7,10 @@
 // so that the tangent has the linear system's 12 columns per link end, in its order.
 #include <memory>
 #include <optional>
+#include <variant>
 #include <vector>
 
+#include "elements/beam_element.hpp"
 #include "elements/element_block.hpp"
 #include "elements/free_directions.hpp"
 
@@ -79,5 +81,50 @@ std::unique_ptr<LoadedBlock> make_loaded_support(std::vector<int> ends,
 
 // A free end: W = W_ext.
 std::unique_ptr<LoadedBlock> make_loaded_free_end(int end);
+
+}  // namespace stiffmsa::detail
+
+namespace stiffmsa::detail {
+
+// ---- loads along links (docs/theory.md §15.9) ----------------------------------------------
+
+// A dead load along a link: global axes, per metre of unloaded length (model.hpp).
+using LoadAlongLink = std::variant<DistributedLinkLoad, PointLinkLoad>;
+
+// Where a link's points are in the loaded mode: a rigid link's at x_i + ξ·R_i·d0; a beam's on
+// its chord plus the transverse shape of its ends' slopes across it (the shapes of §12.1, shear
+// included); any other link's on its chord.
+class LoadedLinkShape {
+ public:
+  enum class Kind { rigid, beam, chord };
+  LoadedLinkShape(const Link& link, const Vec3& from, const Vec3& to);
+  // The point at fraction ξ of the length from the `from` end, ends i (`from`) and j (`to`).
+  Vec3 point(const EndState& i, const EndState& j, double xi) const;
+  // The link's local axes turned with it (rows, global components): a beam's co-rotated axes
+  // (x along the chord), a rigid link's turned by R_i.
+  Mat3 axes(const EndState& i, const EndState& j) const;
+
+  Kind kind() const { return kind_; }
+  double length() const { return length_; }
+  const Vec3& unloaded_chord() const { return d0_; }
+  const Mat3& unloaded_axes() const { return axes_; }  // rows
+  const BeamConstants& constants() const { return constants_; }
+
+ private:
+  Kind kind_ = Kind::chord;
+  Vec3 d0_;
+  double length_ = 0;
+  Mat3 axes_ = Mat3::Identity();
+  BeamConstants constants_;
+};
+
+// The link's loaded block with the dead loads along it (times the load factor) added to its rows
+// with their exact derivatives: a flexible link's end rows W − ∂E/∂t gain the clamp wrenches
+// (the gradient of the loads' potential over the link's current shape; a beam's point moments
+// as fixed-end wrenches turned with its co-rotated frame), a rigid link's balance rows the
+// loads' resultant about x_i. `link_block` unchanged where there is no load.
+std::unique_ptr<LoadedBlock> with_loads_along(std::unique_ptr<LoadedBlock> link_block,
+                                              const Link& link, const Vec3& from, const Vec3& to,
+                                              const std::vector<LoadAlongLink>& loads);
 
 }  // namespace stiffmsa::detail

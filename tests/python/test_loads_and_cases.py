@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import stiffmsa
+from conftest import run_cli
 
 FRAME_FILE = """format: stiffmsa/1
 name: frame
@@ -183,3 +184,25 @@ def test_family_solves_and_sweeps_take_the_mode(tmp_path):
         family.solve(mode="sideways")
     with pytest.raises(stiffmsa.UsageError, match="mode 'sideways'"):
         family.sweep(poses={}, mode="sideways")
+
+
+def test_the_loaded_mode_takes_loads_along_links_and_gravity(tmp_path, cli):
+    """The frame's loads along its beams and its own weight, in the loaded mode (theory.md
+    §15.9): solved in every case, the reactions a little off the linear ones (the loads ride
+    with the deformed beams), the internal forces at the equilibrium; the command agrees."""
+    path = tmp_path / "frame.yaml"
+    path.write_text(FRAME_FILE)
+    result = stiffmsa.solve(stiffmsa.load_model(path))
+    assert result.analysis.mode == stiffmsa.AnalysisMode.loaded
+    assert result.linear.analysis.mode == stiffmsa.AnalysisMode.linear
+    for case in [result, *result.load_cases.values()]:
+        loaded, linear = case.supports["base"].reaction, case.linear.supports["base"].reaction
+        assert np.linalg.norm(loaded - linear) < 1e-2 * np.linalg.norm(linear)
+        beam = case.links["beam1"]
+        assert len(beam.internal_forces) >= 11
+        # From minus the from end's wrench (in the beam's co-rotated axes) to the to end's.
+        assert np.isclose(np.linalg.norm(beam.internal_forces[0].forces), np.linalg.norm(beam.from_.wrench))
+        assert np.isclose(np.linalg.norm(beam.internal_forces[-1].forces), np.linalg.norm(beam.to.wrench))
+    out = tmp_path / "frame.json"
+    run_cli(cli, "solve", path, "--json", out)
+    assert '"mode": "loaded"' in out.read_text()
