@@ -66,6 +66,40 @@ Vec3T<T> rotation_vector(const Mat3T<T>& a) {
   return s * (atan2(sine, c) / sine);
 }
 
+// β(ϑ) = 1/ϑ² − (1 + cos ϑ)/(2·ϑ·sin ϑ) of the inverse left Jacobian below, from ϑ² = |φ|²;
+// below ϑ = 0.1, where the difference cancels, its series 1/12 + ϑ²/720 + ϑ⁴/30240 +
+// ϑ⁶/1209600 (the next term, 2.1e-8·ϑ⁸, is below 1e-15 of β there).
+template <class T>
+T inverse_jacobian_coefficient(const T& angle_squared) {
+  constexpr double kSeriesBelow = 1e-2;
+  if (value_of(angle_squared) < kSeriesBelow)
+    return T(1.0 / 12.0) +
+           angle_squared * (T(1.0 / 720.0) + angle_squared * (T(1.0 / 30240.0) +
+                                                              angle_squared * T(1.0 / 1209600.0)));
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const T angle = sqrt(angle_squared);
+  return T(1) / angle_squared - (T(1) + cos(angle)) / (T(2) * angle * sin(angle));
+}
+
+// The derivative of the rotation vector under a turn in front: where A = exp([φ×]) becomes
+// (I + [ω×])·A, φ becomes φ + J⁻¹(φ)·ω with J⁻¹(φ) = I − ½·[φ×] + β(|φ|)·[φ×]² (the inverse of
+// the left Jacobian of the rotations, valid to |φ| < π).
+template <class T>
+Mat3T<T> inverse_left_jacobian(const Vec3T<T>& phi) {
+  const Mat3T<T> cross = skew_of(phi);
+  return Mat3T<T>::Identity() - T(0.5) * cross +
+         inverse_jacobian_coefficient(phi.squaredNorm()) * (cross * cross);
+}
+
+// J⁻¹(φ)ᵀ·v = v + ½·φ × v + β·φ × (φ × v): the moment whose work on ω is v's on δφ.
+template <class T>
+Vec3T<T> inverse_left_jacobian_transposed_times(const Vec3T<T>& phi, const Vec3T<T>& v) {
+  const Vec3T<T> once = phi.cross(v);
+  return v + T(0.5) * once + inverse_jacobian_coefficient(phi.squaredNorm()) * phi.cross(once);
+}
+
 // exp([φ×]) by Rodrigues' formula.
 inline Mat3 rotation_matrix(const Vec3& phi) {
   const double angle = phi.norm();
