@@ -68,19 +68,32 @@ Vec3T<T> rotation_vector(const Mat3T<T>& a) {
 
 // β(ϑ) = 1/ϑ² − (1 + cos ϑ)/(2·ϑ·sin ϑ) of the inverse left Jacobian below, from ϑ² = |φ|²;
 // below ϑ = 0.1, where the difference cancels, its series 1/12 + ϑ²/720 + ϑ⁴/30240 +
-// ϑ⁶/1209600 (the next term, 2.1e-8·ϑ⁸, is below 1e-15 of β there).
+// ϑ⁶/1209600 + ϑ⁸/47900160 (the next term, 5.3e-10·ϑ¹⁰, is far below rounding there).
+constexpr double kInverseJacobianSeriesBelow = 1e-2;  // ϑ²
 template <class T>
 T inverse_jacobian_coefficient(const T& angle_squared) {
-  constexpr double kSeriesBelow = 1e-2;
-  if (value_of(angle_squared) < kSeriesBelow)
+  const T& x = angle_squared;
+  if (value_of(x) < kInverseJacobianSeriesBelow)
     return T(1.0 / 12.0) +
-           angle_squared * (T(1.0 / 720.0) + angle_squared * (T(1.0 / 30240.0) +
-                                                              angle_squared * T(1.0 / 1209600.0)));
+           x * (T(1.0 / 720.0) +
+                x * (T(1.0 / 30240.0) + x * (T(1.0 / 1209600.0) + x * T(1.0 / 47900160.0))));
   using std::cos;
   using std::sin;
   using std::sqrt;
-  const T angle = sqrt(angle_squared);
-  return T(1) / angle_squared - (T(1) + cos(angle)) / (T(2) * angle * sin(angle));
+  const T angle = sqrt(x);
+  return T(1) / x - (T(1) + cos(angle)) / (T(2) * angle * sin(angle));
+}
+
+// β'(ϑ)/ϑ, so that ∂β/∂φ = β'(ϑ)/ϑ·φᵀ: −2/ϑ⁴ + 1/(4ϑ²·sin²(ϑ/2)) + cot(ϑ/2)/(2ϑ³), below
+// ϑ = 0.1 its series 1/360 + ϑ²/7560 + ϑ⁴/201600 + ϑ⁶/5987520 + ϑ⁸/189243758.
+inline double inverse_jacobian_slope(double angle_squared) {
+  const double x = angle_squared;
+  if (x < kInverseJacobianSeriesBelow)
+    return 1.0 / 360.0 +
+           x * (1.0 / 7560.0 + x * (1.0 / 201600.0 + x * (1.0 / 5987520.0 + x / 189243758.0)));
+  const double angle = std::sqrt(x), half_sine = std::sin(0.5 * angle);
+  return -2 / (x * x) + 1 / (4 * x * half_sine * half_sine) +
+         std::cos(0.5 * angle) / (half_sine * 2 * x * angle);
 }
 
 // The derivative of the rotation vector under a turn in front: where A = exp([φ×]) becomes
