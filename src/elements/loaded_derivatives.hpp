@@ -118,12 +118,42 @@ Vec6T<T> wrench_in_axes(const Vec6T<T>& w, const Vec3T<T>& from, const Vec3T<T>&
 
 using Mat63 = Eigen::Matrix<double, 6, 3>;
 
-// Adds projection·derivative at rows [row, row + projection.rows()), columns `column` onwards.
-template <class Projection, class Derivative>
-void add_derivative(MatX& tangent, Index row, Index column, const Projection& projection,
+// Rows [first, first + count) of a 6×6 matrix, times `sign`: a joint's Λ_p (rows 0…p of
+// FreeDirections::rows) or Λ_r (rows p…6), a spring G·K·Λ_p padded with zero rows to 6. Products
+// with it are taken at the fixed size 6, which the compiler unrolls, and its rows kept after.
+struct SixRows {
+  const Mat6& matrix;
+  Index first = 0;
+  Index count = 6;
+  double sign = 1;
+};
+inline const Mat6 kSixIdentity = Mat6::Identity();
+
+// A joint's or support's spring G·K·Λ_p (p×6) in the top rows of a 6×6 matrix.
+inline Mat6 padded_spring(const FreeDirections& directions, const MatX& stiffness) {
+  Mat6 spring = Mat6::Zero();
+  spring.topRows(directions.p) =
+      SmallMat(directions.gram() * SmallMat(stiffness)) * directions.free();
+  return spring;
+}
+
+// Adds rows·derivative into the tangent at `row`, columns `column` onwards.
+template <class Derivative>
+void add_derivative(MatX& tangent, Index row, Index column, const SixRows& rows,
                     const Derivative& derivative) {
-  tangent.block(row, column, projection.rows(), derivative.cols()).noalias() +=
-      projection * derivative;
+  const Eigen::Matrix<double, 6, Derivative::ColsAtCompileTime> all = rows.matrix * derivative;
+  tangent.block(row, column, rows.count, all.cols()) +=
+      rows.sign * all.middleRows(rows.first, rows.count);
+}
+
+// rows·v, as the residual's rows at `row` (`add`: added to them).
+inline void set_rows(Eigen::Ref<VecX> residual, Index row, const SixRows& rows, const Vec6& v,
+                     bool add = false) {
+  const Vec6 all = rows.sign * (rows.matrix * v);
+  if (add)
+    residual.segment(row, rows.count) += all.segment(rows.first, rows.count);
+  else
+    residual.segment(row, rows.count) = all.segment(rows.first, rows.count);
 }
 
 // The column of end `slot`'s δx, δθ or δW in a block's tangent.
@@ -188,36 +218,35 @@ inline HeldWrench held_wrench(const EndState& end, const Vec6& external, const V
   return w;
 }
 
-// Adds projection·∂w into the tangent for the wrench of end `slot` held about end 0's point,
-// its axes turning with end 0 where `axes_turn`.
-template <class Projection>
-void add_held_wrench(MatX& tangent, Index row, const Projection& projection, const HeldWrench& w,
-                     Index slot, bool axes_turn) {
-  add_derivative(tangent, row, wrench_column(slot), projection, w.of_wrench);
+// Adds rows·∂w into the tangent for the wrench of end `slot` held about end 0's point, its axes
+// turning with end 0 where `axes_turn`.
+inline void add_held_wrench(MatX& tangent, Index row, const SixRows& rows, const HeldWrench& w,
+                            Index slot, bool axes_turn) {
+  add_derivative(tangent, row, wrench_column(slot), rows, w.of_wrench);
   if (slot != 0) {  // at end 0 itself the arm x_k − x_0 does not change
-    add_derivative(tangent, row, position_column(slot), projection, w.of_position);
-    add_derivative(tangent, row, position_column(0), projection, -w.of_position);
+    add_derivative(tangent, row, position_column(slot), rows, w.of_position);
+    add_derivative(tangent, row, position_column(0), rows, -w.of_position);
   }
-  if (axes_turn) add_derivative(tangent, row, turn_column(0), projection, w.of_turn);
+  if (axes_turn) add_derivative(tangent, row, turn_column(0), rows, w.of_turn);
 }
 
-// The rows projection·Σ_k w_k of a group's wrenches about its first end's point in `axes`
-// (turning with the first end where `axes_turn`), into residual and, where given, tangent, at
-// `row`; w_k's values are kept in `held` where it is given (a joint's rows use each).
-template <class Projection>
-void add_wrench_sum(const LoadedInputs& in, const std::vector<int>& ends, const Mat3& axes,
-                    bool axes_turn, const Projection& projection, Index row,
-                    Eigen::Ref<VecX> residual, MatX* tangent, std::vector<HeldWrench>* held) {
+// The rows rows·Σ_k w_k of a group's wrenches about its first end's point in `axes` (turning
+// with the first end where `axes_turn`), into residual and, where given, tangent, at `row`; the
+// w_k are kept in `held` where it is given (a joint's rows use each).
+inline void add_wrench_sum(const LoadedInputs& in, const std::vector<int>& ends, const Mat3& axes,
+                           bool axes_turn, const SixRows& rows, Index row,
+                           Eigen::Ref<VecX> residual, MatX* tangent,
+                           std::vector<HeldWrench>* held) {
   const EndState& first = in.ends[static_cast<std::size_t>(ends[0])];
   Vec6 sum = Vec6::Zero();
   for (std::size_t k = 0; k < ends.size(); ++k) {
     const auto e = static_cast<std::size_t>(ends[k]);
     HeldWrench w = held_wrench(in.ends[e], in.external[e], first.position, axes);
     sum += w.value;
-    if (tangent) add_held_wrench(*tangent, row, projection, w, static_cast<Index>(k), axes_turn);
+    if (tangent) add_held_wrench(*tangent, row, rows, w, static_cast<Index>(k), axes_turn);
     if (held) held->push_back(std::move(w));
   }
-  residual.segment(row, projection.rows()) = projection * sum;
+  set_rows(residual, row, rows, sum);
 }
 
 }  // namespace stiffmsa::detail

@@ -24,18 +24,18 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const Index m = static_cast<Index>(ends_.size());
     const Index p = directions_.p, r = 6 - p;
-    const auto held_rows = directions_.constrained();
-    const auto free_rows = directions_.free();
+    const SixRows held_rows{directions_.rows, p, r}, free_rows{directions_.rows, 0, p};
+    const SixRows minus_held{directions_.rows, p, r, -1};
     if (tangent) tangent->setZero(6 * m, 12 * m);
     const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
     Index row = 0;
     for (Index k = 1; k < m; ++k) {
       const RelativeMotion q = relative_motion(
           first, in.ends[static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)])]);
-      residual.segment(row, r) = -(held_rows * q.value);
+      set_rows(residual, row, minus_held, q.value);
       if (tangent) {
-        add_derivative(*tangent, row, position_column(0), -held_rows, q.of_first);
-        add_derivative(*tangent, row, position_column(k), -held_rows, q.of_other);
+        add_derivative(*tangent, row, position_column(0), minus_held, q.of_first);
+        add_derivative(*tangent, row, position_column(k), minus_held, q.of_other);
       }
       row += r;
     }
@@ -45,7 +45,7 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
     row += r;
     for (Index k = 0; k < m; ++k) {
       const HeldWrench& w = held[static_cast<std::size_t>(k)];
-      residual.segment(row, p) = free_rows * w.value;
+      set_rows(residual, row, free_rows, w.value);
       if (preload_ && k < 2) {
         const double sign = k == 0 ? -in.load_factor : in.load_factor;
         residual.segment(row, p) += sign * *preload_;
@@ -67,7 +67,7 @@ class LoadedElasticJointBlock final : public LoadedBlock {
                           const MatX& stiffness, const std::optional<VecX>& preload)
       : ends_{end_1, end_2},
         directions_(directions),
-        spring_(SmallMat(directions_.gram() * SmallMat(stiffness)) * directions_.free()) {
+        spring_(padded_spring(directions_, stiffness)) {
     if (preload) preload_ = SmallVec(directions_.gram() * *preload);
   }
   Index equation_count() const override { return 12; }
@@ -77,31 +77,32 @@ class LoadedElasticJointBlock final : public LoadedBlock {
   // Λ_p·w_1 − G·K·Λ_p·q_2 = λ·G·w0, w_1 in end 1's axes: the spring on the finite motion q_2.
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const Index p = directions_.p, r = 6 - p;
-    const auto held_rows = directions_.constrained();
-    const auto free_rows = directions_.free();
+    const SixRows minus_held{directions_.rows, p, r, -1}, free_rows{directions_.rows, 0, p};
+    const SixRows minus_spring{spring_, 0, p, -1};
     if (tangent) tangent->setZero(12, 24);
     const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
     const EndState& second = in.ends[static_cast<std::size_t>(ends_[1])];
-    add_wrench_sum(in, ends_, Mat3::Identity(), false, Mat6::Identity(), 0, residual, tangent,
+    add_wrench_sum(in, ends_, Mat3::Identity(), false, SixRows{kSixIdentity}, 0, residual, tangent,
                    nullptr);
     const RelativeMotion q = relative_motion(first, second);
-    residual.segment(6, r) = -(held_rows * q.value);
+    set_rows(residual, 6, minus_held, q.value);
     const HeldWrench w = held_wrench(first, in.external[static_cast<std::size_t>(ends_[0])],
                                      first.position, first.rotation);
-    residual.segment(6 + r, p) = free_rows * w.value - spring_ * q.value;
+    set_rows(residual, 6 + r, free_rows, w.value);
+    set_rows(residual, 6 + r, minus_spring, q.value, true);
     if (preload_) residual.segment(6 + r, p) -= in.load_factor * *preload_;
     if (!tangent) return;
-    add_derivative(*tangent, 6, position_column(0), -held_rows, q.of_first);
-    add_derivative(*tangent, 6, position_column(1), -held_rows, q.of_other);
+    add_derivative(*tangent, 6, position_column(0), minus_held, q.of_first);
+    add_derivative(*tangent, 6, position_column(1), minus_held, q.of_other);
     add_held_wrench(*tangent, 6 + r, free_rows, w, 0, true);
-    add_derivative(*tangent, 6 + r, position_column(0), -spring_, q.of_first);
-    add_derivative(*tangent, 6 + r, position_column(1), -spring_, q.of_other);
+    add_derivative(*tangent, 6 + r, position_column(0), minus_spring, q.of_first);
+    add_derivative(*tangent, 6 + r, position_column(1), minus_spring, q.of_other);
   }
 
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  SmallMat spring_;  // G·K·Λ_p
+  Mat6 spring_;  // G·K·Λ_p, padded with zero rows
   std::optional<SmallVec> preload_;
 };
 

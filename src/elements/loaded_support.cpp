@@ -17,8 +17,7 @@ class LoadedSupportBlock final : public LoadedBlock {
         directions_(directions),
         settlement_(settlement.value_or(Vec6::Zero())),
         unloaded_position_(unloaded_position) {
-    if (stiffness)
-      spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
+    if (stiffness) spring_ = padded_spring(directions_, *stiffness);
     if (preload) preload_ = SmallVec(directions_.gram() * *preload);
   }
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
@@ -57,16 +56,17 @@ class LoadedSupportBlock final : public LoadedBlock {
     Mat6 motion = Mat6::Zero();
     motion.topLeftCorner<3, 3>() = back;
     motion.bottomRightCorner<3, 3>() = inverse_left_jacobian<double>(Vec3(g.tail<3>())) * back;
-    const auto held_rows = directions_.constrained();
-    residual.segment(row, r) = held_rows * g;
+    const SixRows held_rows{directions_.rows, p, r};
+    set_rows(residual, row, held_rows, g);
     if (tangent) add_derivative(*tangent, row, position_column(0), held_rows, motion);
     row += r;
     if (p == 0) return;
-    const auto free_rows = directions_.free();
-    add_wrench_sum(in, ends_, ground, false, free_rows, row, residual, tangent, nullptr);
+    add_wrench_sum(in, ends_, ground, false, SixRows{directions_.rows, 0, p}, row, residual,
+                   tangent, nullptr);
     if (spring_) {
-      residual.segment(row, p) += *spring_ * g;
-      if (tangent) add_derivative(*tangent, row, position_column(0), *spring_, motion);
+      const SixRows spring{*spring_, 0, p};
+      set_rows(residual, row, spring, g, true);
+      if (tangent) add_derivative(*tangent, row, position_column(0), spring, motion);
     }
     if (preload_) residual.segment(row, p) -= in.load_factor * *preload_;
   }
@@ -74,7 +74,7 @@ class LoadedSupportBlock final : public LoadedBlock {
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  std::optional<SmallMat> spring_;
+  std::optional<Mat6> spring_;  // G·K·Λ_p, padded with zero rows
   std::optional<SmallVec> preload_;
   Vec6 settlement_;
   Vec3 unloaded_position_;
