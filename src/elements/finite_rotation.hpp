@@ -1,9 +1,8 @@
 #pragma once
-// Finite rotations for the loaded mode (docs/theory.md §15): the rotation vector of a rotation
-// matrix (its logarithm), Rodrigues' formula, and the derivatives the loaded blocks need, taken
-// by forward automatic differentiation (Eigen's AutoDiffScalar, nested where a block needs the
-// derivative of a gradient). Every function is a template on the scalar so that one text gives
-// the value and its exact derivatives.
+// Finite rotations for the loaded mode (docs/theory.md §15.6): the rotation vector of a rotation
+// matrix (its logarithm), Rodrigues' formula, and the rotation vector's derivative (the inverse
+// left Jacobian) that the loaded blocks' tangents are written with. The templates on the scalar
+// also take Eigen's forward-mode duals, for rows whose derivatives are not written out.
 #include <Eigen/Core>
 #include <cmath>
 #include <unsupported/Eigen/AutoDiff>
@@ -20,10 +19,6 @@ using Mat3T = Eigen::Matrix<T, 3, 3>;
 // A forward-mode scalar with N derivatives (Eigen::Dynamic: as many as it is given).
 template <int N>
 using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
-// Its derivatives are themselves Duals: the second derivatives ∂²f/∂a∂b of two sets of N
-// variables a (inner) and b (outer).
-template <int N>
-using Dual2 = Eigen::AutoDiffScalar<Eigen::Matrix<Dual<N>, N, 1>>;
 
 inline double value_of(double x) { return x; }
 template <class D>

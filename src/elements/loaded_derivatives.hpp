@@ -1,7 +1,8 @@
 #pragma once
-// How a loaded block gets its tangent: its residual rows are written once, as a template on the
-// scalar, and evaluated in double for the residual or with forward-mode duals, whose variables
-// are the increments [δx; δθ; δW] of its ends at zero, for the residual and its derivatives.
+// How a loaded block gets its tangent. The built-in blocks write it out from the pieces at the
+// end of this file (docs/theory.md §15.1). Rows written once as a template on the scalar can
+// instead be evaluated by `evaluate_block`: in double for the residual, or with forward-mode
+// duals whose variables are the increments [δx; δθ; δW] of the block's ends at zero.
 #include <utility>
 
 #include "elements/finite_rotation.hpp"
