@@ -142,6 +142,11 @@ inline Mat6 padded_spring(const FreeDirections& directions, const MatX& stiffnes
 template <class Derivative>
 void add_derivative(MatX& tangent, Index row, Index column, const SixRows& rows,
                     const Derivative& derivative) {
+  if (&rows.matrix == &kSixIdentity) {  // no product to take
+    tangent.block(row, column, rows.count, derivative.cols()) +=
+        rows.sign * derivative.middleRows(rows.first, rows.count);
+    return;
+  }
   const Eigen::Matrix<double, 6, Derivative::ColsAtCompileTime> all = rows.matrix * derivative;
   tangent.block(row, column, rows.count, all.cols()) +=
       rows.sign * all.middleRows(rows.first, rows.count);
@@ -231,21 +236,39 @@ inline void add_held_wrench(MatX& tangent, Index row, const SixRows& rows, const
   if (axes_turn) add_derivative(tangent, row, turn_column(0), rows, w.of_turn);
 }
 
+// Adds Λ·∂w for the wrench of end `slot`, held about end 0's point in end 0's turning axes (Λ:
+// FreeDirections::rows, p free directions): its Λ_r rows at `held_row`, its Λ_p rows at
+// `free_row`, from one product.
+inline void add_held_wrench_split(MatX& tangent, Index held_row, Index free_row, const Mat6& rows,
+                                  Index p, const HeldWrench& w, Index slot) {
+  const Index r = 6 - p;
+  auto add = [&](Index column, const auto& all, double sign) {
+    tangent.block(held_row, column, r, all.cols()) += sign * all.bottomRows(r);
+    tangent.block(free_row, column, p, all.cols()) += sign * all.topRows(p);
+  };
+  const Mat6 of_wrench = rows * w.of_wrench;
+  add(wrench_column(slot), of_wrench, 1);
+  if (slot != 0) {  // at end 0 itself the arm x_k − x_0 does not change
+    const Mat63 of_position = rows * w.of_position;
+    add(position_column(slot), of_position, 1);
+    add(position_column(0), of_position, -1);
+  }
+  const Mat63 of_turn = rows * w.of_turn;
+  add(turn_column(0), of_turn, 1);
+}
+
 // The rows rows·Σ_k w_k of a group's wrenches about its first end's point in `axes` (turning
-// with the first end where `axes_turn`), into residual and, where given, tangent, at `row`; the
-// w_k are kept in `held` where it is given (a joint's rows use each).
+// with the first end where `axes_turn`), into residual and, where given, tangent, at `row`.
 inline void add_wrench_sum(const LoadedInputs& in, const std::vector<int>& ends, const Mat3& axes,
                            bool axes_turn, const SixRows& rows, Index row,
-                           Eigen::Ref<VecX> residual, MatX* tangent,
-                           std::vector<HeldWrench>* held) {
+                           Eigen::Ref<VecX> residual, MatX* tangent) {
   const EndState& first = in.ends[static_cast<std::size_t>(ends[0])];
   Vec6 sum = Vec6::Zero();
   for (std::size_t k = 0; k < ends.size(); ++k) {
     const auto e = static_cast<std::size_t>(ends[k]);
-    HeldWrench w = held_wrench(in.ends[e], in.external[e], first.position, axes);
+    const HeldWrench w = held_wrench(in.ends[e], in.external[e], first.position, axes);
     sum += w.value;
     if (tangent) add_held_wrench(*tangent, row, rows, w, static_cast<Index>(k), axes_turn);
-    if (held) held->push_back(std::move(w));
   }
   set_rows(residual, row, rows, sum);
 }

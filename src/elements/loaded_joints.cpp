@@ -39,20 +39,23 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
       }
       row += r;
     }
-    std::vector<HeldWrench> held;
-    held.reserve(static_cast<std::size_t>(m));
-    add_wrench_sum(in, ends_, first.rotation, true, held_rows, row, residual, tangent, &held);
+    // Each w_k enters the sum's Λ_r rows and its own Λ_p rows: one product Λ·∂w_k serves both.
+    const Index sum_row = row;
     row += r;
+    Vec6 sum = Vec6::Zero();
     for (Index k = 0; k < m; ++k) {
-      const HeldWrench& w = held[static_cast<std::size_t>(k)];
+      const auto e = static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)]);
+      const HeldWrench w = held_wrench(in.ends[e], in.external[e], first.position, first.rotation);
+      sum += w.value;
       set_rows(residual, row, free_rows, w.value);
       if (preload_ && k < 2) {
         const double sign = k == 0 ? -in.load_factor : in.load_factor;
         residual.segment(row, p) += sign * *preload_;
       }
-      if (tangent) add_held_wrench(*tangent, row, free_rows, w, k, true);
+      if (tangent) add_held_wrench_split(*tangent, sum_row, row, directions_.rows, p, w, k);
       row += p;
     }
+    set_rows(residual, sum_row, held_rows, sum);
   }
 
  private:
@@ -68,6 +71,9 @@ class LoadedElasticJointBlock final : public LoadedBlock {
       : ends_{end_1, end_2},
         directions_(directions),
         spring_(padded_spring(directions_, stiffness)) {
+    const Index p = directions_.p, r = 6 - p;
+    motion_rows_.topRows(r) = -directions_.constrained();
+    motion_rows_.bottomRows(p) = -spring_.topRows(p);
     if (preload) preload_ = SmallVec(directions_.gram() * *preload);
   }
   Index equation_count() const override { return 12; }
@@ -77,32 +83,28 @@ class LoadedElasticJointBlock final : public LoadedBlock {
   // Λ_p·w_1 − G·K·Λ_p·q_2 = λ·G·w0, w_1 in end 1's axes: the spring on the finite motion q_2.
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const Index p = directions_.p, r = 6 - p;
-    const SixRows minus_held{directions_.rows, p, r, -1}, free_rows{directions_.rows, 0, p};
-    const SixRows minus_spring{spring_, 0, p, -1};
+    const SixRows free_rows{directions_.rows, 0, p};
     if (tangent) tangent->setZero(12, 24);
     const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
     const EndState& second = in.ends[static_cast<std::size_t>(ends_[1])];
-    add_wrench_sum(in, ends_, Mat3::Identity(), false, SixRows{kSixIdentity}, 0, residual, tangent,
-                   nullptr);
+    add_wrench_sum(in, ends_, Mat3::Identity(), false, SixRows{kSixIdentity}, 0, residual, tangent);
     const RelativeMotion q = relative_motion(first, second);
-    set_rows(residual, 6, minus_held, q.value);
+    residual.segment<6>(6) = motion_rows_ * q.value;
     const HeldWrench w = held_wrench(first, in.external[static_cast<std::size_t>(ends_[0])],
                                      first.position, first.rotation);
-    set_rows(residual, 6 + r, free_rows, w.value);
-    set_rows(residual, 6 + r, minus_spring, q.value, true);
+    set_rows(residual, 6 + r, free_rows, w.value, true);
     if (preload_) residual.segment(6 + r, p) -= in.load_factor * *preload_;
     if (!tangent) return;
-    add_derivative(*tangent, 6, position_column(0), minus_held, q.of_first);
-    add_derivative(*tangent, 6, position_column(1), minus_held, q.of_other);
+    tangent->block<6, 6>(6, position_column(0)) = motion_rows_ * q.of_first;
+    tangent->block<6, 6>(6, position_column(1)) = motion_rows_ * q.of_other;
     add_held_wrench(*tangent, 6 + r, free_rows, w, 0, true);
-    add_derivative(*tangent, 6 + r, position_column(0), minus_spring, q.of_first);
-    add_derivative(*tangent, 6 + r, position_column(1), minus_spring, q.of_other);
   }
 
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  Mat6 spring_;  // G·K·Λ_p, padded with zero rows
+  Mat6 spring_;       // G·K·Λ_p, padded with zero rows
+  Mat6 motion_rows_;  // [−Λ_r; −G·K·Λ_p]: the rows 7…12 of q_2
   std::optional<SmallVec> preload_;
 };
 

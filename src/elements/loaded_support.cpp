@@ -62,7 +62,7 @@ class LoadedSupportBlock final : public LoadedBlock {
     row += r;
     if (p == 0) return;
     add_wrench_sum(in, ends_, ground, false, SixRows{directions_.rows, 0, p}, row, residual,
-                   tangent, nullptr);
+                   tangent);
     if (spring_) {
       const SixRows spring{*spring_, 0, p};
       set_rows(residual, row, spring, g, true);
