@@ -59,8 +59,8 @@ class CorotationalLinkBlock final : public LoadedBlock {
   }
 
  private:
-  using Row12 = Eigen::Matrix<double, 1, 12>;
-  using Jacobian = Eigen::Matrix<double, 3, 12>;  // ∂(3-vector)/∂[δx_i, δθ_i, δx_j, δθ_j]
+  using Row9 = Eigen::Matrix<double, 1, 9>;
+  using Jacobian = Eigen::Matrix<double, 3, 9>;  // ∂(3-vector)/∂[δc, δθ_i, δθ_j]
 
   // ∂E/∂t = [∂E/∂x_i; ∂E/∂θ_i; ∂E/∂x_j; ∂E/∂θ_j] (δθ spatial) at the ends' poses and, where
   // `derivative` is given, its derivative in the same increments (after the multiplicative
@@ -129,44 +129,40 @@ class CorotationalLinkBlock final : public LoadedBlock {
     g << -force, mu_i - 0.5 * spin * arm_i, force, mu_j - 0.5 * spin * arm_j;
     if (!derivative) return g;
 
-    // The same formulas differentiated, step by step, in b = [δx_i, δθ_i, δx_j, δθ_j].
+    // The same formulas differentiated, step by step, in b = [δc, δθ_i, δθ_j]: everything sees
+    // the positions through the chord c = x_j − x_i only, so ∂/∂x_j = ∂/∂c = −∂/∂x_i.
     const Mat3 identity = Mat3::Identity();
-    Row12 d_length = Row12::Zero();
-    d_length.segment<3>(0) = -e1.transpose();
-    d_length.segment<3>(6) = e1.transpose();
+    Row9 d_length = Row9::Zero();
+    d_length.head<3>() = e1.transpose();
     const Mat3 chord_turn = (identity - e1 * e1.transpose()) / length;
     Jacobian d_e1 = Jacobian::Zero();
-    d_e1.block<3, 3>(0, 0) = -chord_turn;
-    d_e1.block<3, 3>(0, 6) = chord_turn;
+    d_e1.leftCols<3>() = chord_turn;
     Jacobian d_qi = Jacobian::Zero(), d_qj = Jacobian::Zero();
-    d_qi.block<3, 3>(0, 3) = -skew_of<double>(qi);
-    d_qj.block<3, 3>(0, 9) = -skew_of<double>(qj);
+    d_qi.middleCols<3>(3) = -skew_of<double>(qi);
+    d_qj.rightCols<3>() = -skew_of<double>(qj);
     const Jacobian d_q = 0.5 * (d_qi + d_qj);
     const Jacobian d_w = skew_of<double>(e1) * d_q - skew_of<double>(q) * d_e1;
-    const Row12 d_across = e3.transpose() * d_w;
+    const Row9 d_across = e3.transpose() * d_w;
     const Jacobian d_e3 = ((identity - e3 * e3.transpose()) / across) * d_w;
     const Jacobian d_e2 = skew_of<double>(e3) * d_e1 - skew_of<double>(e1) * d_e3;
-    Row12 gamma1, gamma2 = Row12::Zero(), gamma3 = Row12::Zero();
-    gamma1 << q_along / length * e3.transpose(), 0.5 * arm_i.transpose(),
-        -q_along / length * e3.transpose(), 0.5 * arm_j.transpose();
+    Row9 gamma1, gamma2 = Row9::Zero(), gamma3 = Row9::Zero();
+    gamma1 << -q_along / length * e3.transpose(), 0.5 * arm_i.transpose(), 0.5 * arm_j.transpose();
     gamma1 /= across;
-    gamma2.segment<3>(0) = e3.transpose() / length;
-    gamma2.segment<3>(6) = -e3.transpose() / length;
-    gamma3.segment<3>(0) = -e2.transpose() / length;
-    gamma3.segment<3>(6) = e2.transpose() / length;
+    gamma2.head<3>() = -e3.transpose() / length;
+    gamma3.head<3>() = e2.transpose() / length;
     const Jacobian frame_turn = e1 * gamma1 + e2 * gamma2 + e3 * gamma3;  // Γ
     const Mat3 back_i = inverse_i * rigid.transpose(), back_j = inverse_j * rigid.transpose();
     Jacobian d_phi_i = -back_i * frame_turn, d_phi_j = -back_j * frame_turn;
-    d_phi_i.block<3, 3>(0, 3) += back_i;
-    d_phi_j.block<3, 3>(0, 9) += back_j;
-    Eigen::Matrix<double, 7, 12> d_z;
+    d_phi_i.middleCols<3>(3) += back_i;
+    d_phi_j.rightCols<3>() += back_j;
+    Eigen::Matrix<double, 7, 9> d_z;
     d_z << d_phi_i, d_length, d_phi_j;
-    Eigen::Matrix<double, 7, 12> d_f = reduced_ * d_z;
+    Eigen::Matrix<double, 7, 9> d_f = reduced_ * d_z;
     if (link_.axial) {
       const Jacobian d_ti = across_n0 * d_phi_i, d_tj = across_n0 * d_phi_j;
       const Vec3 bow_i = 4 * ti - tj, bow_j = 4 * tj - ti;
-      const Row12 d_bow = length_ / 30 * (bow_i.transpose() * d_ti + bow_j.transpose() * d_tj);
-      const Row12 d_bow_scale = rigidity * length_ / 30 * (d_length + d_bow);
+      const Row9 d_bow = length_ / 30 * (bow_i.transpose() * d_ti + bow_j.transpose() * d_tj);
+      const Row9 d_bow_scale = rigidity * length_ / 30 * (d_length + d_bow);
       d_f.topRows<3>() += bow_i * d_bow_scale + bow_scale * (4 * d_ti - d_tj);
       d_f.row(3) += rigidity * d_bow;
       d_f.bottomRows<3>() += bow_j * d_bow_scale + bow_scale * (4 * d_tj - d_ti);
@@ -179,22 +175,25 @@ class CorotationalLinkBlock final : public LoadedBlock {
         rigid * (inverse_j.transpose() * d_f.bottomRows<3>() + slope(phi_j, vj) * d_phi_j) -
         skew_of<double>(mu_j) * frame_turn;
     const Jacobian d_m = d_mu_i + d_mu_j;
-    const Row12 d_m1 = e1.transpose() * d_m + m.transpose() * d_e1;
-    const Row12 d_m2 = e2.transpose() * d_m + m.transpose() * d_e2;
-    const Row12 d_m3 = e3.transpose() * d_m + m.transpose() * d_e3;
-    const Row12 d_spin = (d_m1 - spin * d_across) / across;
-    const Row12 d_q_along = e1.transpose() * d_q + q.transpose() * d_e1;
-    const Row12 d_lift = (q_along * d_spin + spin * d_q_along - lift * d_length) / length;
+    const Row9 d_m1 = e1.transpose() * d_m + m.transpose() * d_e1;
+    const Row9 d_m2 = e2.transpose() * d_m + m.transpose() * d_e2;
+    const Row9 d_m3 = e3.transpose() * d_m + m.transpose() * d_e3;
+    const Row9 d_spin = (d_m1 - spin * d_across) / across;
+    const Row9 d_q_along = e1.transpose() * d_q + q.transpose() * d_e1;
+    const Row9 d_lift = (q_along * d_spin + spin * d_q_along - lift * d_length) / length;
     const Jacobian d_force =
         e1 * d_f.row(3) + f(3) * d_e1 + (e3 * d_m2 + m2 * d_e3 - e2 * d_m3 - m3 * d_e2) / length -
         ((m2 * e3 - m3 * e2) / (length * length)) * d_length + e3 * d_lift + lift * d_e3;
     const Mat3 turn_e3 = skew_of<double>(e3);
     const Jacobian d_arm_i = skew_of<double>(qi) * d_e3 - turn_e3 * d_qi;
     const Jacobian d_arm_j = skew_of<double>(qj) * d_e3 - turn_e3 * d_qj;
-    derivative->middleRows<3>(0) = -d_force;
-    derivative->middleRows<3>(3) = d_mu_i - 0.5 * (arm_i * d_spin + spin * d_arm_i);
-    derivative->middleRows<3>(6) = d_force;
-    derivative->middleRows<3>(9) = d_mu_j - 0.5 * (arm_j * d_spin + spin * d_arm_j);
+    Eigen::Matrix<double, 12, 9> d_g;
+    d_g << -d_force, d_mu_i - 0.5 * (arm_i * d_spin + spin * d_arm_i), d_force,
+        d_mu_j - 0.5 * (arm_j * d_spin + spin * d_arm_j);
+    derivative->leftCols<3>() = -d_g.leftCols<3>();
+    derivative->middleCols<3>(3) = d_g.middleCols<3>(3);
+    derivative->middleCols<3>(6) = d_g.leftCols<3>();
+    derivative->rightCols<3>() = d_g.rightCols<3>();
     return g;
   }
 
