@@ -340,6 +340,48 @@ TEST(CorotationalLinkBlock, SteelTubeMatchesNestedDuals) {
   }
 }
 
+// Unloaded, and moved rigidly from there (d̄ = 0 exactly: the rotation vectors' and the inverse
+// Jacobian's series at zero), the link holds no wrench and its tangent is the linear stiffness
+// form of §3.3 turned with it, −T·K·Tᵀ (T = diag(Q, Q, Q, Q)): K holds the rigid motions in its
+// null space, so that the frame's part of d̄ drops out and the geometric terms vanish with f.
+TEST(CorotationalLinkBlock, RigidlyMovedLinkHasTheTurnedLinearStiffness) {
+  RandomStates random(5);
+  BeamLink beam;
+  beam.material.E = 7e10;
+  beam.material.nu = 0.33;
+  beam.section = Section::rect(0.04, 0.07);
+  const Vec3 from(0.3, 0.1, -0.2), to(-0.4, 0.6, 0.5);
+  CorotationalLink link;
+  link.d0 = to - from;
+  link.stiffness = beam_global_stiffness(beam, from, to);
+  link.axial = beam.material.E * section_properties(beam.section).A;
+  for (int trial = 0; trial < 3; ++trial) {
+    const Mat3 turn = trial == 0 ? Mat3::Identity() : random.rotation();
+    const Vec3 shift = trial == 0 ? Vec3::Zero() : random.direction();
+    std::vector<EndState> states(2);
+    states[0].position = turn * from + shift;
+    states[1].position = turn * to + shift;
+    states[0].rotation = states[1].rotation = turn;
+    states[0].wrench = random.wrench(100);
+    states[1].wrench = random.wrench(100);
+    const auto block = make_corotational_link(0, 1, link);
+    const std::vector<Vec6> external(2, Vec6::Zero());
+    const Rows got = block_rows(*block, LoadedInputs{states, external, 1.0});
+    Mat12 rotate = Mat12::Zero();
+    for (int b = 0; b < 4; ++b) rotate.block<3, 3>(3 * b, 3 * b) = turn;
+    const Mat12 expected = -rotate * link.stiffness * rotate.transpose();
+    const double scale = link.stiffness.cwiseAbs().maxCoeff();
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    for (Index m = 0; m < 12; ++m) {
+      const double wrench = m < 6 ? states[0].wrench(m) : states[1].wrench(m - 6);
+      EXPECT_NEAR(got.residual(m), wrench, 1e-13 * scale * link.d0.norm()) << "row " << m;
+      for (Index b = 0; b < 12; ++b)
+        EXPECT_NEAR(got.tangent(m, b < 6 ? b : b + 6), expected(m, b), 1e-12 * scale)
+            << "row " << m << ", column " << b;
+    }
+  }
+}
+
 // ---- joints, supports, rigid links and free ends (§15.3–15.5) --------------------------------
 
 // [R_1ᵀ·(x_k − x_1); log(R_1ᵀ·R_k)]: end k's motion relative to end 1, in end 1's axes.
