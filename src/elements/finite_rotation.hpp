@@ -1,9 +1,8 @@
 #pragma once
-// Finite rotations for the loaded mode (docs/theory.md §15): the rotation vector of a rotation
-// matrix (its logarithm), Rodrigues' formula, and the derivatives the loaded blocks need, taken
-// by forward automatic differentiation (Eigen's AutoDiffScalar, nested where a block needs the
-// derivative of a gradient). Every function is a template on the scalar so that one text gives
-// the value and its exact derivatives.
+// Finite rotations for the loaded mode (docs/theory.md §15.6): the rotation vector of a rotation
+// matrix (its logarithm), Rodrigues' formula, and the rotation vector's derivative (the inverse
+// left Jacobian) that the loaded blocks' tangents are written with. The templates on the scalar
+// also take Eigen's forward-mode duals, for rows whose derivatives are not written out.
 #include <Eigen/Core>
 #include <cmath>
 #include <unsupported/Eigen/AutoDiff>
@@ -20,10 +19,6 @@ using Mat3T = Eigen::Matrix<T, 3, 3>;
 // A forward-mode scalar with N derivatives (Eigen::Dynamic: as many as it is given).
 template <int N>
 using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
-// Its derivatives are themselves Duals: the second derivatives ∂²f/∂a∂b of two sets of N
-// variables a (inner) and b (outer).
-template <int N>
-using Dual2 = Eigen::AutoDiffScalar<Eigen::Matrix<Dual<N>, N, 1>>;
 
 inline double value_of(double x) { return x; }
 template <class D>
@@ -64,6 +59,53 @@ Vec3T<T> rotation_vector(const Mat3T<T>& a) {
   using std::sqrt;
   const T sine = sqrt(x);
   return s * (atan2(sine, c) / sine);
+}
+
+// β(ϑ) = 1/ϑ² − (1 + cos ϑ)/(2·ϑ·sin ϑ) of the inverse left Jacobian below, from ϑ² = |φ|²;
+// below ϑ = 0.1, where the difference cancels, its series 1/12 + ϑ²/720 + ϑ⁴/30240 +
+// ϑ⁶/1209600 + ϑ⁸/47900160 (the next term, 5.3e-10·ϑ¹⁰, is far below rounding there).
+constexpr double kInverseJacobianSeriesBelow = 1e-2;  // ϑ²
+template <class T>
+T inverse_jacobian_coefficient(const T& angle_squared) {
+  const T& x = angle_squared;
+  if (value_of(x) < kInverseJacobianSeriesBelow)
+    return T(1.0 / 12.0) +
+           x * (T(1.0 / 720.0) +
+                x * (T(1.0 / 30240.0) + x * (T(1.0 / 1209600.0) + x * T(1.0 / 47900160.0))));
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const T angle = sqrt(x);
+  return T(1) / x - (T(1) + cos(angle)) / (T(2) * angle * sin(angle));
+}
+
+// β'(ϑ)/ϑ, so that ∂β/∂φ = β'(ϑ)/ϑ·φᵀ: −2/ϑ⁴ + 1/(4ϑ²·sin²(ϑ/2)) + cot(ϑ/2)/(2ϑ³), below
+// ϑ = 0.1 its series 1/360 + ϑ²/7560 + ϑ⁴/201600 + ϑ⁶/5987520 + ϑ⁸/189243758.
+inline double inverse_jacobian_slope(double angle_squared) {
+  const double x = angle_squared;
+  if (x < kInverseJacobianSeriesBelow)
+    return 1.0 / 360.0 +
+           x * (1.0 / 7560.0 + x * (1.0 / 201600.0 + x * (1.0 / 5987520.0 + x / 189243758.0)));
+  const double angle = std::sqrt(x), half_sine = std::sin(0.5 * angle);
+  return -2 / (x * x) + 1 / (4 * x * half_sine * half_sine) +
+         std::cos(0.5 * angle) / (half_sine * 2 * x * angle);
+}
+
+// The derivative of the rotation vector under a turn in front: where A = exp([φ×]) becomes
+// (I + [ω×])·A, φ becomes φ + J⁻¹(φ)·ω with J⁻¹(φ) = I − ½·[φ×] + β(|φ|)·[φ×]² (the inverse of
+// the left Jacobian of the rotations, valid to |φ| < π).
+template <class T>
+Mat3T<T> inverse_left_jacobian(const Vec3T<T>& phi) {
+  const Mat3T<T> cross = skew_of(phi);
+  return Mat3T<T>::Identity() - T(0.5) * cross +
+         inverse_jacobian_coefficient(phi.squaredNorm()) * (cross * cross);
+}
+
+// J⁻¹(φ)ᵀ·v = v + ½·φ × v + β·φ × (φ × v): the moment whose work on ω is v's on δφ.
+template <class T>
+Vec3T<T> inverse_left_jacobian_transposed_times(const Vec3T<T>& phi, const Vec3T<T>& v) {
+  const Vec3T<T> once = phi.cross(v);
+  return v + T(0.5) * once + inverse_jacobian_coefficient(phi.squaredNorm()) * phi.cross(once);
 }
 
 // exp([φ×]) by Rodrigues' formula.

@@ -9,16 +9,6 @@ namespace stiffmsa::detail {
 
 namespace {
 
-// The finite motion of end k relative to end 1 in end 1's turned axes:
-// [R_1ᵀ·(x_k − x_1); rotation_vector(R_1ᵀ·R_k)].
-template <class T>
-Vec6T<T> relative_motion(const EndT<T>& first, const EndT<T>& other) {
-  Vec6T<T> q;
-  q.template head<3>() = first.rotation.transpose() * (other.x - first.x);
-  q.template tail<3>() = rotation_vector<T>(Mat3T<T>(first.rotation.transpose() * other.rotation));
-  return q;
-}
-
 class LoadedConstraintJointBlock final : public LoadedBlock {
  public:
   LoadedConstraintJointBlock(std::vector<int> ends, const FreeDirections& directions,
@@ -34,41 +24,38 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const Index m = static_cast<Index>(ends_.size());
     const Index p = directions_.p, r = 6 - p;
-    evaluate_block(
-        in, ends_, 6 * m,
-        [&](const auto& e, auto& out) {
-          using T = typename std::decay_t<decltype(out)>::Scalar;
-          const Eigen::Matrix<T, 6, 6> rows = directions_.rows.cast<T>();
-          Index row = 0;
-          for (Index k = 1; k < m; ++k) {
-            const Vec6T<T> q = relative_motion(e[0], e[static_cast<std::size_t>(k)]);
-            out.segment(row, r) = -(rows.bottomRows(r) * q);
-            row += r;
-          }
-          std::vector<Vec6T<T>> held(static_cast<std::size_t>(m));
-          Vec6T<T> sum = Vec6T<T>::Zero();
-          for (Index k = 0; k < m; ++k) {
-            const auto& end = e[static_cast<std::size_t>(k)];
-            const Vec6T<T> applied =
-                end.wrench -
-                external_of<T>(
-                    in.external[static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)])]);
-            held[static_cast<std::size_t>(k)] =
-                wrench_in_axes<T>(applied, end.x, e[0].x, e[0].rotation);
-            sum += held[static_cast<std::size_t>(k)];
-          }
-          out.segment(row, r) = rows.bottomRows(r) * sum;
-          row += r;
-          for (Index k = 0; k < m; ++k) {
-            out.segment(row, p) = rows.topRows(p) * held[static_cast<std::size_t>(k)];
-            if (preload_ && k < 2) {
-              const double sign = k == 0 ? -in.load_factor : in.load_factor;
-              for (Index c = 0; c < p; ++c) out(row + c) += T(sign * (*preload_)(c));
-            }
-            row += p;
-          }
-        },
-        residual, tangent);
+    const SixRows held_rows{directions_.rows, p, r}, free_rows{directions_.rows, 0, p};
+    const SixRows minus_held{directions_.rows, p, r, -1};
+    if (tangent) tangent->setZero(6 * m, 12 * m);
+    const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
+    Index row = 0;
+    for (Index k = 1; k < m; ++k) {
+      const RelativeMotion q = relative_motion(
+          first, in.ends[static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)])]);
+      set_rows(residual, row, minus_held, q.value);
+      if (tangent) {
+        add_derivative(*tangent, row, position_column(0), minus_held, q.of_first);
+        add_derivative(*tangent, row, position_column(k), minus_held, q.of_other);
+      }
+      row += r;
+    }
+    // Each w_k enters the sum's Λ_r rows and its own Λ_p rows: one product Λ·∂w_k serves both.
+    const Index sum_row = row;
+    row += r;
+    Vec6 sum = Vec6::Zero();
+    for (Index k = 0; k < m; ++k) {
+      const auto e = static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)]);
+      const HeldWrench w = held_wrench(in.ends[e], in.external[e], first.position, first.rotation);
+      sum += w.value;
+      set_rows(residual, row, free_rows, w.value);
+      if (preload_ && k < 2) {
+        const double sign = k == 0 ? -in.load_factor : in.load_factor;
+        residual.segment(row, p) += sign * *preload_;
+      }
+      if (tangent) add_held_wrench_split(*tangent, sum_row, row, directions_.rows, p, w, k);
+      row += p;
+    }
+    set_rows(residual, sum_row, held_rows, sum);
   }
 
  private:
@@ -83,7 +70,10 @@ class LoadedElasticJointBlock final : public LoadedBlock {
                           const MatX& stiffness, const std::optional<VecX>& preload)
       : ends_{end_1, end_2},
         directions_(directions),
-        spring_(SmallMat(directions_.gram() * SmallMat(stiffness)) * directions_.free()) {
+        spring_(padded_spring(directions_, stiffness)) {
+    const Index p = directions_.p, r = 6 - p;
+    motion_rows_.topRows(r) = -directions_.constrained();
+    motion_rows_.bottomRows(p) = -spring_.topRows(p);
     if (preload) preload_ = SmallVec(directions_.gram() * *preload);
   }
   Index equation_count() const override { return 12; }
@@ -93,33 +83,28 @@ class LoadedElasticJointBlock final : public LoadedBlock {
   // Λ_p·w_1 − G·K·Λ_p·q_2 = λ·G·w0, w_1 in end 1's axes: the spring on the finite motion q_2.
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const Index p = directions_.p, r = 6 - p;
-    evaluate_block(
-        in, ends_, 12,
-        [&](const auto& e, auto& out) {
-          using T = typename std::decay_t<decltype(out)>::Scalar;
-          const Vec6T<T> applied_1 =
-              e[0].wrench - external_of<T>(in.external[static_cast<std::size_t>(ends_[0])]);
-          const Vec6T<T> applied_2 =
-              e[1].wrench - external_of<T>(in.external[static_cast<std::size_t>(ends_[1])]);
-          const Mat3T<T> global = Mat3T<T>::Identity();
-          out.template segment<6>(0) =
-              applied_1 + wrench_in_axes<T>(applied_2, e[1].x, e[0].x, global);
-          const Vec6T<T> q = relative_motion(e[0], e[1]);
-          const Eigen::Matrix<T, 6, 6> rows = directions_.rows.cast<T>();
-          out.segment(6, r) = -(rows.bottomRows(r) * q);
-          const Vec6T<T> held_1 = wrench_in_axes<T>(applied_1, e[0].x, e[0].x, e[0].rotation);
-          const Eigen::Matrix<T, Eigen::Dynamic, 6> spring = spring_.cast<T>();
-          out.segment(6 + r, p) = rows.topRows(p) * held_1 - spring * q;
-          if (preload_)
-            for (Index c = 0; c < p; ++c) out(6 + r + c) -= T(in.load_factor * (*preload_)(c));
-        },
-        residual, tangent);
+    const SixRows free_rows{directions_.rows, 0, p};
+    if (tangent) tangent->setZero(12, 24);
+    const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
+    const EndState& second = in.ends[static_cast<std::size_t>(ends_[1])];
+    add_wrench_sum(in, ends_, Mat3::Identity(), false, SixRows{kSixIdentity}, 0, residual, tangent);
+    const RelativeMotion q = relative_motion(first, second);
+    residual.segment<6>(6) = motion_rows_ * q.value;
+    const HeldWrench w = held_wrench(first, in.external[static_cast<std::size_t>(ends_[0])],
+                                     first.position, first.rotation);
+    set_rows(residual, 6 + r, free_rows, w.value, true);
+    if (preload_) residual.segment(6 + r, p) -= in.load_factor * *preload_;
+    if (!tangent) return;
+    tangent->block<6, 6>(6, position_column(0)) = motion_rows_ * q.of_first;
+    tangent->block<6, 6>(6, position_column(1)) = motion_rows_ * q.of_other;
+    add_held_wrench(*tangent, 6 + r, free_rows, w, 0, true);
   }
 
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  SmallMat spring_;  // G·K·Λ_p
+  Mat6 spring_;       // G·K·Λ_p, padded with zero rows
+  Mat6 motion_rows_;  // [−Λ_r; −G·K·Λ_p]: the rows 7…12 of q_2
   std::optional<SmallVec> preload_;
 };
 

@@ -15,21 +15,34 @@ class LoadedRigidLinkBlock final : public LoadedBlock {
   // x_i + R_i·d0 − x_j = 0, rotation_vector(R_i·R_jᵀ) = 0 (D·Δt_i − Δt_j = 0 to first order);
   // F_i + F_j = 0, M_i + M_j + (x_j − x_i) × F_j = 0 (W_i + Dᵀ·W_j = 0 at the current d).
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
-    evaluate_block(
-        in, ends_, 12,
-        [&](const auto& e, auto& r) {
-          using T = typename std::decay_t<decltype(r)>::Scalar;
-          const auto& i = e[0];
-          const auto& j = e[1];
-          r.template segment<3>(0) = i.x + i.rotation * d0_.cast<T>() - j.x;
-          r.template segment<3>(3) =
-              rotation_vector<T>(Mat3T<T>(i.rotation * j.rotation.transpose()));
-          const Vec3T<T> force_j = j.wrench.template head<3>();
-          r.template segment<3>(6) = i.wrench.template head<3>() + force_j;
-          r.template segment<3>(9) = i.wrench.template tail<3>() + j.wrench.template tail<3>() +
-                                     (j.x - i.x).cross(force_j);
-        },
-        residual, tangent);
+    const EndState& i = in.ends[static_cast<std::size_t>(ends_[0])];
+    const EndState& j = in.ends[static_cast<std::size_t>(ends_[1])];
+    const Vec3 arm = i.rotation * d0_;
+    const RelativeRotation turn = relative_rotation(i.rotation, j.rotation);
+    const Vec3 force_j = j.wrench.head<3>();
+    const Vec3 chord = j.position - i.position;
+    residual.segment<3>(0) = i.position + arm - j.position;
+    residual.segment<3>(3) = turn.value;
+    residual.segment<3>(6) = i.wrench.head<3>() + force_j;
+    residual.segment<3>(9) = i.wrench.tail<3>() + j.wrench.tail<3>() + chord.cross(force_j);
+    if (!tangent) return;
+    tangent->setZero(12, 24);
+    const Mat3 identity = Mat3::Identity();
+    // R_i·d0 turns with δθ_i: −[(R_i·d0)×]·δθ_i.
+    tangent->block<3, 3>(0, position_column(0)) = identity;
+    tangent->block<3, 3>(0, turn_column(0)) = -skew_of<double>(arm);
+    tangent->block<3, 3>(0, position_column(1)) = -identity;
+    tangent->block<3, 3>(3, turn_column(0)) = turn.of_first;
+    tangent->block<3, 3>(3, turn_column(1)) = turn.of_second;
+    tangent->block<3, 3>(6, wrench_column(0)) = identity;
+    tangent->block<3, 3>(6, wrench_column(1)) = identity;
+    // The moment arm x_j − x_i carries F_j: ∂/∂δx_j = −[F_j×] = −∂/∂δx_i.
+    const Mat3 carried = skew_of<double>(force_j);
+    tangent->block<3, 3>(9, position_column(0)) = carried;
+    tangent->block<3, 3>(9, position_column(1)) = -carried;
+    tangent->block<3, 3>(9, wrench_column(0) + 3) = identity;
+    tangent->block<3, 3>(9, wrench_column(1)) = skew_of<double>(chord);
+    tangent->block<3, 3>(9, wrench_column(1) + 3) = identity;
   }
 
  private:

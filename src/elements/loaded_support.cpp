@@ -17,8 +17,7 @@ class LoadedSupportBlock final : public LoadedBlock {
         directions_(directions),
         settlement_(settlement.value_or(Vec6::Zero())),
         unloaded_position_(unloaded_position) {
-    if (stiffness)
-      spring_ = SmallMat(directions_.gram() * SmallMat(*stiffness)) * directions_.free();
+    if (stiffness) spring_ = padded_spring(directions_, *stiffness);
     if (preload) preload_ = SmallVec(directions_.gram() * *preload);
   }
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
@@ -33,50 +32,49 @@ class LoadedSupportBlock final : public LoadedBlock {
     const Index p = directions_.p, r = 6 - p;
     const Mat3 ground = rotation_matrix(in.load_factor * settlement_.tail<3>());
     const Vec3 ground_position = unloaded_position_ + in.load_factor * settlement_.head<3>();
-    evaluate_block(
-        in, ends_, 6 * m,
-        [&](const auto& e, auto& out) {
-          using T = typename std::decay_t<decltype(out)>::Scalar;
-          Index row = 0;
-          for (Index k = 1; k < m; ++k) {
-            const auto& other = e[static_cast<std::size_t>(k)];
-            out.template segment<3>(row) = e[0].x - other.x;
-            out.template segment<3>(row + 3) =
-                rotation_vector<T>(Mat3T<T>(e[0].rotation * other.rotation.transpose()));
-            row += 6;
-          }
-          const Mat3T<T> turn = ground.cast<T>();
-          Vec6T<T> g;
-          g.template head<3>() = turn.transpose() * (e[0].x - ground_position.cast<T>());
-          g.template tail<3>() = rotation_vector<T>(Mat3T<T>(turn.transpose() * e[0].rotation));
-          const Eigen::Matrix<T, 6, 6> rows = directions_.rows.cast<T>();
-          out.segment(row, r) = rows.bottomRows(r) * g;
-          row += r;
-          if (p == 0) return;
-          Vec6T<T> sum = Vec6T<T>::Zero();
-          for (Index k = 0; k < m; ++k) {
-            const auto& end = e[static_cast<std::size_t>(k)];
-            const Vec6T<T> applied =
-                end.wrench -
-                external_of<T>(
-                    in.external[static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)])]);
-            sum += wrench_in_axes<T>(applied, end.x, e[0].x, turn);
-          }
-          out.segment(row, p) = rows.topRows(p) * sum;
-          if (spring_) {
-            const Eigen::Matrix<T, Eigen::Dynamic, 6> spring = spring_->cast<T>();
-            out.segment(row, p) += spring * g;
-          }
-          if (preload_)
-            for (Index c = 0; c < p; ++c) out(row + c) -= T(in.load_factor * (*preload_)(c));
-        },
-        residual, tangent);
+    if (tangent) tangent->setZero(6 * m, 12 * m);
+    const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
+    Index row = 0;
+    for (Index k = 1; k < m; ++k) {
+      const EndState& other = in.ends[static_cast<std::size_t>(ends_[static_cast<std::size_t>(k)])];
+      const RelativeRotation turn = relative_rotation(first.rotation, other.rotation);
+      residual.segment<3>(row) = first.position - other.position;
+      residual.segment<3>(row + 3) = turn.value;
+      if (tangent) {
+        tangent->block<3, 3>(row, position_column(0)).setIdentity();
+        tangent->block<3, 3>(row, position_column(k)) = -Mat3::Identity();
+        tangent->block<3, 3>(row + 3, turn_column(0)) = turn.of_first;
+        tangent->block<3, 3>(row + 3, turn_column(k)) = turn.of_second;
+      }
+      row += 6;
+    }
+    // g and its derivative in [δx_1; δθ_1].
+    const Mat3 back = ground.transpose();
+    Vec6 g;
+    g.head<3>() = back * (first.position - ground_position);
+    g.tail<3>() = rotation_vector<double>(Mat3(back * first.rotation));
+    Mat6 motion = Mat6::Zero();
+    motion.topLeftCorner<3, 3>() = back;
+    motion.bottomRightCorner<3, 3>() = inverse_left_jacobian<double>(Vec3(g.tail<3>())) * back;
+    const SixRows held_rows{directions_.rows, p, r};
+    set_rows(residual, row, held_rows, g);
+    if (tangent) add_derivative(*tangent, row, position_column(0), held_rows, motion);
+    row += r;
+    if (p == 0) return;
+    add_wrench_sum(in, ends_, ground, false, SixRows{directions_.rows, 0, p}, row, residual,
+                   tangent);
+    if (spring_) {
+      const SixRows spring{*spring_, 0, p};
+      set_rows(residual, row, spring, g, true);
+      if (tangent) add_derivative(*tangent, row, position_column(0), spring, motion);
+    }
+    if (preload_) residual.segment(row, p) -= in.load_factor * *preload_;
   }
 
  private:
   std::vector<int> ends_;
   FreeDirections directions_;
-  std::optional<SmallMat> spring_;
+  std::optional<Mat6> spring_;  // G·K·Λ_p, padded with zero rows
   std::optional<SmallVec> preload_;
   Vec6 settlement_;
   Vec3 unloaded_position_;
