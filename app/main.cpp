@@ -1,5 +1,6 @@
-// The stiffmsa command: parses the command line, runs the library, and turns every failure into
-// a message on stderr and an exit code. What is printed is formatted in summary.cpp.
+// The stiffmsa command's subcommands (the command module, app/command_module.hpp): parses the
+// command line, runs the library, and turns every failure into a message on stderr and an exit
+// code. What is printed is formatted in summary.cpp.
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cstdint>
@@ -8,6 +9,7 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include "merge_command.hpp"
@@ -345,7 +347,14 @@ int report_current_exception() noexcept {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+// The command module's entry (app/command_module.hpp), called by the launcher (app/launcher.cpp).
+extern "C" __attribute__((visibility("default"))) int stiffmsa_command_main(
+    int argc, char** argv, const char* launcher_version) {
+  if (std::string_view(launcher_version) != STIFFMSA_VERSION) {
+    std::cerr << "stiffmsa: error: the command module is stiffmsa " << STIFFMSA_VERSION
+              << " but the executable stiffmsa " << launcher_version << ": install them together\n";
+    return exit_invalid_input;
+  }
   int code = exit_success;
   try {
     code = run(argc, argv);
