@@ -53,9 +53,11 @@ void* load_command_module() {
   const char* const candidates[] = {beside, installed};
   for (const char* candidate : candidates) {
     if (access(candidate, F_OK) != 0) continue;
+    // Lazy, as the dynamic loader binds an executable's libraries: RTLD_NOW would bind every
+    // function the libraries it brings could call (10 000 more symbol lookups for a solve).
     // Global: the plot and HDF5 modules the command module loads in turn take their library
     // functions from it, and MPI's components take MPI's from the libraries it brings.
-    if (void* module = dlopen(candidate, RTLD_NOW | RTLD_GLOBAL)) return module;
+    if (void* module = dlopen(candidate, RTLD_LAZY | RTLD_GLOBAL)) return module;
     fprintf(stderr, "stiffmsa: error: cannot load the command module (%s): %s\n", candidate,
             dlerror());
     return nullptr;
