@@ -1,7 +1,9 @@
 // The stiffmsa command's subcommands (the command module, app/command_module.hpp): parses the
 // command line, runs the library, and turns every failure into a message on stderr and an exit
 // code. What is printed is formatted in summary.cpp.
+#include <malloc.h>
 #include <CLI/CLI.hpp>
+
 #include <charconv>
 #include <cstdint>
 #include <filesystem>
@@ -347,6 +349,11 @@ int report_current_exception() noexcept {
 
 }  // namespace
 
+// Allocations up to this size come from the heap, not from mmap (glibc's largest setting), and
+// up to this much freed memory at the heap's top stays with the process.
+constexpr int kKeptAllocationBytes = 32 << 20;
+constexpr int kKeptFreeBytes = 256 << 20;
+
 // The command module's entry (app/command_module.hpp), called by the launcher (app/launcher.cpp).
 extern "C" __attribute__((visibility("default"))) int stiffmsa_command_main(
     int argc, char** argv, const char* launcher_version) {
@@ -355,6 +362,12 @@ extern "C" __attribute__((visibility("default"))) int stiffmsa_command_main(
               << " but the executable stiffmsa " << launcher_version << ": install them together\n";
     return exit_invalid_input;
   }
+  // A run allocates, frees and allocates again (the file's tree, the model, the assembled
+  // system, the result's text) and then exits: freed memory is kept for the next allocation
+  // instead of going back to the kernel, which would hand it out again as fresh zeroed pages
+  // (a tenth of the 1 015-beam lattice's solve was such page faults; bench/README.md).
+  mallopt(M_MMAP_THRESHOLD, kKeptAllocationBytes);
+  mallopt(M_TRIM_THRESHOLD, kKeptFreeBytes);
   int code = exit_success;
   try {
     code = run(argc, argv);
