@@ -361,7 +361,8 @@ constexpr int kKeptFreeBytes = 256 << 20;
 // The heap's first stretch, asked for in transparent huge pages.
 constexpr std::size_t kHugePageHeapBytes = std::size_t{64} << 20;
 constexpr std::uintptr_t kHugePageBytes = std::uintptr_t{2} << 20;
-constexpr int kDefaultTopPadBytes = 128 << 10;  // glibc's M_TOP_PAD
+constexpr int kDefaultTopPadBytes = 128 << 10;          // glibc's M_TOP_PAD
+constexpr std::uintptr_t kNoHeap = ~std::uintptr_t{0};  // sbrk's failure, (void*)-1
 
 // A run allocates, frees and allocates again (the file's tree, the model, the assembled system,
 // the result's text) and then exits. Freed memory is kept for the next allocation instead of
@@ -375,15 +376,17 @@ constexpr int kDefaultTopPadBytes = 128 << 10;  // glibc's M_TOP_PAD
 void prepare_heap() {
   mallopt(M_MMAP_THRESHOLD, kKeptAllocationBytes);
   mallopt(M_TRIM_THRESHOLD, kKeptFreeBytes);
+  const auto heap_top = [] { return reinterpret_cast<std::uintptr_t>(sbrk(0)); };
+  const std::uintptr_t bottom = heap_top();
   mallopt(M_TOP_PAD, static_cast<int>(kHugePageHeapBytes));
   // Grows the heap by the pad, which stays (volatile: a compiler may drop a malloc and its free).
   void* volatile block = std::malloc(std::size_t{1} << 20);
   std::free(block);
   mallopt(M_TOP_PAD, kDefaultTopPadBytes);
-  const auto top = reinterpret_cast<std::uintptr_t>(sbrk(0));
-  const std::uintptr_t start =
-      (top - kHugePageHeapBytes + kHugePageBytes - 1) & ~(kHugePageBytes - 1);
-  if (top != static_cast<std::uintptr_t>(-1) && start < top)
+  const std::uintptr_t top = heap_top();
+  // Only the stretch this grew (an allocator that did not, a sanitizer's, leaves it alone).
+  const std::uintptr_t start = (bottom + kHugePageBytes - 1) & ~(kHugePageBytes - 1);
+  if (bottom != kNoHeap && top != kNoHeap && top >= bottom + kHugePageHeapBytes && start < top)
     madvise(reinterpret_cast<void*>(start), top - start, MADV_HUGEPAGE);
 }
 
