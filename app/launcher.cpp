@@ -53,6 +53,12 @@ void* load_command_module() {
   const char* const candidates[] = {beside, installed};
   for (const char* candidate : candidates) {
     if (access(candidate, F_OK) != 0) continue;
+#ifdef STIFFMSA_CLI_BLAS
+    // The BLAS first, on its own (CMakeLists.txt): its symbols are then found among a handful of
+    // libraries rather than behind the module's thirty. Only an order: where it fails, the
+    // module loads it as before.
+    dlopen(STIFFMSA_CLI_BLAS, RTLD_LAZY | RTLD_GLOBAL);
+#endif
     // Lazy, as the dynamic loader binds an executable's libraries: RTLD_NOW would bind every
     // function the libraries it brings could call (10 000 more symbol lookups for a solve).
     // Global: the plot and HDF5 modules the command module loads in turn take their library
