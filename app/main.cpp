@@ -319,37 +319,6 @@ int run(int argc, char** argv) {
   return run_check(check_command);
 }
 
-// Called from a catch block: turns the exception in flight into a message and an exit code.
-int report_current_exception() noexcept {
-  try {
-    try {
-      throw;
-    } catch (const SingularModelError& e) {
-      print_singular_model_error(std::cerr, e);
-      return exit_cannot_solve;
-    } catch (const NoEquilibriumError& e) {
-      print_error(std::cerr, e.what());
-      return exit_cannot_solve;
-    } catch (const InputError& e) {
-      print_input_error(std::cerr, e);
-      return exit_invalid_input;
-    } catch (const std::bad_alloc&) {
-      print_error(std::cerr, "out of memory");
-      return exit_invalid_input;
-    } catch (const std::exception& e) {
-      // IoError, UsageError and anything unexpected: the message says what went wrong.
-      print_error(std::cerr, e.what());
-      return exit_invalid_input;
-    } catch (...) {
-      print_error(std::cerr, "unknown internal error");
-      return exit_invalid_input;
-    }
-  } catch (...) {
-    // Even reporting failed (no memory for the message, say); the exit code still tells.
-    return exit_invalid_input;
-  }
-}
-
 }  // namespace
 
 namespace {

@@ -41,5 +41,8 @@ void print_error(std::ostream& err, std::string_view message);
 void print_input_error(std::ostream& err, const InputError& error);
 // The summary, then each detail on its own indented line.
 void print_singular_model_error(std::ostream& err, const SingularModelError& error);
+// Called from a catch block: prints the exception in flight as the command reports errors and
+// returns its exit code.
+int report_current_exception() noexcept;
 
 }  // namespace stiffmsa::cli

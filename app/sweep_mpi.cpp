@@ -367,9 +367,18 @@ int run_sweep_over_ranks(const SweepCommand& command) {
   MPI_Allreduce(&code, &worst_code, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   MPI_Bcast(&root_code, 1, MPI_INT, kRoot, MPI_COMM_WORLD);
   if (worst_code != exit_success) {
-    if (failure && (mpi.rank() == kRoot || root_code == exit_success))
-      std::rethrow_exception(failure);
-    return worst_code;
+    // The message is out before any rank leaves: mpirun stops the job at the first rank that
+    // exits non-zero, which could cut off the reporting rank mid-way.
+    int reported = worst_code;
+    if (failure && (mpi.rank() == kRoot || root_code == exit_success)) {
+      try {
+        std::rethrow_exception(failure);
+      } catch (...) {
+        reported = report_current_exception();
+      }
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    return reported;
   }
 
   try {

@@ -586,6 +586,14 @@ TEST(LoadedLinkLoads, InternalForcesRunFromTheFromEndsWrenchToTheToEnds) {
     EXPECT_NEAR(first.tail<3>().norm(), lr.from.wrench->tail<3>().norm(), 1e-12 * scale);
     EXPECT_NEAR(last.head<3>().norm(), lr.to.wrench->head<3>().norm(), 1e-10 * scale);
     EXPECT_NEAR(last.tail<3>().norm(), lr.to.wrench->tail<3>().norm(), 1e-10 * scale);
+    // One rotation E for both ends (first = −Eᵀ·W_from, last = Eᵀ·W_to) keeps every dot product
+    // of the four vectors, with the signs of the two ends.
+    const Vec3 f_from = lr.from.wrench->head<3>(), m_from = lr.from.wrench->tail<3>();
+    const Vec3 f_to = lr.to.wrench->head<3>(), m_to = lr.to.wrench->tail<3>();
+    EXPECT_NEAR(first.head<3>().dot(last.head<3>()), -f_from.dot(f_to), 1e-10 * scale * scale);
+    EXPECT_NEAR(first.tail<3>().dot(last.tail<3>()), -m_from.dot(m_to), 1e-10 * scale * scale);
+    EXPECT_NEAR(first.head<3>().dot(last.tail<3>()), -f_from.dot(m_to), 1e-10 * scale * scale);
+    EXPECT_NEAR(first.head<3>().dot(first.tail<3>()), f_from.dot(m_from), 1e-10 * scale * scale);
     // The axial force N along the current chord: −W_from·e1 at ξ = 0.
     auto point_of = [&](const std::string& name) {
       for (const Point& p : m.points)

@@ -229,8 +229,10 @@ struct Path {
       const bool rounding =
           motion <= kRoundingFloor && wrench <= kNewtonFloor * std::max(state_wrench, 1.0);
       if (small || stalled || rounding) {
+        // The joints' and supports' tangents depend on the wrenches too: both must be settled.
         tangent_at_equilibrium =
-            motion <= kTangentKept * state_motion ||
+            (motion <= kTangentKept * state_motion &&
+             wrench <= kTangentKept * std::max(state_wrench, 1.0)) ||
             (motion <= kStateRounding && wrench <= kStateRounding * std::max(state_wrench, 1.0));
         return true;
       }
@@ -260,9 +262,12 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
     layout.insert(layout.end(), b->ends().begin(), b->ends().end());
   }
   if (!solver_ || layout != layout_) {
-    layout_ = std::move(layout);
+    // The layout is kept only once its pattern is analysed, so that a failed analysis is done
+    // again at the next pose instead of leaving solvers that were never analysed.
+    layout_.clear();
     n_ = unknowns;
     record_pattern();
+    layout_ = std::move(layout);
   }
   solver_->renew_reference();
   scaling_.reset();
@@ -375,6 +380,11 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
       make_loaded_blocks(model, topology, along);
   const int end_count = topology.end_count();
   tangent.begin(blocks, topology.unknowns());
+  // The tangent holds `blocks` by reference: it lets go of them however this function ends.
+  struct Release {
+    LoadedTangent& tangent;
+    ~Release() { tangent.end(); }
+  } release{tangent};
   Path path{blocks, tangent, loads, {}, {}, {}, {}, 0, 0};
   path.scales.length = characteristic_length(model);
   double force = 0;

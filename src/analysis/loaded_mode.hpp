@@ -33,6 +33,8 @@ class LoadedTangent {
   // pattern is recorded and analysed again only where the blocks' rows and ends differ from the
   // last ones'. The next Newton tangent is the reference.
   void begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns);
+  // Lets go of the blocks taken by `begin` (the pattern, the analyses and the references stay).
+  void end() { blocks_ = nullptr; }
 
   // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where
   // the tangent is singular (a zero pivot).

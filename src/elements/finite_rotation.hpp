@@ -2,7 +2,8 @@
 // Finite rotations for the loaded mode (docs/theory.md §15.6): the rotation vector of a rotation
 // matrix (its logarithm), Rodrigues' formula, and the rotation vector's derivative (the inverse
 // left Jacobian) that the loaded blocks' tangents are written with. The templates on the scalar
-// also take Eigen's forward-mode duals, for rows whose derivatives are not written out.
+// also take Eigen's forward-mode duals: the load stiffness of loads along links is taken with
+// them (loaded_link_loads.cpp, §15.9).
 #include <Eigen/Core>
 #include <cmath>
 #include <unsupported/Eigen/AutoDiff>
@@ -16,10 +17,6 @@ using Vec3T = Eigen::Matrix<T, 3, 1>;
 template <class T>
 using Mat3T = Eigen::Matrix<T, 3, 3>;
 
-// A forward-mode scalar with N derivatives (Eigen::Dynamic: as many as it is given).
-template <int N>
-using Dual = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
-
 inline double value_of(double x) { return x; }
 template <class D>
 double value_of(const Eigen::AutoDiffScalar<D>& x) {
@@ -31,16 +28,6 @@ Mat3T<T> skew_of(const Vec3T<T>& v) {
   Mat3T<T> s;
   s << T(0), -v.z(), v.y(), v.z(), T(0), -v.x(), -v.y(), v.x(), T(0);
   return s;
-}
-
-// A rotation increment δθ (spatial, global axes) applied to R: (I + [δθ×])·R. The loaded
-// blocks evaluate at δθ = 0, where this has the first derivatives of exp([δθ×])·R, which is
-// all a Newton tangent needs (the mixed second derivatives of nested duals use one increment of
-// each set, so no pure second derivative is ever taken).
-template <class T>
-Mat3T<T> turned(const Mat3& rotation, const Vec3T<T>& increment) {
-  Mat3T<T> r = rotation.cast<T>();
-  return r + skew_of(increment) * r;
 }
 
 // The rotation vector φ of a rotation matrix A, A = exp([φ×]), |φ| < π. With s = axial(A) =

@@ -165,11 +165,20 @@ class KluLU final : public LinearSolver {
   bool reused_pivot_order() const override { return reused_; }
   void renew_reference() override { reference_state_ = Reference::none_yet; }
   void adopt_last_as_reference() override {
-    if (reference_state_ != Reference::fixed || reused_ || !fresh_ || active_ != fresh_ || !last_)
-      return;
+    if (reused_ || !active_ || !last_) return;
     int* const ap = const_cast<int*>(last_->outerIndexPtr());
     int* const ai = const_cast<int*>(last_->innerIndexPtr());
     double* const ax = const_cast<double*>(last_->valuePtr());
+    // A reference that failed (a singular first matrix, a pivot growth KLU could not measure)
+    // is replaced by the next factorisation that succeeds, so that reuse is not lost for good.
+    if (reference_state_ == Reference::unusable) {
+      if (active_ == reference_ && klu_rgrowth(ap, ai, ax, symbolic_, reference_, &common_)) {
+        reference_state_ = Reference::fixed;
+        reference_growth_ = common_.rgrowth;
+      }
+      return;
+    }
+    if (reference_state_ != Reference::fixed || !fresh_ || active_ != fresh_) return;
     if (!klu_rgrowth(ap, ai, ax, symbolic_, fresh_, &common_)) return;
     std::swap(reference_, fresh_);
     reference_growth_ = common_.rgrowth;
@@ -196,13 +205,13 @@ class KluLU final : public LinearSolver {
 
   // +1 for an even permutation, −1 for an odd one: each cycle of length c is c − 1 swaps.
   double permutation_sign(const int* permutation) const {
-    visited_.assign(static_cast<std::size_t>(n_), 0);
+    std::vector<char> visited(static_cast<std::size_t>(n_), 0);
     double sign = 1;
     for (int start = 0; start < n_; ++start) {
-      if (visited_[static_cast<std::size_t>(start)]) continue;
+      if (visited[static_cast<std::size_t>(start)]) continue;
       int length = 0;
-      for (int k = start; !visited_[static_cast<std::size_t>(k)]; k = permutation[k]) {
-        visited_[static_cast<std::size_t>(k)] = 1;
+      for (int k = start; !visited[static_cast<std::size_t>(k)]; k = permutation[k]) {
+        visited[static_cast<std::size_t>(k)] = 1;
         ++length;
       }
       if (length % 2 == 0) sign = -sign;
@@ -247,7 +256,6 @@ class KluLU final : public LinearSolver {
   bool reused_ = false;
   std::vector<double> multipliers_;  // L of a refactorisation, to check
   std::vector<int> multiplier_rows_, multiplier_starts_;
-  mutable std::vector<char> visited_;  // permutation_sign's
   int n_ = 0;
 };
 #endif
@@ -277,7 +285,7 @@ class AutomaticLU final : public LinearSolver {
   void solve_transposed(MatX& b) const override { chosen_->solve_transposed(b); }
   const char* name() const override { return chosen_ ? chosen_->name() : "auto"; }
   bool reused_pivot_order() const override { return chosen_ && chosen_->reused_pivot_order(); }
-  double determinant_sign() const override { return chosen_->determinant_sign(); }
+  double determinant_sign() const override { return chosen_ ? chosen_->determinant_sign() : 0; }
   void renew_reference() override {
     if (chosen_) chosen_->renew_reference();
   }
