@@ -91,8 +91,18 @@ inline constexpr int kMostDenseNodes = 30;
 inline constexpr double kArnoldiTolerance = 1e-13;
 // Arnoldi's iteration takes at most this many steps (one solve each).
 inline constexpr int kMostArnoldiSteps = 400;
+// A direction of the wrenches a node's load terms give whose pivot (a column-pivoted QR of the
+// node's rows of K_L) is below this fraction of the largest is rounding of a zero: a beam's
+// zero rows turned to global axes leave some 1e-16 of the others.
+inline constexpr double kLoadTermRank = 1e-13;
+// Inverse iteration for the critical mode moves its shift off the eigenvalue by this fraction
+// of the reduced matrix's largest entry, so that the LU's pivots stay finite.
+inline constexpr double kInverseIterationShift = 1e-14;
 // The parts of a buckling mode that a description names: those moving at least this fraction
 // of the most moving one.
 inline constexpr double kModeShare = 0.25;
+// Parts of a buckling mode whose sizes agree to this fraction of the largest move alike (a
+// symmetric structure's mirror parts, whose sizes rounding splits): named in the model's order.
+inline constexpr double kModeTie = 1e-9;
 
 }  // namespace stiffmsa::detail
