@@ -325,22 +325,28 @@ class UnloadedSolves {
       tree_ = tree_order(topology);
   }
 
-  // Every unknown (the mixed system's layout) under `wrenches` (6 rows per entry of `ends`,
-  // a column per load); nullopt where the system is singular.
-  std::optional<MatX> solve(const std::vector<int>& ends, const MatX& wrenches) {
+  // The wrenches of a solve, a column per load (no preload: these are no load case); fill with
+  // external().add, then solve.
+  EndWrenches& external(Index columns) {
+    external_.reset(topology_.end_count(), columns, 0);
+    return external_;
+  }
+
+  // Every unknown (the mixed system's layout) under each column of external(); nullopt where
+  // the system is singular.
+  std::optional<MatX> solve() {
     if (tree_) {
-      if (std::optional<MatX> x = solve_on_tree(ends, wrenches)) return x;
+      if (std::optional<MatX> x = solve_on_tree()) return x;
       tree_.reset();  // too many cuts, or ill-conditioned: the factorising solve decides
     }
     if (!system_ && !factorise()) return std::nullopt;
-    MatX rhs = MatX::Zero(topology_.unknowns(), wrenches.cols());
+    MatX rhs = MatX::Zero(topology_.unknowns(), external_.columns());
     VecX column(topology_.unknowns());
-    for (Index c = 0; c < wrenches.cols(); ++c) {
+    for (Index c = 0; c < external_.columns(); ++c) {
       column.setZero();
-      for (std::size_t k = 0; k < ends.size(); ++k) {
-        const Vec6 w = wrenches.col(c).segment<6>(6 * static_cast<Index>(k));
-        if (!w.isZero(0)) assembler_->add_wrench(blocks_, topology_, ends[k], w, column);
-      }
+      for (int end = 0; end < topology_.end_count(); ++end)
+        if (external_.any_at(end) && !external_.at(end).col(c).isZero(0))
+          assembler_->add_wrench(blocks_, topology_, end, external_.at(end).col(c), column);
       rhs.col(c) = column;
     }
     double solve_residual = 0;
@@ -353,27 +359,18 @@ class UnloadedSolves {
   double residual() const { return residual_; }
 
  private:
-  std::optional<MatX> solve_on_tree(const std::vector<int>& ends, const MatX& wrenches) {
-    const Index columns = wrenches.cols();
-    external_.reset(topology_.end_count(), columns, 0);  // no preload: these are no load case
-    for (std::size_t k = 0; k < ends.size(); ++k)
-      for (Index c = 0; c < columns; ++c) {
-        const Vec6 w = wrenches.col(c).segment<6>(6 * static_cast<Index>(k));
-        if (!w.isZero(0)) external_.add(ends[k], c, w);
-      }
+  std::optional<MatX> solve_on_tree() {
     if (!tree_solve(blocks_, topology_, *tree_, external_, 1 / options_.warn_condition, scratch_))
       return std::nullopt;
-    // The check's column: every column weighed alike, with weights that no cancellation of
-    // like columns hides.
+    // The check's one column: every column weighed, with weights that no cancellation of like
+    // columns hides.
+    const Index columns = external_.columns();
     VecX weights(columns);
-    for (Index c = 0; c < columns; ++c)
-      weights(c) = 1.0 + 0.5 * std::sin(0.7 * static_cast<double>(c));
+    for (Index c = 0; c < columns; ++c) weights(c) = 1.0 + 1.0 / static_cast<double>(c % 7 + 1);
     check_x_ = scratch_.x * weights;
     check_external_.reset(topology_.end_count(), 1, 0);
-    for (std::size_t k = 0; k < ends.size(); ++k) {
-      const Vec6 w = wrenches.middleRows<6>(6 * static_cast<Index>(k)) * weights;
-      if (!w.isZero(0)) check_external_.add(ends[k], 0, w);
-    }
+    for (int end = 0; end < topology_.end_count(); ++end)
+      if (external_.any_at(end)) check_external_.add(end, 0, external_.at(end) * weights);
     const BlockCheck check =
         check_block_by_block(blocks_, topology_, check_x_, check_external_, scratch_);
     if (!(check.relative_residual <= options_.max_relative_residual)) return std::nullopt;
@@ -453,6 +450,30 @@ VecX eigenvector_by_inverse_iteration(const MatX& a, double value) {
   return v;
 }
 
+// The rightmost real positive eigenvalue of the r×r matrix a = −Z·F·U and its vector. a has
+// the rank of F·U at most, the structure's flexible directions the load directions reach (a
+// serial robot's joints and beams, whatever the number of its link ends): a column-pivoted QR
+// a·Π = Q·R whose pivots below kLoadTermRank of the largest are left out gives
+// a = Q_ρ·R_ρ·Πᵀ, whose nonzero eigenvalues are those of the ρ×ρ matrix R_ρ·Πᵀ·Q_ρ
+// (b·y = μ·y gives a·Q_ρ·y = μ·Q_ρ·y). Every eigenvalue of the small matrix (Hessenberg and real
+// Schur forms, no vectors), then the one vector by inverse iteration.
+std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
+  const Eigen::ColPivHouseholderQR<MatX> qr(a);
+  const auto pivots = qr.matrixR().diagonal().cwiseAbs();
+  Index rank = 0;
+  while (rank < pivots.size() && pivots(rank) > kLoadTermRank * pivots(0)) ++rank;
+  if (rank == 0) return std::nullopt;
+  MatX q = MatX::Identity(a.rows(), rank);
+  q.applyOnTheLeft(qr.householderQ());
+  const MatX small = qr.matrixR().topRows(rank).triangularView<Eigen::Upper>() *
+                     (qr.colsPermutation().transpose() * q);
+  const Eigen::EigenSolver<MatX> eigen(small, false);
+  const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
+  if (!best) return std::nullopt;
+  const double value = eigen.eigenvalues()(*best).real();
+  return RightmostEigen{value, q * eigenvector_by_inverse_iteration(small, value), true};
+}
+
 }  // namespace
 
 std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
@@ -517,32 +538,34 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
       (method == EigenMethod::automatic && r <= kMostDenseNodes * 6)) {
     // K_L = U·Z, Z = Uᵀ·K_L: the nonzero eigenvalues of −F·U·Z are those of the r×r matrix
     // −Z·(F·U), and F·U takes r solves, a unit wrench along each direction of U.
-    MatX wrenches = MatX::Zero(n, r);
+    EndWrenches& external = solves.external(r);
     for (Index i = 0; i < nodes; ++i) {
       const MatX& basis = directions.basis[static_cast<std::size_t>(i)];
-      wrenches.block(6 * i, directions.first[static_cast<std::size_t>(i)], 6, basis.cols()) =
-          weight.asDiagonal() * basis;
+      for (Index c = 0; c < basis.cols(); ++c)
+        external.add(node_ends[static_cast<std::size_t>(i)],
+                     directions.first[static_cast<std::size_t>(i)] + c,
+                     weight.asDiagonal() * basis.col(c));
     }
-    std::optional<MatX> x = solves.solve(node_ends, wrenches);
+    std::optional<MatX> x = solves.solve();
     if (!x) {
       singular = true;
     } else {
       unknowns_per_direction = std::move(*x);
+      // F·U at the nodes, in the eigenproblem's units.
+      MatX flexibility(n, r);
+      for (Index k = 0; k < nodes; ++k)
+        flexibility.middleRows<6>(6 * k) =
+            weight.asDiagonal() * unknowns_per_direction.middleRows<6>(
+                                      deflection_column(node_ends[static_cast<std::size_t>(k)]));
       MatX reduced = MatX::Zero(r, r);
       for (const auto& [at, block] : placed) {
         const MatX& basis = directions.basis[static_cast<std::size_t>(at.first)];
         if (basis.cols() == 0) continue;
-        const Mat6 column_weight = weight.asDiagonal();
+        const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6> z = basis.transpose() * block;
         reduced.middleRows(directions.first[static_cast<std::size_t>(at.first)], basis.cols())
-            .noalias() -= (basis.transpose() * block) *
-                          (column_weight * unknowns_per_direction.middleRows<6>(deflection_column(
-                                               node_ends[static_cast<std::size_t>(at.second)])));
+            .noalias() -= z.lazyProduct(flexibility.middleRows<6>(6 * at.second));
       }
-      const Eigen::EigenSolver<MatX> eigen(reduced, false);
-      if (const std::optional<Index> best = rightmost_real(eigen.eigenvalues())) {
-        const double value = eigen.eigenvalues()(*best).real();
-        rightmost = RightmostEigen{value, eigenvector_by_inverse_iteration(reduced, value), true};
-      }
+      rightmost = rightmost_of_low_rank(reduced);
     }
   } else {
     // Arnoldi's method on the operator itself, one solve per step (shift-invert at λ = 0: the
@@ -552,9 +575,12 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
       load_stiffness.block<6, 6>(6 * at.first, 6 * at.second) += block;
     rightmost = rightmost_by_arnoldi(
         [&](const VecX& v) -> VecX {
-          VecX wrench = -(load_stiffness * v);
-          for (Index k = 0; k < nodes; ++k) wrench.segment<6>(6 * k).array() *= weight.array();
-          const std::optional<MatX> x = solves.solve(node_ends, wrench);
+          const VecX wrench = -(load_stiffness * v);
+          EndWrenches& external = solves.external(1);
+          for (Index k = 0; k < nodes; ++k)
+            external.add(node_ends[static_cast<std::size_t>(k)], 0,
+                         weight.asDiagonal() * wrench.segment<6>(6 * k));
+          const std::optional<MatX> x = solves.solve();
           if (!x) {
             singular = true;
             return VecX::Zero(n);
@@ -591,9 +617,12 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
     MatX load_stiffness = MatX::Zero(n, n);
     for (const auto& [at, block] : placed)
       load_stiffness.block<6, 6>(6 * at.first, 6 * at.second) += block;
-    VecX wrench = -(load_stiffness * rightmost->vector);
-    for (Index k = 0; k < nodes; ++k) wrench.segment<6>(6 * k).array() *= weight.array();
-    std::optional<MatX> x = solves.solve(node_ends, wrench);
+    const VecX wrench = -(load_stiffness * rightmost->vector);
+    EndWrenches& external = solves.external(1);
+    for (Index k = 0; k < nodes; ++k)
+      external.add(node_ends[static_cast<std::size_t>(k)], 0,
+                   weight.asDiagonal() * wrench.segment<6>(6 * k));
+    std::optional<MatX> x = solves.solve();
     if (!x) return {};
     mode = x->col(0);
   }
