@@ -415,22 +415,31 @@ struct LoadDirections {
 // local zero row turned to global axes) and is left out.
 LoadDirections load_directions(Index nodes,
                                const std::vector<std::pair<std::pair<int, int>, Mat6>>& blocks) {
-  std::vector<std::vector<const Mat6*>> rows(static_cast<std::size_t>(nodes));
-  for (const auto& [at, block] : blocks) rows[static_cast<std::size_t>(at.first)].push_back(&block);
+  // Per node, a triangular R with Rᵀ·R = B·Bᵀ, B the node's block row, without squaring B:
+  // each block in turn is stacked under R and the stack reduced by Householder reflections.
+  std::vector<Mat6> triangle(static_cast<std::size_t>(nodes), Mat6::Zero());
+  std::vector<bool> any(static_cast<std::size_t>(nodes), false);
+  for (const auto& [at, block] : blocks) {
+    const std::size_t i = static_cast<std::size_t>(at.first);
+    Eigen::Matrix<double, 12, 6> stack;
+    stack << triangle[i], block.transpose();
+    const Eigen::HouseholderQR<Eigen::Matrix<double, 12, 6>> qr(stack);
+    triangle[i] = qr.matrixQR().topRows<6>().triangularView<Eigen::Upper>();
+    any[i] = true;
+  }
+  // B's range is Rᵀ's: its directions from a column-pivoted QR of Rᵀ.
   LoadDirections directions;
   directions.first.resize(static_cast<std::size_t>(nodes));
   directions.basis.resize(static_cast<std::size_t>(nodes));
-  for (std::size_t i = 0; i < rows.size(); ++i) {
+  for (std::size_t i = 0; i < triangle.size(); ++i) {
     directions.first[i] = directions.count;
-    if (rows[i].empty()) continue;
-    MatX row(6, 6 * static_cast<Index>(rows[i].size()));
-    for (std::size_t b = 0; b < rows[i].size(); ++b)
-      row.middleCols<6>(6 * static_cast<Index>(b)) = *rows[i][b];
-    const Eigen::ColPivHouseholderQR<MatX> qr(row);
-    const auto diagonal = qr.matrixR().diagonal().cwiseAbs();
+    if (!any[i]) continue;
+    const Eigen::ColPivHouseholderQR<Mat6> qr(triangle[i].transpose());
+    const Vec6 pivots = qr.matrixR().diagonal().cwiseAbs();
     Index rank = 0;
-    while (rank < diagonal.size() && diagonal(rank) > kLoadTermRank * diagonal(0)) ++rank;
-    directions.basis[i] = MatX(qr.householderQ()).leftCols(rank);
+    while (rank < 6 && pivots(rank) > kLoadTermRank * pivots(0)) ++rank;
+    const Mat6 q = qr.householderQ();
+    directions.basis[i] = q.leftCols(rank);
     directions.count += rank;
   }
   return directions;
@@ -452,26 +461,30 @@ VecX eigenvector_by_inverse_iteration(const MatX& a, double value) {
 
 // The rightmost real positive eigenvalue of the r×r matrix a = −Z·F·U and its vector. a has
 // the rank of F·U at most, the structure's flexible directions the load directions reach (a
-// serial robot's joints and beams, whatever the number of its link ends): a column-pivoted QR
-// a·Π = Q·R whose pivots below kLoadTermRank of the largest are left out gives
-// a = Q_ρ·R_ρ·Πᵀ, whose nonzero eigenvalues are those of the ρ×ρ matrix R_ρ·Πᵀ·Q_ρ
-// (b·y = μ·y gives a·Q_ρ·y = μ·Q_ρ·y). Every eigenvalue of the small matrix (Hessenberg and real
+// serial robot's joints and beams, whatever the number of its link ends): an LU with complete
+// pivoting P·a·Q = L·U whose pivots below kLoadTermRank of the largest are left out gives
+// a = X·Y, X = P⁻¹·L_ρ, Y = U_ρ·Q⁻¹, whose nonzero eigenvalues are those of the ρ×ρ matrix
+// Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (Hessenberg and real
 // Schur forms, no vectors), then the one vector by inverse iteration.
 std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
-  const Eigen::ColPivHouseholderQR<MatX> qr(a);
-  const auto pivots = qr.matrixR().diagonal().cwiseAbs();
+  const Eigen::FullPivLU<MatX> lu(a);
+  const MatX& factors = lu.matrixLU();
   Index rank = 0;
-  while (rank < pivots.size() && pivots(rank) > kLoadTermRank * pivots(0)) ++rank;
+  while (rank < factors.rows() &&
+         std::abs(factors(rank, rank)) > kLoadTermRank * std::abs(factors(0, 0)))
+    ++rank;
   if (rank == 0) return std::nullopt;
-  MatX q = MatX::Identity(a.rows(), rank);
-  q.applyOnTheLeft(qr.householderQ());
-  const MatX small = qr.matrixR().topRows(rank).triangularView<Eigen::Upper>() *
-                     (qr.colsPermutation().transpose() * q);
+  // a = X·Y, X = P⁻¹·L_ρ (r×ρ), Y = U_ρ·Q⁻¹ (ρ×r): the eigenvalues of Y·X.
+  const MatX x = lu.permutationP().transpose() *
+                 MatX(factors.leftCols(rank).triangularView<Eigen::UnitLower>());
+  const MatX y =
+      MatX(factors.topRows(rank).triangularView<Eigen::Upper>()) * lu.permutationQ().transpose();
+  const MatX small = y * x;
   const Eigen::EigenSolver<MatX> eigen(small, false);
   const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
   if (!best) return std::nullopt;
   const double value = eigen.eigenvalues()(*best).real();
-  return RightmostEigen{value, q * eigenvector_by_inverse_iteration(small, value), true};
+  return RightmostEigen{value, x * eigenvector_by_inverse_iteration(small, value), true};
 }
 
 }  // namespace
