@@ -462,23 +462,46 @@ VecX eigenvector_by_inverse_iteration(const MatX& a, double value) {
 // The rightmost real positive eigenvalue of the r×r matrix a = −Z·F·U and its vector. a has
 // the rank of F·U at most, the structure's flexible directions the load directions reach (a
 // serial robot's joints and beams, whatever the number of its link ends): an LU with complete
-// pivoting P·a·Q = L·U whose pivots below kLoadTermRank of the largest are left out gives
+// pivoting P·a·Q = L·U, stopped at pivots below kLoadTermRank of the first, gives
 // a = X·Y, X = P⁻¹·L_ρ, Y = U_ρ·Q⁻¹, whose nonzero eigenvalues are those of the ρ×ρ matrix
 // Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (Hessenberg and real
 // Schur forms, no vectors), then the one vector by inverse iteration.
 std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
-  const Eigen::FullPivLU<MatX> lu(a);
-  const MatX& factors = lu.matrixLU();
+  // Gaussian elimination with complete pivoting, stopped where the largest entry left is below
+  // kLoadTermRank of the first pivot: then P·a·Q = L_ρ·U_ρ to that fraction.
+  const Index r = a.rows();
+  MatX m = a;
+  std::vector<Index> row_order(static_cast<std::size_t>(r)), column_order(row_order.size());
+  for (Index i = 0; i < r; ++i) row_order[static_cast<std::size_t>(i)] = i;
+  column_order = row_order;
   Index rank = 0;
-  while (rank < factors.rows() &&
-         std::abs(factors(rank, rank)) > kLoadTermRank * std::abs(factors(0, 0)))
-    ++rank;
+  double first_pivot = 0;
+  for (; rank < r; ++rank) {
+    Index pivot_row = 0, pivot_column = 0;
+    const double pivot =
+        m.bottomRightCorner(r - rank, r - rank).cwiseAbs().maxCoeff(&pivot_row, &pivot_column);
+    if (rank == 0) first_pivot = pivot;
+    if (!(pivot > kLoadTermRank * first_pivot)) break;
+    m.row(rank).swap(m.row(rank + pivot_row));
+    m.col(rank).swap(m.col(rank + pivot_column));
+    std::swap(row_order[static_cast<std::size_t>(rank)],
+              row_order[static_cast<std::size_t>(rank + pivot_row)]);
+    std::swap(column_order[static_cast<std::size_t>(rank)],
+              column_order[static_cast<std::size_t>(rank + pivot_column)]);
+    const Index rest = r - rank - 1;
+    m.col(rank).tail(rest) /= m(rank, rank);
+    m.bottomRightCorner(rest, rest).noalias() -= m.col(rank).tail(rest) * m.row(rank).tail(rest);
+  }
   if (rank == 0) return std::nullopt;
   // a = X·Y, X = P⁻¹·L_ρ (r×ρ), Y = U_ρ·Q⁻¹ (ρ×r): the eigenvalues of Y·X.
-  const MatX x = lu.permutationP().transpose() *
-                 MatX(factors.leftCols(rank).triangularView<Eigen::UnitLower>());
-  const MatX y =
-      MatX(factors.topRows(rank).triangularView<Eigen::Upper>()) * lu.permutationQ().transpose();
+  MatX x = MatX::Zero(r, rank), y = MatX::Zero(rank, r);
+  for (Index i = 0; i < r; ++i) {
+    const Index row = row_order[static_cast<std::size_t>(i)];
+    const Index column = column_order[static_cast<std::size_t>(i)];
+    for (Index k = 0; k < std::min(i, rank); ++k) x(row, k) = m(i, k);
+    if (i < rank) x(row, i) = 1;
+    for (Index k = 0; k <= std::min(i, rank - 1); ++k) y(k, column) = m(k, i);
+  }
   const MatX small = y * x;
   const Eigen::EigenSolver<MatX> eigen(small, false);
   const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
