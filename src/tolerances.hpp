@@ -82,9 +82,10 @@ inline constexpr double kRealEigenvalue = 1e-8;
 // μ below this fraction of the largest |μ| is rounding of a zero (the constraint rows' infinite
 // λ), not a critical load factor beyond 10¹⁰ times the smallest.
 inline constexpr double kLeastLoadEigenvalue = 1e-10;
-// Up to this many nodes (6 unknowns each) the condensed eigenproblem is solved densely, every
-// eigenvalue at once; beyond, by Arnoldi's iteration, whose cost grows with the model, not with
-// its cube (bench/README.md: a column of 100 beams, 1.2 s densely, 0.03 s so).
+// Up to 6 times this many load directions (the reduced eigenproblem's size, theory.md §14.3) the
+// eigenproblem is solved densely, every eigenvalue at once; beyond, by Arnoldi's iteration,
+// whose cost grows with the model, not with its cube (bench/README.md: a column of 100 beams,
+// 1.2 s densely, 0.03 s so).
 inline constexpr int kMostDenseNodes = 30;
 // Arnoldi's iteration stops where the Ritz pair's residual is below this fraction of the
 // largest Ritz value (and a new direction below it is no new direction).
