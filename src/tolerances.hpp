@@ -92,9 +92,10 @@ inline constexpr int kMostDenseNodes = 30;
 inline constexpr double kArnoldiTolerance = 1e-13;
 // Arnoldi's iteration takes at most this many steps (one solve each).
 inline constexpr int kMostArnoldiSteps = 400;
-// A direction of the wrenches a node's load terms give whose pivot (a column-pivoted QR of the
-// node's rows of K_L) is below this fraction of the largest is rounding of a zero: a beam's
-// zero rows turned to global axes leave some 1e-16 of the others.
+// A direction of the wrenches a node's load terms give (its rows of K_L) below this fraction of
+// the largest is rounding of a zero: a beam's zero rows turned to global axes leave some 1e-16
+// of the others. The same fraction of the first pivot ends the elimination that finds the rank
+// of the reduced eigenproblem (theory.md §14.3).
 inline constexpr double kLoadTermRank = 1e-13;
 // Inverse iteration for the critical mode moves its shift off the eigenvalue by this fraction
 // of the reduced matrix's largest entry, so that the LU's pivots stay finite.

@@ -411,35 +411,42 @@ struct LoadDirections {
 };
 
 // `blocks`: K_L's blocks (row node, column node), in the eigenproblem's units. A direction of a
-// node's block row whose pivot is below kLoadTermRank of its largest is rounding of a zero (a
-// local zero row turned to global axes) and is left out.
+// node's block row below kLoadTermRank of its largest column is rounding of a zero (a local zero
+// row turned to global axes) and is left out.
 LoadDirections load_directions(Index nodes,
                                const std::vector<std::pair<std::pair<int, int>, Mat6>>& blocks) {
-  // Per node, a triangular R with Rᵀ·R = B·Bᵀ, B the node's block row, without squaring B:
-  // each block in turn is stacked under R and the stack reduced by Householder reflections.
-  std::vector<Mat6> triangle(static_cast<std::size_t>(nodes), Mat6::Zero());
-  std::vector<bool> any(static_cast<std::size_t>(nodes), false);
-  for (const auto& [at, block] : blocks) {
-    const std::size_t i = static_cast<std::size_t>(at.first);
-    Eigen::Matrix<double, 12, 6> stack;
-    stack << triangle[i], block.transpose();
-    const Eigen::HouseholderQR<Eigen::Matrix<double, 12, 6>> qr(stack);
-    triangle[i] = qr.matrixQR().topRows<6>().triangularView<Eigen::Upper>();
-    any[i] = true;
-  }
-  // B's range is Rᵀ's: its directions from a column-pivoted QR of Rᵀ.
+  std::vector<std::vector<const Mat6*>> rows(static_cast<std::size_t>(nodes));
+  for (const auto& [at, block] : blocks) rows[static_cast<std::size_t>(at.first)].push_back(&block);
   LoadDirections directions;
   directions.first.resize(static_cast<std::size_t>(nodes));
   directions.basis.resize(static_cast<std::size_t>(nodes));
-  for (std::size_t i = 0; i < triangle.size(); ++i) {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> rest;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
     directions.first[i] = directions.count;
-    if (!any[i]) continue;
-    const Eigen::ColPivHouseholderQR<Mat6> qr(triangle[i].transpose());
-    const Vec6 pivots = qr.matrixR().diagonal().cwiseAbs();
+    if (rows[i].empty()) continue;
+    // Gram–Schmidt with column pivoting on the block row's columns: the largest column left
+    // becomes the next direction (orthogonalised twice against the ones before), and is taken
+    // out of every column; until the largest left is below kLoadTermRank of the first.
+    rest.resize(6, 6 * static_cast<Index>(rows[i].size()));
+    for (std::size_t b = 0; b < rows[i].size(); ++b)
+      rest.middleCols<6>(6 * static_cast<Index>(b)) = *rows[i][b];
+    Mat6 basis;
     Index rank = 0;
-    while (rank < 6 && pivots(rank) > kLoadTermRank * pivots(0)) ++rank;
-    const Mat6 q = qr.householderQ();
-    directions.basis[i] = q.leftCols(rank);
+    double first = 0;
+    for (; rank < 6; ++rank) {
+      Index largest = 0;
+      const double norm = std::sqrt(rest.colwise().squaredNorm().maxCoeff(&largest));
+      if (rank == 0) first = norm;
+      if (!(norm > kLoadTermRank * first)) break;
+      Vec6 q = rest.col(largest) / norm;
+      for (int pass = 0; pass < 2; ++pass) {
+        q -= basis.leftCols(rank) * (basis.leftCols(rank).transpose() * q);
+        q.normalize();
+      }
+      basis.col(rank) = q;
+      rest -= q * (q.transpose() * rest);
+    }
+    directions.basis[i] = basis.leftCols(rank);
     directions.count += rank;
   }
   return directions;
