@@ -484,17 +484,23 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   Index rank = 0;
   double first_pivot = 0;
   for (; rank < r; ++rank) {
-    Index pivot_row = 0, pivot_column = 0;
-    const double pivot =
-        m.bottomRightCorner(r - rank, r - rank).cwiseAbs().maxCoeff(&pivot_row, &pivot_column);
+    Index pivot_row = rank, pivot_column = rank;
+    double pivot = -1;
+    for (Index j = rank; j < r; ++j)
+      for (Index i = rank; i < r; ++i)
+        if (std::abs(m(i, j)) > pivot) {
+          pivot = std::abs(m(i, j));
+          pivot_row = i;
+          pivot_column = j;
+        }
     if (rank == 0) first_pivot = pivot;
     if (!(pivot > kLoadTermRank * first_pivot)) break;
-    m.row(rank).swap(m.row(rank + pivot_row));
-    m.col(rank).swap(m.col(rank + pivot_column));
+    m.row(rank).swap(m.row(pivot_row));
+    m.col(rank).swap(m.col(pivot_column));
     std::swap(row_order[static_cast<std::size_t>(rank)],
-              row_order[static_cast<std::size_t>(rank + pivot_row)]);
+              row_order[static_cast<std::size_t>(pivot_row)]);
     std::swap(column_order[static_cast<std::size_t>(rank)],
-              column_order[static_cast<std::size_t>(rank + pivot_column)]);
+              column_order[static_cast<std::size_t>(pivot_column)]);
     const Index rest = r - rank - 1;
     m.col(rank).tail(rest) /= m(rank, rank);
     m.bottomRightCorner(rest, rest).noalias() -= m.col(rank).tail(rest) * m.row(rank).tail(rest);
