@@ -249,9 +249,9 @@ TEST(CriticalLoad, ColumnUnderItsWeightAlongItsBeamsConvergesToGreenhill) {
       weight);
 }
 
-// Above kMostDenseNodes nodes the eigenproblem is solved by Arnoldi's iteration: the same factor
-// as every eigenvalue of the dense problem (1e-10), here for a column of 60 beams (366
-// unknowns), and Euler's load.
+// Beyond 6·kMostDenseNodes load directions the eigenproblem is solved by Arnoldi's iteration: the
+// same factor as every eigenvalue of the reduced dense problem (1e-10), here for a column of 60
+// beams (366 unknowns), and Euler's load.
 TEST(CriticalLoad, ArnoldiIterationFindsTheDenseFactor) {
   const Model model = column(60, End::pinned, End::pinned, -1000.0);
   const Result result = solve(model);
@@ -271,7 +271,7 @@ TEST(CriticalLoad, ArnoldiIterationFindsTheDenseFactor) {
   EXPECT_GT(dense * 1000.0 / euler(1.0) - 1, 0.0);
   EXPECT_LT(dense * 1000.0 / euler(1.0) - 1, 2e-8);
   EXPECT_TRUE(notes.empty());
-  // The same, automatically: 61 nodes are beyond the dense bound.
+  // The same, automatically: 60 nodes of 5 load directions each are beyond the dense bound.
   EXPECT_EQ(critical_factor(model), iterative);
 }
 
