@@ -82,17 +82,29 @@ inline constexpr double kRealEigenvalue = 1e-8;
 // μ below this fraction of the largest |μ| is rounding of a zero (the constraint rows' infinite
 // λ), not a critical load factor beyond 10¹⁰ times the smallest.
 inline constexpr double kLeastLoadEigenvalue = 1e-10;
-// Up to this many nodes (6 unknowns each) the condensed eigenproblem is solved densely, every
-// eigenvalue at once; beyond, by Arnoldi's iteration, whose cost grows with the model, not with
-// its cube (bench/README.md: a column of 100 beams, 1.2 s densely, 0.03 s so).
+// Up to 6 times this many load directions (the reduced eigenproblem's size, theory.md §14.3) the
+// eigenproblem is solved densely, every eigenvalue at once; beyond, by Arnoldi's iteration,
+// whose cost grows with the model, not with its cube (bench/README.md: a column of 100 beams,
+// 1.2 s densely, 0.03 s so).
 inline constexpr int kMostDenseNodes = 30;
 // Arnoldi's iteration stops where the Ritz pair's residual is below this fraction of the
 // largest Ritz value (and a new direction below it is no new direction).
 inline constexpr double kArnoldiTolerance = 1e-13;
 // Arnoldi's iteration takes at most this many steps (one solve each).
 inline constexpr int kMostArnoldiSteps = 400;
+// A direction of the wrenches a node's load terms give (its rows of K_L) below this fraction of
+// the largest is rounding of a zero: a beam's zero rows turned to global axes leave some 1e-16
+// of the others. The same fraction of the first pivot ends the elimination that finds the rank
+// of the reduced eigenproblem (theory.md §14.3).
+inline constexpr double kLoadTermRank = 1e-13;
+// Inverse iteration for the critical mode moves its shift off the eigenvalue by this fraction
+// of the reduced matrix's largest entry, so that the LU's pivots stay finite.
+inline constexpr double kInverseIterationShift = 1e-14;
 // The parts of a buckling mode that a description names: those moving at least this fraction
 // of the most moving one.
 inline constexpr double kModeShare = 0.25;
+// Parts of a buckling mode whose sizes agree to this fraction of the largest move alike (a
+// symmetric structure's mirror parts, whose sizes rounding splits): named in the model's order.
+inline constexpr double kModeTie = 1e-9;
 
 }  // namespace stiffmsa::detail

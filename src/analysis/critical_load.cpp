@@ -1,6 +1,8 @@
 #include "analysis/critical_load.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -15,6 +17,7 @@
 #include "elements/free_directions.hpp"
 #include "elements/geometric_load_terms.hpp"
 #include "solver/sparse_solver.hpp"
+#include "solver/tree_solver.hpp"
 #include "tolerances.hpp"
 
 namespace stiffmsa::detail {
@@ -101,6 +104,7 @@ struct ModePart {
   double size = 0;
   std::string name;  // "link 'column'"
   std::string singular, plural;
+  double rank = 0;  // the size in steps of kModeTie of the largest
 };
 
 std::string bending_phrase(double about_y, double about_z, double twist, bool plural) {
@@ -192,9 +196,15 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
                        motion_phrase(rotation, slide, true)});
   }
   if (parts.empty()) return "";
+  // Sizes that agree to kModeTie of the largest are equal — a symmetric structure's mirror
+  // parts, which rounding would otherwise order — and keep the model's order.
+  const double largest =
+      std::max_element(parts.begin(), parts.end(), [](const ModePart& a, const ModePart& b) {
+        return a.size < b.size;
+      })->size;
+  for (ModePart& part : parts) part.rank = std::round(part.size / largest / kModeTie);
   std::stable_sort(parts.begin(), parts.end(),
-                   [](const ModePart& a, const ModePart& b) { return a.size > b.size; });
-  const double largest = parts.front().size;
+                   [](const ModePart& a, const ModePart& b) { return a.rank > b.rank; });
   // Phrases in the order of their largest part; the parts of each in order of size.
   std::vector<std::string> order;
   std::map<std::string, std::vector<const ModePart*>> by_phrase;
@@ -301,6 +311,218 @@ std::optional<RightmostEigen> rightmost_by_arnoldi(const std::function<VecX(cons
   return estimate;
 }
 
+// The unloaded structure's deflections and wrenches under wrenches at link ends, a column per
+// load: by the tree solve's passes where the linear solve takes them (the solver `auto`, links
+// and connections forming a tree), else from one factorisation of the assembled mixed system
+// with the solver asked for. The passes cost a few 6×6 products per link end and column and
+// factorise nothing; their solution is checked against every block's equations in one column,
+// the sum of the columns weighed alike, as the linear solve checks its own.
+class UnloadedSolves {
+ public:
+  UnloadedSolves(const Topology& topology, const Blocks& blocks, const SolveOptions& options)
+      : topology_(topology), blocks_(blocks), options_(options) {
+    if (options.solver == SolverKind::automatic && passes_tree(blocks))
+      tree_ = tree_order(topology);
+  }
+
+  // The wrenches of a solve, a column per load (no preload: these are no load case); fill with
+  // external().add, then solve.
+  EndWrenches& external(Index columns) {
+    external_.reset(topology_.end_count(), columns, 0);
+    return external_;
+  }
+
+  // Every unknown (the mixed system's layout) under each column of external(); nullopt where
+  // the system is singular.
+  std::optional<MatX> solve() {
+    if (tree_) {
+      if (std::optional<MatX> x = solve_on_tree()) return x;
+      tree_.reset();  // too many cuts, or ill-conditioned: the factorising solve decides
+    }
+    if (!system_ && !factorise()) return std::nullopt;
+    MatX rhs = MatX::Zero(topology_.unknowns(), external_.columns());
+    VecX column(topology_.unknowns());
+    for (Index c = 0; c < external_.columns(); ++c) {
+      column.setZero();
+      for (int end = 0; end < topology_.end_count(); ++end)
+        if (external_.any_at(end) && !external_.at(end).col(c).isZero(0))
+          assembler_->add_wrench(blocks_, topology_, end, external_.at(end).col(c), column);
+      rhs.col(c) = column;
+    }
+    double solve_residual = 0;
+    MatX x = system_->solve(std::move(rhs), options_.refinement_steps, solve_residual);
+    residual_ = std::max(residual_, solve_residual);
+    return x;
+  }
+
+  // The largest relative residual of the solves so far.
+  double residual() const { return residual_; }
+
+ private:
+  std::optional<MatX> solve_on_tree() {
+    if (!tree_solve(blocks_, topology_, *tree_, external_, 1 / options_.warn_condition, scratch_))
+      return std::nullopt;
+    // The check's one column: every column weighed, with weights that no cancellation of like
+    // columns hides.
+    const Index columns = external_.columns();
+    VecX weights(columns);
+    for (Index c = 0; c < columns; ++c) weights(c) = 1.0 + 1.0 / static_cast<double>(c % 7 + 1);
+    check_x_ = scratch_.x * weights;
+    check_external_.reset(topology_.end_count(), 1, 0);
+    for (int end = 0; end < topology_.end_count(); ++end)
+      if (external_.any_at(end)) check_external_.add(end, 0, external_.at(end) * weights);
+    const BlockCheck check =
+        check_block_by_block(blocks_, topology_, check_x_, check_external_, scratch_);
+    if (!(check.relative_residual <= options_.max_relative_residual)) return std::nullopt;
+    residual_ = std::max(residual_, check.relative_residual);
+    return MatX(scratch_.x);
+  }
+
+  bool factorise() {
+    assembler_ = std::make_unique<Assembler>(blocks_, topology_.unknowns());
+    assembler_->fill(blocks_, matrix_);
+    system_ = std::make_unique<FactorizedSystem>(options_.solver);
+    if (system_->factorize(matrix_, options_.singular_rcond)) return true;
+    system_.reset();
+    return false;
+  }
+
+  const Topology& topology_;
+  const Blocks& blocks_;
+  const SolveOptions& options_;
+  std::optional<TreeOrder> tree_;
+  TreeScratch scratch_;
+  EndWrenches external_, check_external_;
+  RowMajorMatX check_x_;
+  std::unique_ptr<Assembler> assembler_;
+  SparseMatrix matrix_;
+  std::unique_ptr<FactorizedSystem> system_;
+  double residual_ = 0;
+};
+
+// K_L where it lives: at each node, an orthonormal basis Q_i of the wrenches its load terms
+// give there (the range of its block row, at most 6 directions; fewer where the terms are of
+// low rank: a joint's along its free directions, a lever's across its force), so that
+// K_L = U·Uᵀ·K_L, U = diag(Q_i).
+struct LoadDirections {
+  std::vector<Index> first;  // per node: its first column of U
+  std::vector<MatX> basis;   // per node: Q_i, 6 × r_i
+  Index count = 0;           // r, the columns of U
+};
+
+// `blocks`: K_L's blocks (row node, column node), in the eigenproblem's units. A direction of a
+// node's block row below kLoadTermRank of its largest column is rounding of a zero (a local zero
+// row turned to global axes) and is left out.
+LoadDirections load_directions(Index nodes,
+                               const std::vector<std::pair<std::pair<int, int>, Mat6>>& blocks) {
+  std::vector<std::vector<const Mat6*>> rows(static_cast<std::size_t>(nodes));
+  for (const auto& [at, block] : blocks) rows[static_cast<std::size_t>(at.first)].push_back(&block);
+  LoadDirections directions;
+  directions.first.resize(static_cast<std::size_t>(nodes));
+  directions.basis.resize(static_cast<std::size_t>(nodes));
+  Eigen::Matrix<double, 6, Eigen::Dynamic> rest;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    directions.first[i] = directions.count;
+    if (rows[i].empty()) continue;
+    // Gram–Schmidt with column pivoting on the block row's columns: the largest column left
+    // becomes the next direction (orthogonalised twice against the ones before), and is taken
+    // out of every column; until the largest left is below kLoadTermRank of the first.
+    rest.resize(6, 6 * static_cast<Index>(rows[i].size()));
+    for (std::size_t b = 0; b < rows[i].size(); ++b)
+      rest.middleCols<6>(6 * static_cast<Index>(b)) = *rows[i][b];
+    Mat6 basis;
+    Index rank = 0;
+    double first = 0;
+    for (; rank < 6; ++rank) {
+      Index largest = 0;
+      const double norm = std::sqrt(rest.colwise().squaredNorm().maxCoeff(&largest));
+      if (rank == 0) first = norm;
+      if (!(norm > kLoadTermRank * first)) break;
+      Vec6 q = rest.col(largest) / norm;
+      for (int pass = 0; pass < 2; ++pass) {
+        q -= basis.leftCols(rank) * (basis.leftCols(rank).transpose() * q);
+        q.normalize();
+      }
+      basis.col(rank) = q;
+      rest -= q * (q.transpose() * rest);
+    }
+    directions.basis[i] = basis.leftCols(rank);
+    directions.count += rank;
+  }
+  return directions;
+}
+
+// The eigenvector of `a` for its eigenvalue `value`, by inverse iteration: two solves with
+// a − value·I, from a fixed smooth vector (so that the results repeat). The shift is moved off
+// the eigenvalue by a rounding-sized step so that the factors stay finite; the iteration then
+// gains about the ratio of that step to the next eigenvalue's distance per solve.
+VecX eigenvector_by_inverse_iteration(const MatX& a, double value) {
+  const Index r = a.rows();
+  const double step = kInverseIterationShift * std::max(std::abs(value), a.cwiseAbs().maxCoeff());
+  const Eigen::PartialPivLU<MatX> lu(a - (value + step) * MatX::Identity(r, r));
+  VecX v(r);
+  for (Index i = 0; i < r; ++i) v(i) = 1.0 + 0.5 * std::sin(0.7 * static_cast<double>(i));
+  for (int pass = 0; pass < 2; ++pass) v = lu.solve(v).normalized();
+  return v;
+}
+
+// The rightmost real positive eigenvalue of the r×r matrix a = −Z·F·U and its vector. a has
+// the rank of F·U at most, the structure's flexible directions the load directions reach (a
+// serial robot's joints and beams, whatever the number of its link ends): an LU with complete
+// pivoting P·a·Q = L·U, stopped at pivots below kLoadTermRank of the first, gives
+// a = X·Y, X = P⁻¹·L_ρ, Y = U_ρ·Q⁻¹, whose nonzero eigenvalues are those of the ρ×ρ matrix
+// Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (Hessenberg and real
+// Schur forms, no vectors), then the one vector by inverse iteration.
+std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
+  // Gaussian elimination with complete pivoting, stopped where the largest entry left is below
+  // kLoadTermRank of the first pivot: then P·a·Q = L_ρ·U_ρ to that fraction.
+  const Index r = a.rows();
+  MatX m = a;
+  std::vector<Index> row_order(static_cast<std::size_t>(r)), column_order(row_order.size());
+  for (Index i = 0; i < r; ++i) row_order[static_cast<std::size_t>(i)] = i;
+  column_order = row_order;
+  Index rank = 0;
+  double first_pivot = 0;
+  for (; rank < r; ++rank) {
+    Index pivot_row = rank, pivot_column = rank;
+    double pivot = -1;
+    for (Index j = rank; j < r; ++j)
+      for (Index i = rank; i < r; ++i)
+        if (std::abs(m(i, j)) > pivot) {
+          pivot = std::abs(m(i, j));
+          pivot_row = i;
+          pivot_column = j;
+        }
+    if (rank == 0) first_pivot = pivot;
+    if (!(pivot > kLoadTermRank * first_pivot)) break;
+    m.row(rank).swap(m.row(pivot_row));
+    m.col(rank).swap(m.col(pivot_column));
+    std::swap(row_order[static_cast<std::size_t>(rank)],
+              row_order[static_cast<std::size_t>(pivot_row)]);
+    std::swap(column_order[static_cast<std::size_t>(rank)],
+              column_order[static_cast<std::size_t>(pivot_column)]);
+    const Index rest = r - rank - 1;
+    m.col(rank).tail(rest) /= m(rank, rank);
+    m.bottomRightCorner(rest, rest).noalias() -= m.col(rank).tail(rest) * m.row(rank).tail(rest);
+  }
+  if (rank == 0) return std::nullopt;
+  // a = X·Y, X = P⁻¹·L_ρ (r×ρ), Y = U_ρ·Q⁻¹ (ρ×r): the eigenvalues of Y·X.
+  MatX x = MatX::Zero(r, rank), y = MatX::Zero(rank, r);
+  for (Index i = 0; i < r; ++i) {
+    const Index row = row_order[static_cast<std::size_t>(i)];
+    const Index column = column_order[static_cast<std::size_t>(i)];
+    for (Index k = 0; k < std::min(i, rank); ++k) x(row, k) = m(i, k);
+    if (i < rank) x(row, i) = 1;
+    for (Index k = 0; k <= std::min(i, rank - 1); ++k) y(k, column) = m(k, i);
+  }
+  const MatX small = y * x;
+  const Eigen::EigenSolver<MatX> eigen(small, false);
+  const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
+  if (!best) return std::nullopt;
+  const double value = eigen.eigenvalues()(*best).real();
+  return RightmostEigen{value, x * eigenvector_by_inverse_iteration(small, value), true};
+}
+
 }  // namespace
 
 std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
@@ -335,107 +557,128 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
     }
     return n;
   };
-  std::vector<std::pair<std::pair<int, int>, const Mat6*>> placed;
+  // K_L's blocks between nodes, in units where rotations are weighed by the model's size ℓ
+  // (S⁻¹·K_L·S⁻¹, S = diag(1, 1, 1, ℓ, ℓ, ℓ) per node), so that every entry of the eigenproblem
+  // is a pure number of like size: its eigenvalues are the same.
+  const double length = characteristic_length(model);
+  Vec6 weight = Vec6::Ones();
+  weight.tail<3>().setConstant(length);
+  std::vector<std::pair<std::pair<int, int>, Mat6>> placed;
   for (const LoadTerm& term : terms) {
     const int row = node(term.row_end), column = node(term.column_end);
-    if (row >= 0 && column >= 0) placed.push_back({{row, column}, &term.block});
+    if (row >= 0 && column >= 0)
+      placed.push_back(
+          {{row, column},
+           weight.cwiseInverse().asDiagonal() * term.block * weight.cwiseInverse().asDiagonal()});
   }
   if (placed.empty()) return {};
-  const Index n = 6 * static_cast<Index>(node_ends.size());
-  MatX load_stiffness = MatX::Zero(n, n);
-  for (const auto& [at, block] : placed)
-    load_stiffness.block<6, 6>(6 * at.first, 6 * at.second) += *block;
+  const Index nodes = static_cast<Index>(node_ends.size()), n = 6 * nodes;
 
-  Assembler assembler(blocks, topology.unknowns());
-  SparseMatrix matrix;
-  assembler.fill(blocks, matrix);
-  FactorizedSystem system(options.solver);
-  if (!system.factorize(matrix, options.singular_rcond)) {
+  // The eigenproblem Δt = F·(−λ·K_L·Δt), F the nodes' deflections under unit wrenches at the
+  // nodes: the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ are μ = 0 here,
+  // below kLeastLoadEigenvalue of the largest |μ|.
+  UnloadedSolves solves(topology, blocks, options);
+  const LoadDirections directions = load_directions(nodes, placed);
+  const Index r = directions.count;
+  std::optional<RightmostEigen> rightmost;
+  MatX unknowns_per_direction;  // the dense way: every unknown under each column of S·U
+  bool singular = false;
+  if (method == EigenMethod::dense ||
+      (method == EigenMethod::automatic && r <= kMostDenseNodes * 6)) {
+    // K_L = U·Z, Z = Uᵀ·K_L: the nonzero eigenvalues of −F·U·Z are those of the r×r matrix
+    // −Z·(F·U), and F·U takes r solves, a unit wrench along each direction of U.
+    EndWrenches& external = solves.external(r);
+    for (Index i = 0; i < nodes; ++i) {
+      const MatX& basis = directions.basis[static_cast<std::size_t>(i)];
+      for (Index c = 0; c < basis.cols(); ++c)
+        external.add(node_ends[static_cast<std::size_t>(i)],
+                     directions.first[static_cast<std::size_t>(i)] + c,
+                     weight.asDiagonal() * basis.col(c));
+    }
+    std::optional<MatX> x = solves.solve();
+    if (!x) {
+      singular = true;
+    } else {
+      unknowns_per_direction = std::move(*x);
+      // F·U at the nodes, in the eigenproblem's units.
+      MatX flexibility(n, r);
+      for (Index k = 0; k < nodes; ++k)
+        flexibility.middleRows<6>(6 * k) =
+            weight.asDiagonal() * unknowns_per_direction.middleRows<6>(
+                                      deflection_column(node_ends[static_cast<std::size_t>(k)]));
+      MatX reduced = MatX::Zero(r, r);
+      for (const auto& [at, block] : placed) {
+        const MatX& basis = directions.basis[static_cast<std::size_t>(at.first)];
+        if (basis.cols() == 0) continue;
+        const Eigen::Matrix<double, Eigen::Dynamic, 6, 0, 6, 6> z = basis.transpose() * block;
+        reduced.middleRows(directions.first[static_cast<std::size_t>(at.first)], basis.cols())
+            .noalias() -= z.lazyProduct(flexibility.middleRows<6>(6 * at.second));
+      }
+      rightmost = rightmost_of_low_rank(reduced);
+    }
+  } else {
+    // Arnoldi's method on the operator itself, one solve per step (shift-invert at λ = 0: the
+    // solves with K are F).
+    MatX load_stiffness = MatX::Zero(n, n);
+    for (const auto& [at, block] : placed)
+      load_stiffness.block<6, 6>(6 * at.first, 6 * at.second) += block;
+    rightmost = rightmost_by_arnoldi(
+        [&](const VecX& v) -> VecX {
+          const VecX wrench = -(load_stiffness * v);
+          EndWrenches& external = solves.external(1);
+          for (Index k = 0; k < nodes; ++k)
+            external.add(node_ends[static_cast<std::size_t>(k)], 0,
+                         weight.asDiagonal() * wrench.segment<6>(6 * k));
+          const std::optional<MatX> x = solves.solve();
+          if (!x) {
+            singular = true;
+            return VecX::Zero(n);
+          }
+          VecX d(n);
+          for (Index k = 0; k < nodes; ++k)
+            d.segment<6>(6 * k) =
+                weight.asDiagonal() *
+                x->col(0).segment<6>(deflection_column(node_ends[static_cast<std::size_t>(k)]));
+          return d;
+        },
+        n);
+    if (!singular && rightmost && !rightmost->converged)
+      notes.push_back(
+          "the critical load factor's iteration did not converge; the factor given is its last "
+          "estimate");
+  }
+  if (singular) {
     notes.push_back(
         "the critical load factor is not found: the unloaded structure's system is singular "
         "(a mechanism, or a structure held rigidly more than once)");
     return {};
   }
-  // The eigenproblem Δt = F·(−λ·K_L·Δt), F the nodes' deflections under unit wrenches at the
-  // nodes: the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ are μ = 0 here,
-  // below kLeastLoadEigenvalue of the largest |μ|. In units where rotations are weighed by the
-  // model's size (S·M·S⁻¹, S = diag(1, 1, 1, ℓ, ℓ, ℓ) per node), so that every entry is a pure
-  // number of like size: the same eigenvalues.
-  const double length = characteristic_length(model);
-  VecX weight = VecX::Ones(n);
-  for (Index k = 0; k < n; ++k)
-    if (k % 6 >= 3) weight(k) = length;
-  double residual = 0;
-  // The nodes' deflections under wrenches at the nodes, a column each.
-  auto deflections_under = [&](const MatX& wrenches) {
-    MatX rhs = MatX::Zero(topology.unknowns(), wrenches.cols());
-    VecX column(topology.unknowns());
-    for (Index c = 0; c < wrenches.cols(); ++c) {
-      column.setZero();
-      for (std::size_t k = 0; k < node_ends.size(); ++k) {
-        const Vec6 w = wrenches.col(c).segment<6>(6 * static_cast<Index>(k));
-        if (!w.isZero(0)) assembler.add_wrench(blocks, topology, node_ends[k], w, column);
-      }
-      rhs.col(c) = column;
-    }
-    double solve_residual = 0;
-    const MatX x = system.solve(std::move(rhs), options.refinement_steps, solve_residual);
-    residual = std::max(residual, solve_residual);
-    MatX d(n, wrenches.cols());
-    for (std::size_t k = 0; k < node_ends.size(); ++k)
-      d.middleRows<6>(6 * static_cast<Index>(k)) = x.middleRows<6>(deflection_column(node_ends[k]));
-    return d;
-  };
-  std::optional<RightmostEigen> rightmost;
-  if (method == EigenMethod::dense ||
-      (method == EigenMethod::automatic && n <= kMostDenseNodes * 6)) {
-    // F a batch of unit wrenches at a time (a large model's n right-hand sides of its whole
-    // system would not fit at once); then every eigenvalue of the dense n×n matrix.
-    MatX flexibility(n, n);
-    constexpr Index kBatch = 60;
-    for (Index first = 0; first < n; first += kBatch) {
-      const Index count = std::min(kBatch, n - first);
-      flexibility.middleCols(first, count) =
-          deflections_under(MatX::Identity(n, n).middleCols(first, count));
-    }
-    const MatX m =
-        weight.asDiagonal() * (-flexibility * load_stiffness) * weight.cwiseInverse().asDiagonal();
-    Eigen::EigenSolver<MatX> eigen(m, true);
-    const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
-    if (best)
-      rightmost = RightmostEigen{eigen.eigenvalues()(*best).real(),
-                                 eigen.eigenvectors().col(*best).real(), true};
-  } else {
-    // Arnoldi's method on the operator itself, one solve per step (shift-invert at λ = 0: the
-    // factorisation of K is F).
-    rightmost = rightmost_by_arnoldi(
-        [&](const VecX& v) {
-          const MatX d =
-              deflections_under(-(load_stiffness * weight.cwiseInverse().asDiagonal() * v));
-          return VecX(weight.asDiagonal() * d.col(0));
-        },
-        n);
-    if (rightmost && !rightmost->converged)
-      notes.push_back(
-          "the critical load factor's iteration did not converge; the factor given is its last "
-          "estimate");
-  }
   if (!rightmost) return {};
   CriticalLoad critical;
   critical.factor = 1 / rightmost->value;
-  // The whole mode: the deflections under the load terms' wrenches at the nodes.
-  const VecX shape = weight.cwiseInverse().asDiagonal() * rightmost->vector;
-  const VecX wrenches = -load_stiffness * shape;
-  VecX rhs = VecX::Zero(topology.unknowns());
-  for (std::size_t k = 0; k < node_ends.size(); ++k)
-    assembler.add_wrench(blocks, topology, node_ends[k],
-                         wrenches.segment<6>(6 * static_cast<Index>(k)), rhs);
-  MatX b = rhs;
-  const MatX x = system.solve(std::move(b), options.refinement_steps, residual);
-  critical.mode = describe_mode(model, topology, blocks, x.col(0));
-  if (residual > options.max_relative_residual)
+  // The whole mode: the deflections under the load terms' wrenches −K_L·Δt_S at the nodes. On
+  // the dense way these are the combination of U's columns the eigenvector gives
+  // (−Z·F·U·y = μ·y), whose solutions are at hand.
+  VecX mode;
+  if (unknowns_per_direction.size() > 0) {
+    mode = unknowns_per_direction * rightmost->vector;
+  } else {
+    MatX load_stiffness = MatX::Zero(n, n);
+    for (const auto& [at, block] : placed)
+      load_stiffness.block<6, 6>(6 * at.first, 6 * at.second) += block;
+    const VecX wrench = -(load_stiffness * rightmost->vector);
+    EndWrenches& external = solves.external(1);
+    for (Index k = 0; k < nodes; ++k)
+      external.add(node_ends[static_cast<std::size_t>(k)], 0,
+                   weight.asDiagonal() * wrench.segment<6>(6 * k));
+    std::optional<MatX> x = solves.solve();
+    if (!x) return {};
+    mode = x->col(0);
+  }
+  critical.mode = describe_mode(model, topology, blocks, mode);
+  if (solves.residual() > options.max_relative_residual)
     notes.push_back("the critical load factor's solves leave a relative residual of " +
-                    std::to_string(residual) + "; it may be inaccurate");
+                    std::to_string(solves.residual()) + "; it may be inaccurate");
   return critical;
 }
 

@@ -24,8 +24,9 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology);
 // tension, no load at all). Where it cannot be found (the unloaded system is singular, a wrench
 // of the linear solution is undetermined), no factor either, and `notes` gets the reason.
 // `locks`: the spin locks the solve held (Topology's find_spin_locks).
-// `method`: how the condensed eigenproblem is solved (theory.md §14.3): all its eigenvalues
-// densely up to kMostDenseNodes nodes, else Arnoldi's iteration; the tests ask for either.
+// `method`: how the condensed eigenproblem is solved (theory.md §14.3): reduced to where K_L
+// lives and all its eigenvalues found densely where that leaves at most 6·kMostDenseNodes load
+// directions, else Arnoldi's iteration on every node's unknowns; the tests ask for either.
 enum class EigenMethod { automatic, dense, iterative };
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,
