@@ -12,6 +12,7 @@
 #endif
 
 #include "elements/free_directions.hpp"
+#include "solver/blas_lock.hpp"
 #include "solver/sparse_solver.hpp"
 
 namespace stiffmsa::detail {
@@ -86,11 +87,15 @@ class StiffnessCholesky final : public LinearSolver {
   void analyze(const SparseMatrix& k) override { cholesky_.analyzePattern(k); }
   bool factorize(const SparseMatrix& k) override {
     [[maybe_unused]] const OpenMPOnCallingThread one_thread{};
+    const std::lock_guard blas(blas_mutex());
     cholesky_.factorize(k);
     // Positive definite: the factorisation succeeds (a mechanism or a bad stiffness fails it).
     return cholesky_.info() == Eigen::Success && positive_pivots();
   }
-  void solve(MatX& b) const override { b = cholesky_.solve(b); }
+  void solve(MatX& b) const override {
+    const std::lock_guard blas(blas_mutex());
+    b = cholesky_.solve(b);
+  }
   void solve_transposed(MatX& b) const override { solve(b); }  // symmetric
   const char* name() const override { return "cholesky"; }
   double determinant_sign() const override { return 1; }  // positive definite once factorised

@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "solver/blas_lock.hpp"
 #include "stiffmsa/config.hpp"
 #if STIFFMSA_HAVE_SUITESPARSE
 #include <klu.h>
@@ -13,6 +14,11 @@
 #endif
 
 namespace stiffmsa::detail {
+
+std::mutex& blas_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
 
 namespace {
 
@@ -61,6 +67,7 @@ class UmfpackLU final : public LinearSolver {
   bool factorize(const SparseMatrix& a) override {
     if (numeric_) umfpack_di_free_numeric(&numeric_);
     a_ = &a;
+    const std::lock_guard blas(blas_mutex());
     const int status = umfpack_di_numeric(a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr(),
                                           symbolic_, &numeric_, control_, nullptr);
     return status == UMFPACK_OK;
@@ -78,6 +85,7 @@ class UmfpackLU final : public LinearSolver {
  private:
   void run(MatX& b, int system) const {
     VecX x(b.rows());
+    const std::lock_guard blas(blas_mutex());
     for (Index c = 0; c < b.cols(); ++c) {
       const VecX rhs = b.col(c);
       umfpack_di_solve(system, a_->outerIndexPtr(), a_->innerIndexPtr(), a_->valuePtr(), x.data(),
