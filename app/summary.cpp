@@ -208,6 +208,10 @@ void print_end_effector(std::ostream& out, const EndEffectorResult& e) {
     print_block_matrix(out, "Stiffness: wrench at " + e.name + " per unit deflection there",
                        "N/m, N/rad in the force rows; N·m/m, N·m/rad in the moment rows",
                        *e.stiffness, wrench_labels, deflection_labels);
+    if (e.stiffness_asymmetry)
+      out << "  Stiffness asymmetry: " << scientific(*e.stiffness_asymmetry, 0, 2)
+          << " (|K - K^T| / |K + K^T|, rotations weighted by the model size; under load "
+             "the tangent stiffness need not be symmetric)\n";
   } else if (e.compliance) {
     out << "  Stiffness: unbounded (the end effector is held rigidly in some direction)\n";
     if (e.reduced_stiffness) print_reduced_stiffness(out, *e.reduced_stiffness);
@@ -432,6 +436,12 @@ void print_solve_summary(std::ostream& out, const Result& result,
         << result.load_cases.size()
         << (result.load_cases.size() == 1 ? " named case" : " named cases") << " after it\n";
   print_system_size(out, result.system);
+  if (result.analysis.mode == AnalysisMode::loaded)
+    out << "Analysis: loaded (equilibrium in the deformed geometry) in "
+        << result.analysis.load_steps
+        << (result.analysis.load_steps == 1 ? " load step, " : " load steps, ")
+        << result.analysis.iterations
+        << " Newton iterations; compliance and stiffness are the tangent ones there\n";
 
   if (result.end_effectors.empty()) out << "\nNo end effectors.\n";
   for (const EndEffectorResult& e : result.end_effectors) print_end_effector(out, e);

@@ -424,6 +424,18 @@ TEST(LoadedModeCli, LoadedFlagWritesTheAnalysisAndTheLinearResults) {
   EXPECT_NE(text.find("\"mode\": \"loaded\""), std::string::npos);
   EXPECT_NE(text.find("\"linear\": {"), std::string::npos);
   EXPECT_NE(text.find("\"stiffness_asymmetry\""), std::string::npos);
+  // The summary says which analysis ran, with its steps and iterations as the result file has
+  // them, and each end effector's asymmetry.
+  const std::string summary = read_text(dir / "arm.txt");
+  const Result r = solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-2r.yaml"),
+                         loaded_options());
+  const std::string steps = std::to_string(r.analysis.load_steps);
+  EXPECT_NE(summary.find("Analysis: loaded (equilibrium in the deformed geometry) in " + steps +
+                         (r.analysis.load_steps == 1 ? " load step, " : " load steps, ") +
+                         std::to_string(r.analysis.iterations) + " Newton iterations"),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("Stiffness asymmetry: "), std::string::npos) << summary;
 }
 
 TEST(LoadedModeCli, ColumnBeyondItsCriticalLoadExitsWithOneAndTheLoadFactor) {
