@@ -156,6 +156,8 @@ void bind_errors(py::module_&) {
           e.cause() == SingularModelError::Cause::free_motion ? "free_motion" : "numerical";
       raise("SingularModelError",
             error_class("SingularModelError")(e.summary(), cause, e.details()));
+    } catch (const NoEquilibriumError& e) {
+      raise("NoEquilibriumError", error_class("NoEquilibriumError")(e.what(), e.load_factor()));
     } catch (const IoError& e) {
       raise("IoError", error_class("IoError")(e.what()));
     } catch (const UsageError& e) {

@@ -54,13 +54,15 @@ from ._core import (
     check,
     principal_stiffness,
 )
-from .errors import Diagnostic, Error, InputError, IoError, SingularModelError, UsageError
+from .errors import (Diagnostic, Error, InputError, IoError, NoEquilibriumError, SingularModelError,
+                     UsageError)
 
 __all__ = [
     "AnalysisInfo", "AnalysisMode", "Connection", "CriticalLoad", "Diagnostic", "DistributedLinkLoad",
     "EndEffectorResult", "Error", "InputError", "InternalForces", "IoError", "JointResult", "Kinematics",
     "LinkEndResult", "LinkLoad", "LinkResult", "Load", "LoadCase", "Material", "Model", "ModelFamily",
-    "Parameter", "PointLinkLoad", "PrincipalStiffness", "Result", "Section", "SingularModelError",
+    "NoEquilibriumError", "Parameter", "PointLinkLoad", "PrincipalStiffness", "Result", "Section",
+    "SingularModelError",
     "SolveOptions", "SolveReport", "SupportResult", "SweepResult", "SystemSize", "UsageError", "check",
     "load_family", "load_model", "principal_stiffness", "solve",
 ]
@@ -119,8 +121,10 @@ def solve(model: Model, solver: str = "auto", accept_idle_motions: bool = False,
     ``None`` for the model's own (``Model.mode``); ``critical_load=True`` also finds every load
     case's critical load factor (``Result.critical_load``).
 
-    Raises :class:`InputError` for an invalid model and :class:`SingularModelError` for a
-    mechanism (its ``details`` name the free motions).
+    Raises :class:`InputError` for an invalid model, :class:`SingularModelError` for a
+    mechanism (its ``details`` name the free motions) and, in the loaded mode,
+    :class:`NoEquilibriumError` where the load path passes a critical point or no equilibrium is
+    found (its ``load_factor`` says how far it got).
     """
     return _core._solve(model, _options(solver, accept_idle_motions, singular_rcond, max_relative_residual,
                                         refinement_steps, warn_condition, mode, critical_load))

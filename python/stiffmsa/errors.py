@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import List, Optional, Sequence
 
-__all__ = ["Error", "InputError", "SingularModelError", "IoError", "UsageError", "Diagnostic"]
+__all__ = ["Error", "InputError", "SingularModelError", "NoEquilibriumError", "IoError", "UsageError",
+           "Diagnostic"]
 
 
 class Error(Exception):
@@ -63,6 +64,17 @@ class SingularModelError(Error):
         self.cause = cause
         self.details: List[str] = list(details)
         super().__init__("\n  ".join([message, *self.details]))
+
+
+class NoEquilibriumError(Error):
+    """The loaded mode found no equilibrium under the full loads: the load path passed a limit
+    point or a bifurcation (the structure buckles or snaps), or Newton's iterations did not
+    converge however small the load step. ``load_factor`` is the last load factor reached in
+    equilibrium (a fraction of the loads)."""
+
+    def __init__(self, message: str, load_factor: float = 0.0) -> None:
+        super().__init__(message)
+        self.load_factor = load_factor
 
 
 class IoError(Error, OSError):

@@ -206,3 +206,26 @@ def test_the_loaded_mode_takes_loads_along_links_and_gravity(tmp_path, cli):
     out = tmp_path / "frame.json"
     run_cli(cli, "solve", path, "--json", out)
     assert '"mode": "loaded"' in out.read_text()
+
+
+def test_a_column_beyond_its_critical_load_raises_no_equilibrium_with_its_load_factor():
+    """A clamped-free steel column of 4 beams under 30 kN against Euler's 13 818 N: the loaded
+    mode's path stops near 13 818/30 000 = 0.4606 of the loads, as the command reports."""
+    model = stiffmsa.Model("column")
+    for i in range(5):
+        model.add_point(f"p{i}", [0, 0, 0.25 * i])
+    steel = stiffmsa.Material(2.1e11, nu=0.3)
+    section = stiffmsa.Section.rect(0.02, 0.04)
+    for i in range(4):
+        model.add_beam(f"c{i}", f"p{i}", f"p{i + 1}", steel, section)
+    model.add_support("base", "p0")
+    model.add_load("p4", [0, 0, -30000, 0, 0, 0])
+    model.add_end_effector("top", "p4")
+    euler = np.pi**2 * 2.1e11 * (0.04 * 0.02**3 / 12) / (4 * 1.0**2)
+    with pytest.raises(stiffmsa.NoEquilibriumError) as raised:
+        stiffmsa.solve(model, mode="loaded")
+    assert isinstance(raised.value, stiffmsa.Error)
+    # The path is bracketed to 1e-4 of the loads; 4 elements put the critical load 6e-5 above
+    # Euler's.
+    assert abs(raised.value.load_factor - euler / 30000) < 2e-4
+    assert "critical point" in str(raised.value)
