@@ -14,10 +14,14 @@
 #include <string>
 
 #include "builders.hpp"
+#include "command_line.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using stiffmsa::testing::contains;
+using stiffmsa::testing::read_file;
+using stiffmsa::testing::shell_quoted;
 
 constexpr int exit_success = 0;
 constexpr int exit_cannot_solve = 1;
@@ -69,25 +73,6 @@ end_effectors:
   EE: {at: E, link: L1}
 )";
 
-std::string shell_quoted(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) {
-    if (c == '\'') {
-      quoted += "'\\''";
-    } else {
-      quoted += c;
-    }
-  }
-  return quoted + "'";
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 struct CliRun {
   int exit_code = -1;
   std::string out;
@@ -128,10 +113,6 @@ class Cli : public ::testing::Test {
 
   fs::path folder_;
 };
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 TEST_F(Cli, Version) {
   const CliRun r = run("--version");

@@ -25,12 +25,16 @@
 #include <vector>
 
 #include "builders.hpp"
+#include "command_line.hpp"
 #include "stiffmsa/io/model_file.hpp"
 
 namespace stiffmsa {
 namespace {
 
 namespace fs = std::filesystem;
+using stiffmsa::testing::contains;
+using stiffmsa::testing::read_file;
+using stiffmsa::testing::shell_quoted;
 
 constexpr int exit_success = 0;
 constexpr int exit_invalid_input = 2;
@@ -40,17 +44,6 @@ const fs::path corpus_folder = fs::path(STIFFMSA_SOURCE_DIR) / "tests" / "invali
 
 // A valid model: a steel rod clamped at O and loaded at E.
 constexpr const char* cantilever_model = stiffmsa::testing::kCantileverYaml;
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;

@@ -16,6 +16,7 @@
 #include "elements/beam_element.hpp"
 #include "elements/free_directions.hpp"
 #include "elements/loaded_blocks.hpp"
+#include "elements/loaded_derivatives.hpp"
 #include "stiffmsa/model.hpp"
 
 namespace stiffmsa::detail {
@@ -36,7 +37,7 @@ using V6 = Eigen::Matrix<T, 6, 1>;
 // ---- the reference: rows as templates on the scalar, differentiated by duals -------------------
 
 using Dyn = Eigen::AutoDiffScalar<Eigen::VectorXd>;
-using VecXT = Eigen::Matrix<Dyn, Eigen::Dynamic, 1>;
+using DynVec = Eigen::Matrix<Dyn, Eigen::Dynamic, 1>;
 
 template <class T>
 M3<T> cross_matrix(const V3<T>& v) {
@@ -178,18 +179,7 @@ class RandomStates {
 
 // Its energy, written from §15.2, on nested duals: inner variables a (the virtual motion of the
 // gradient), outer ones b (the Newton increment), R ← (I + [a_θ×])·(I + [b_θ×])·R.
-using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, 12, 1>>;
-using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, 12, 1>>;
-
-Outer seeded(double value, int inner, int outer) {
-  using D12 = Eigen::Matrix<double, 12, 1>;
-  Inner v(value, D12::Zero());
-  if (inner >= 0) v.derivatives()(inner) = 1;
-  Eigen::Matrix<Inner, 12, 1> d;
-  for (int k = 0; k < 12; ++k) d(k) = Inner(0.0, D12::Zero());
-  if (outer >= 0) d(outer) = Inner(1.0, D12::Zero());
-  return Outer(v, d);
-}
+using Outer = NestedDual;  // loaded_derivatives.hpp's seeding, inner a and outer b
 
 template <class T>
 T link_energy(const CorotationalLink& link, const V3<T>& xi, const M3<T>& ri, const V3<T>& xj,
@@ -230,21 +220,10 @@ T link_energy(const CorotationalLink& link, const V3<T>& xi, const M3<T>& ri, co
 }
 
 Rows corotational_reference(const CorotationalLink& link, const EndState& i, const EndState& j) {
-  auto pose = [](const EndState& s, int first, V3<Outer>& x, M3<Outer>& r) {
-    V3<Outer> a, b;
-    for (int k = 0; k < 3; ++k) {
-      x(k) = seeded(s.position(k), first + k, first + k);
-      a(k) = seeded(0, first + 3 + k, -1);
-      b(k) = seeded(0, -1, first + 3 + k);
-    }
-    const M3<Outer> start = s.rotation.cast<Outer>();
-    const M3<Outer> after_b = start + cross_matrix(b) * start;
-    r = after_b + cross_matrix(a) * after_b;
-  };
   V3<Outer> xi, xj;
   M3<Outer> ri, rj;
-  pose(i, 0, xi, ri);
-  pose(j, 6, xj, rj);
+  nested_moved_pose(i, 0, xi, ri);
+  nested_moved_pose(j, 6, xj, rj);
   const Outer energy = link_energy<Outer>(link, xi, ri, xj, rj);
   Rows out{VecX(12), MatX::Zero(12, 24)};
   for (int m = 0; m < 12; ++m) {
@@ -310,20 +289,28 @@ TEST(CorotationalLinkBlock, SmallDeformationsUnderALargeRigidMotionMatchNestedDu
   }
 }
 
+// A beam of modulus E, Poisson's ratio ν and `section` from `from` to `to`, as the loaded mode
+// builds its co-rotational link.
+CorotationalLink beam_link(double e, double nu, const Section& section, const Vec3& from,
+                           const Vec3& to) {
+  BeamLink beam;
+  beam.material.E = e;
+  beam.material.nu = nu;
+  beam.section = section;
+  CorotationalLink link;
+  link.d0 = to - from;
+  link.stiffness = beam_global_stiffness(beam, from, to);
+  link.axial = e * section_properties(section).A;
+  return link;
+}
+
 // A real beam (steel tube), whose stiffness spans five orders between its axial and torsional
 // terms: the tangent agrees row by row as above; the residual, the difference of internal forces
 // of size E·A·u, to what positions' rounding costs, |K|·L.
 TEST(CorotationalLinkBlock, SteelTubeMatchesNestedDuals) {
   RandomStates random(3);
-  BeamLink beam;
-  beam.material.E = 2.1e11;
-  beam.material.nu = 0.3;
-  beam.section = Section::tube(0.08, 0.005);
   const Vec3 from(0.2, -0.1, 0.5), to(0.9, 0.4, 1.1);
-  CorotationalLink link;
-  link.d0 = to - from;
-  link.stiffness = beam_global_stiffness(beam, from, to);
-  link.axial = beam.material.E * section_properties(beam.section).A;
+  const CorotationalLink link = beam_link(2.1e11, 0.3, Section::tube(0.08, 0.005), from, to);
   for (int trial = 0; trial < 4; ++trial) {
     const Mat3 turn = random.rotation();
     std::vector<EndState> states(2);
@@ -346,15 +333,8 @@ TEST(CorotationalLinkBlock, SteelTubeMatchesNestedDuals) {
 // null space, so that the frame's part of d̄ drops out and the geometric terms vanish with f.
 TEST(CorotationalLinkBlock, RigidlyMovedLinkHasTheTurnedLinearStiffness) {
   RandomStates random(5);
-  BeamLink beam;
-  beam.material.E = 7e10;
-  beam.material.nu = 0.33;
-  beam.section = Section::rect(0.04, 0.07);
   const Vec3 from(0.3, 0.1, -0.2), to(-0.4, 0.6, 0.5);
-  CorotationalLink link;
-  link.d0 = to - from;
-  link.stiffness = beam_global_stiffness(beam, from, to);
-  link.axial = beam.material.E * section_properties(beam.section).A;
+  const CorotationalLink link = beam_link(7e10, 0.33, Section::rect(0.04, 0.07), from, to);
   for (int trial = 0; trial < 3; ++trial) {
     const Mat3 turn = trial == 0 ? Mat3::Identity() : random.rotation();
     const Vec3 shift = trial == 0 ? Vec3::Zero() : random.direction();
@@ -429,7 +409,7 @@ Rows constraint_joint_reference(const Case& c, const std::vector<int>& ends,
     const Eigen::Matrix<Dyn, Eigen::Dynamic, 6> held = directions.constrained().cast<Dyn>();
     std::vector<Dyn> rows;
     for (std::size_t k = 1; k < e.size(); ++k)
-      append<Dyn>(rows, VecXT(-(held * motion_of(e[0], e[k]))));
+      append<Dyn>(rows, DynVec(-(held * motion_of(e[0], e[k]))));
     V6<Dyn> sum = V6<Dyn>::Zero();
     std::vector<V6<Dyn>> w;
     for (std::size_t k = 0; k < e.size(); ++k) {
@@ -437,9 +417,9 @@ Rows constraint_joint_reference(const Case& c, const std::vector<int>& ends,
           wrench_about(e[k], c.external[static_cast<std::size_t>(ends[k])], e[0].x, e[0].rotation));
       sum += w.back();
     }
-    append<Dyn>(rows, VecXT(held * sum));
+    append<Dyn>(rows, DynVec(held * sum));
     for (std::size_t k = 0; k < e.size(); ++k) {
-      VecXT rows_k = free * w[k];
+      DynVec rows_k = free * w[k];
       if (preload && k < 2) {
         const VecX g_w0 = directions.free() * directions.free().transpose() * *preload;
         for (Index i = 0; i < p; ++i)
@@ -464,13 +444,13 @@ Rows elastic_joint_reference(const Case& c, const std::vector<int>& ends,
     std::vector<Dyn> rows;
     append<Dyn>(
         rows,
-        VecXT(wrench_about(e[0], c.external[static_cast<std::size_t>(ends[0])], e[0].x, global) +
-              wrench_about(e[1], c.external[static_cast<std::size_t>(ends[1])], e[0].x, global)));
+        DynVec(wrench_about(e[0], c.external[static_cast<std::size_t>(ends[0])], e[0].x, global) +
+               wrench_about(e[1], c.external[static_cast<std::size_t>(ends[1])], e[0].x, global)));
     const V6<Dyn> q = motion_of(e[0], e[1]);
-    append<Dyn>(rows, VecXT(-(held * q)));
-    VecXT spring_rows = free * wrench_about(e[0], c.external[static_cast<std::size_t>(ends[0])],
-                                            e[0].x, e[0].rotation) -
-                        spring.cast<Dyn>() * q;
+    append<Dyn>(rows, DynVec(-(held * q)));
+    DynVec spring_rows = free * wrench_about(e[0], c.external[static_cast<std::size_t>(ends[0])],
+                                             e[0].x, e[0].rotation) -
+                         spring.cast<Dyn>() * q;
     if (preload) {
       const VecX g_w0 = gram * *preload;
       for (Index i = 0; i < p; ++i) spring_rows(i) -= c.load_factor * g_w0(i);
@@ -496,18 +476,18 @@ Rows support_reference(const Case& c, const std::vector<int>& ends,
         (unloaded_position + c.load_factor * settlement.head<3>()).cast<Dyn>();
     std::vector<Dyn> rows;
     for (std::size_t k = 1; k < e.size(); ++k) {
-      append<Dyn>(rows, VecXT(e[0].x - e[k].x));
-      append<Dyn>(rows, VecXT(log_of<Dyn>(e[0].rotation * e[k].rotation.transpose())));
+      append<Dyn>(rows, DynVec(e[0].x - e[k].x));
+      append<Dyn>(rows, DynVec(log_of<Dyn>(e[0].rotation * e[k].rotation.transpose())));
     }
     V6<Dyn> g;
     g << ground.transpose() * (e[0].x - ground_point),
         log_of<Dyn>(ground.transpose() * e[0].rotation);
-    append<Dyn>(rows, VecXT(held * g));
+    append<Dyn>(rows, DynVec(held * g));
     if (p == 0) return rows;
     V6<Dyn> sum = V6<Dyn>::Zero();
     for (std::size_t k = 0; k < e.size(); ++k)
       sum += wrench_about(e[k], c.external[static_cast<std::size_t>(ends[k])], e[0].x, ground);
-    VecXT free_rows = free * sum;
+    DynVec free_rows = free * sum;
     if (stiffness) free_rows += (gram * *stiffness * directions.free()).cast<Dyn>() * g;
     if (preload) {
       const VecX g_w0 = gram * *preload;
@@ -523,11 +503,11 @@ Rows rigid_link_reference(const Case& c, const std::vector<int>& ends, const Vec
     const End<Dyn>& i = e[0];
     const End<Dyn>& j = e[1];
     std::vector<Dyn> rows;
-    append<Dyn>(rows, VecXT(i.x + i.rotation * d0.cast<Dyn>() - j.x));
-    append<Dyn>(rows, VecXT(log_of<Dyn>(i.rotation * j.rotation.transpose())));
+    append<Dyn>(rows, DynVec(i.x + i.rotation * d0.cast<Dyn>() - j.x));
+    append<Dyn>(rows, DynVec(log_of<Dyn>(i.rotation * j.rotation.transpose())));
     const V3<Dyn> force_j = j.wrench.head<3>();
-    append<Dyn>(rows, VecXT(i.wrench.head<3>() + force_j));
-    append<Dyn>(rows, VecXT(i.wrench.tail<3>() + j.wrench.tail<3>() + (j.x - i.x).cross(force_j)));
+    append<Dyn>(rows, DynVec(i.wrench.head<3>() + force_j));
+    append<Dyn>(rows, DynVec(i.wrench.tail<3>() + j.wrench.tail<3>() + (j.x - i.x).cross(force_j)));
     return rows;
   });
 }
@@ -648,7 +628,7 @@ TEST(LoadedFreeEndBlock, IsTheWrenchLessTheLoad) {
   const Rows got = block_rows(*block, LoadedInputs{c.states, c.external, c.load_factor});
   const Rows expected = reference_rows(c.states, {3}, [&](const std::vector<End<Dyn>>& e) {
     std::vector<Dyn> rows;
-    append<Dyn>(rows, VecXT(e[0].wrench - c.external[3].cast<Dyn>()));
+    append<Dyn>(rows, DynVec(e[0].wrench - c.external[3].cast<Dyn>()));
     return rows;
   });
   expect_agree(got, expected);

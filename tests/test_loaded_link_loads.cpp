@@ -4,7 +4,6 @@
 // load against its elastica, a column under its own weight against Greenhill's load, and the
 // balance of the reactions with the loads where the deformed structure carries them.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -13,7 +12,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 
+#include "command_line.hpp"
 #include "elements/beam_element.hpp"
 #include "elements/beam_loads.hpp"
 #include "elements/finite_rotation.hpp"
@@ -140,17 +141,23 @@ TEST(LoadedLinkLoads, ARigidLinksLoadRidesWithItAndBalancesItsEnds) {
   EXPECT_LT((r.segment<3>(9) - moment).norm(), 1e-12 * moment.norm());
 }
 
+// Two link ends moved and turned well away from kFrom and kTo: a deformed state.
+std::pair<EndState, EndState> deformed_ends() {
+  EndState i, j;
+  i.position = kFrom + Vec3(0.05, -0.02, 0.03);
+  i.rotation = detail::rotation_matrix(Vec3(0.25, -0.4, 0.1));
+  j.position = kTo + Vec3(-0.1, 0.07, 0.12);
+  j.rotation = detail::rotation_matrix(Vec3(-0.3, 0.2, 0.45));
+  return {i, j};
+}
+
 // The tangent of the loads' rows at a deformed state against central differences of the
 // residual in each increment (δx; δθ with R ← exp([δθ×])·R).
 void expect_tangent_is_the_derivative(const Link& link) {
   SCOPED_TRACE(link.name);
   const auto block =
       detail::with_loads_along(std::make_unique<NoRows>(), link, kFrom, kTo, some_loads());
-  EndState i, j;
-  i.position = kFrom + Vec3(0.05, -0.02, 0.03);
-  i.rotation = detail::rotation_matrix(Vec3(0.25, -0.4, 0.1));
-  j.position = kTo + Vec3(-0.1, 0.07, 0.12);
-  j.rotation = detail::rotation_matrix(Vec3(-0.3, 0.2, 0.45));
+  const auto [i, j] = deformed_ends();
   MatX tangent;
   residual_of(*block, i, j, &tangent);
   constexpr double h = 1e-6;
@@ -634,10 +641,7 @@ TEST(LoadedLinkLoads, ALinkWithoutAShapeTakesItsLoadsByTheLeverRule) {
   const Link link{"arm", "a", "b", ComplianceLink{Mat6::Identity(), LinkFrame::global, {}}, {}};
   const auto block =
       detail::with_loads_along(std::make_unique<NoRows>(), link, kFrom, kTo, some_loads());
-  EndState i, j;
-  i.position = kFrom + Vec3(0.05, -0.02, 0.03);
-  i.rotation = detail::rotation_matrix(Vec3(0.25, -0.4, 0.1));
-  j.position = kTo + Vec3(-0.1, 0.07, 0.12);
+  const auto [i, j] = deformed_ends();
   const VecX r = residual_of(*block, i, j);
   Vec12 expected = Vec12::Zero();  // minus the clamp wrenches
   const double length = (kTo - kFrom).norm();
@@ -658,16 +662,7 @@ TEST(LoadedLinkLoads, ALinkWithoutAShapeTakesItsLoadsByTheLeverRule) {
 // ---- the command line -------------------------------------------------------------------------
 
 int run_cli(const std::string& arguments, const std::string& output) {
-  const int status =
-      std::system((std::string(STIFFMSA_CLI) + " " + arguments + " >" + output + " 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return testing::run_into(STIFFMSA_CLI, arguments, output);
 }
 
 TEST(LoadedLinkLoadsCli, ThePortalFramesLoadCasesAndWeightSolveInTheLoadedMode) {
@@ -678,8 +673,8 @@ TEST(LoadedLinkLoadsCli, ThePortalFramesLoadCasesAndWeightSolveInTheLoadedMode) 
                         "/examples/portal-frame-load-cases.yaml --loaded --json " + json,
                     (dir / "portal.txt").string()),
             0)
-      << read_text(dir / "portal.txt");
-  const std::string text = read_text(json);
+      << testing::read_file(dir / "portal.txt");
+  const std::string text = testing::read_file(json);
   EXPECT_NE(text.find("\"mode\": \"loaded\""), std::string::npos) << text;
   EXPECT_NE(text.find("\"weight\": {"), std::string::npos);
   EXPECT_NE(text.find("\"internal_forces\""), std::string::npos);

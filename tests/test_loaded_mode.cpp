@@ -2,7 +2,6 @@
 // cantilever under a tip force, the exact equilibrium and loaded stiffness of a planar 2R arm
 // with joint springs, the linear results under tiny loads, and the critical point of a column.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "command_line.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/model.hpp"
@@ -398,16 +398,7 @@ TEST(LoadedMode, WorkspacePosesEqualOneShotSolves) {
 // ---- the command line ----------------------------------------------------------------------
 
 int run_cli(const std::string& arguments, const std::string& output) {
-  const int status =
-      std::system((std::string(STIFFMSA_CLI) + " " + arguments + " >" + output + " 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return testing::run_into(STIFFMSA_CLI, arguments, output);
 }
 
 TEST(LoadedModeCli, LoadedFlagWritesTheAnalysisAndTheLinearResults) {
@@ -418,15 +409,15 @@ TEST(LoadedModeCli, LoadedFlagWritesTheAnalysisAndTheLinearResults) {
                         "/examples/planar-2r.yaml --loaded --json " + json,
                     (dir / "arm.txt").string()),
             0)
-      << read_text(dir / "arm.txt");
-  const std::string text = read_text(json);
+      << testing::read_file(dir / "arm.txt");
+  const std::string text = testing::read_file(json);
   EXPECT_NE(text.find("\"analysis\": {"), std::string::npos) << text;
   EXPECT_NE(text.find("\"mode\": \"loaded\""), std::string::npos);
   EXPECT_NE(text.find("\"linear\": {"), std::string::npos);
   EXPECT_NE(text.find("\"stiffness_asymmetry\""), std::string::npos);
   // The summary says which analysis ran, with its steps and iterations as the result file has
   // them, and each end effector's asymmetry.
-  const std::string summary = read_text(dir / "arm.txt");
+  const std::string summary = testing::read_file(dir / "arm.txt");
   const Result r = solve(load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/planar-2r.yaml"),
                          loaded_options());
   const std::string steps = std::to_string(r.analysis.load_steps);
@@ -469,8 +460,9 @@ end_effectors:
   top: {at: p4}
 )";
   const auto out = dir / "column.txt";
-  EXPECT_EQ(run_cli("solve " + model.string(), out.string()), 1) << read_text(out);
-  EXPECT_NE(read_text(out).find("load factor"), std::string::npos) << read_text(out);
+  EXPECT_EQ(run_cli("solve " + model.string(), out.string()), 1) << testing::read_file(out);
+  EXPECT_NE(testing::read_file(out).find("load factor"), std::string::npos)
+      << testing::read_file(out);
 }
 
 }  // namespace

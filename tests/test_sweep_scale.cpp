@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "command_line.hpp"
 #include "stiffmsa/io/model_file.hpp"
 #include "stiffmsa/io/sweep_file.hpp"
 #include "stiffmsa/sweep.hpp"
@@ -23,23 +24,9 @@ namespace stiffmsa {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string shell_quoted(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using stiffmsa::testing::contains;
+using stiffmsa::testing::read_file;
+using stiffmsa::testing::shell_quoted;
 
 std::string example(const std::string& name) {
   return std::string(STIFFMSA_SOURCE_DIR) + "/examples/" + name;

@@ -11,6 +11,41 @@ namespace stiffmsa::detail {
 template <class T>
 using VecXT = Eigen::Matrix<T, Eigen::Dynamic, 1>;
 
+// ---- Nested forward duals: the derivative of a gradient -----------------------------------
+//
+// For rows that are a gradient (the work of loads along a link, §15.9): inner variables a are
+// the virtual motion whose work defines the gradient, outer ones b the Newton increment, 12 of
+// each (two link ends' [δx; δθ]).
+using NestedInner = Eigen::AutoDiffScalar<Eigen::Matrix<double, 12, 1>>;
+using NestedDual = Eigen::AutoDiffScalar<Eigen::Matrix<NestedInner, 12, 1>>;
+
+// A scalar of value v whose inner derivative `inner` and outer derivative `outer` are 1 (−1:
+// none).
+inline NestedDual nested_seeded(double v, int inner, int outer) {
+  using Vec12d = Eigen::Matrix<double, 12, 1>;
+  NestedInner value(v, Vec12d::Zero());
+  if (inner >= 0) value.derivatives()(inner) = 1;
+  Eigen::Matrix<NestedInner, 12, 1> derivatives;
+  for (int k = 0; k < 12; ++k) derivatives(k) = NestedInner(0.0, Vec12d::Zero());
+  if (outer >= 0) derivatives(outer) = NestedInner(1.0, Vec12d::Zero());
+  return NestedDual(value, derivatives);
+}
+
+// An end's pose moved by increments a and b, its variables from `first`: x + a_x + b_x and
+// (I + [a_θ×])·(I + [b_θ×])·R, the multiplicative update of §15.1 in both sets.
+inline void nested_moved_pose(const EndState& s, int first, Vec3T<NestedDual>& x,
+                              Mat3T<NestedDual>& rotation) {
+  Vec3T<NestedDual> a, b;
+  for (int i = 0; i < 3; ++i) {
+    x(i) = nested_seeded(s.position(i), first + i, first + i);
+    a(i) = nested_seeded(0, first + 3 + i, -1);
+    b(i) = nested_seeded(0, -1, first + 3 + i);
+  }
+  const Mat3T<NestedDual> start = s.rotation.cast<NestedDual>();
+  const Mat3T<NestedDual> after_b = start + skew_of(b) * start;
+  rotation = after_b + skew_of(a) * after_b;
+}
+
 // ---- Closed-form rows and derivatives of the connection blocks and rigid links ----------------
 //
 // A block's tangent (rows × 12·ends, 12 columns per end: δx, δθ, δW) is written piece by piece:
@@ -31,6 +66,13 @@ struct SixRows {
   double sign = 1;
 };
 inline const Mat6 kSixIdentity = Mat6::Identity();
+
+// A joint's or support's preload w0 as its free directions' rows meet it, G·w0; none without.
+inline std::optional<SmallVec> held_preload(const FreeDirections& directions,
+                                            const std::optional<VecX>& preload) {
+  if (!preload) return std::nullopt;
+  return SmallVec(directions.gram() * *preload);
+}
 
 // A joint's or support's spring G·K·Λ_p (p×6) in the top rows of a 6×6 matrix.
 inline Mat6 padded_spring(const FreeDirections& directions, const MatX& stiffness) {

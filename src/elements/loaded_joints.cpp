@@ -14,7 +14,7 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
   LoadedConstraintJointBlock(std::vector<int> ends, const FreeDirections& directions,
                              const std::optional<VecX>& preload)
       : ends_(std::move(ends)), directions_(directions) {
-    if (preload) preload_ = SmallVec(directions_.gram() * *preload);
+    preload_ = held_preload(directions_, preload);
   }
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   const std::vector<int>& ends() const override { return ends_; }
@@ -74,7 +74,7 @@ class LoadedElasticJointBlock final : public LoadedBlock {
     const Index p = directions_.p, r = 6 - p;
     motion_rows_.topRows(r) = -directions_.constrained();
     motion_rows_.bottomRows(p) = -spring_.topRows(p);
-    if (preload) preload_ = SmallVec(directions_.gram() * *preload);
+    preload_ = held_preload(directions_, preload);
   }
   Index equation_count() const override { return 12; }
   const std::vector<int>& ends() const override { return ends_; }

@@ -12,36 +12,7 @@ namespace stiffmsa::detail {
 namespace {
 
 using Vec12d = Eigen::Matrix<double, 12, 1>;
-// Forward duals of the 12 increments, nested (the derivative of a gradient), spelled out here so
-// that this file does not depend on how the co-rotational link takes its own derivatives.
-using Inner = Eigen::AutoDiffScalar<Vec12d>;
-using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, 12, 1>>;
-
-// A scalar of value v whose inner derivative `inner` and outer derivative `outer` are 1 (−1:
-// none): inner variables a are the virtual motion whose work defines the clamp wrenches, outer
-// ones b the Newton increment, as in the co-rotational link (§15.1).
-Outer seeded(double v, int inner, int outer) {
-  Inner value(v, Vec12d::Zero());
-  if (inner >= 0) value.derivatives()(inner) = 1;
-  Eigen::Matrix<Inner, 12, 1> derivatives;
-  for (int k = 0; k < 12; ++k) derivatives(k) = Inner(0.0, Vec12d::Zero());
-  if (outer >= 0) derivatives(outer) = Inner(1.0, Vec12d::Zero());
-  return Outer(value, derivatives);
-}
-
-// An end's pose moved by increments a (inner) and b (outer), variables from `first`:
-// x + a_x + b_x and (I + [a_θ×])·(I + [b_θ×])·R.
-void moved_pose(const EndState& s, int first, Vec3T<Outer>& x, Mat3T<Outer>& rotation) {
-  Vec3T<Outer> a, b;
-  for (int i = 0; i < 3; ++i) {
-    x(i) = seeded(s.position(i), first + i, first + i);
-    a(i) = seeded(0, first + 3 + i, -1);
-    b(i) = seeded(0, -1, first + 3 + i);
-  }
-  const Mat3T<Outer> start = s.rotation.cast<Outer>();
-  const Mat3T<Outer> after_b = start + skew_of(b) * start;
-  rotation = after_b + skew_of(a) * after_b;
-}
+using Outer = NestedDual;
 
 // The transverse shape of a beam between its chord's ends, per unit length and per unit slope
 // at end i (first) and end j (second): N₂/L and N₄/L of §12.1, shear included through φ.
@@ -231,8 +202,8 @@ class LinkWithLoadsBlock final : public LoadedBlock {
                 MatX* tangent) const {
     Vec3T<Outer> xi, xj;
     Mat3T<Outer> ri, rj;
-    moved_pose(i, 0, xi, ri);
-    moved_pose(j, 6, xj, rj);
+    nested_moved_pose(i, 0, xi, ri);
+    nested_moved_pose(j, 6, xj, rj);
     const auto c = current_shape<Outer>(shape_, xi, ri, xj, rj);
     Outer work = xi.dot(r_.share_i.cast<Outer>()) + xj.dot(r_.share_j.cast<Outer>());
     for (int a = 0; a < 2; ++a)

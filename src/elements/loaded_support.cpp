@@ -18,7 +18,7 @@ class LoadedSupportBlock final : public LoadedBlock {
         settlement_(settlement.value_or(Vec6::Zero())),
         unloaded_position_(unloaded_position) {
     if (stiffness) spring_ = padded_spring(directions_, *stiffness);
-    if (preload) preload_ = SmallVec(directions_.gram() * *preload);
+    preload_ = held_preload(directions_, preload);
   }
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   const std::vector<int>& ends() const override { return ends_; }
