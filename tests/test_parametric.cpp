@@ -549,6 +549,53 @@ TEST(ParametricFile, EveryExpressionIsBoundToTheSlotsItFillsAsTheFileIsRead) {
   }
 }
 
+// A robot block's springs and flexible links bind as the file is read too: a default joint's
+// stiffness to each joint it springs, a flexible link's material and section to both beams of
+// the link split at its centre of mass. Every parametric example binds so.
+TEST(ParametricFile, RobotSpringsAndFlexibleLinksAndEveryExampleBindAsTheFileIsRead) {
+  const std::string examples = std::string(STIFFMSA_SOURCE_DIR) + "/examples/";
+  const std::string defaults = "{k: 2.0e6, E: 7e10, q2: 0.3}";
+  const std::string text = "format: stiffmsa/1\nparameters: " + defaults +
+                           "\nrobot:\n  urdf: " + examples + "robots/six-axis.urdf\n" + R"(
+  positions: {joint_2: q2, joint_3: 0.4, joint_5: 0.9}
+  default_joint: {stiffness: "k / 4"}
+  joints: {joint_1: {stiffness: k}, joint_2: {stiffness: "1.5 * k"}}
+  links: {link_3: {material: {E: E, nu: 0.33}, section: {shape: rect, b: 0.05, h: "E / 1e12"}}}
+  gravity: [0, 0, -9.81]
+end_effectors:
+  tcp: {frame: tool0, offset: [0, 0, 0.15]}
+)";
+  const auto bindings = detail::expression_bindings(text, "robot.yaml");
+  ASSERT_TRUE(bindings.has_value());
+  std::vector<std::string> listed;
+  for (const auto& b : *bindings) listed.push_back(b.slot + " <- " + b.expression);
+  EXPECT_EQ(
+      listed,
+      (std::vector<std::string>{
+          "links.link_3.material.E <- E", "links.link_3.section.h <- E / 1e12",
+          "links.link_3.distal.material.E <- E", "links.link_3.distal.section.h <- E / 1e12",
+          "joints.joint_1.stiffness[0][0] <- k", "joints.joint_2.stiffness[0][0] <- 1.5 * k",
+          "joints.joint_3.stiffness[0][0] <- k / 4", "joints.joint_4.stiffness[0][0] <- k / 4",
+          "joints.joint_5.stiffness[0][0] <- k / 4", "joints.joint_6.stiffness[0][0] <- k / 4"}));
+  const ModelFamily family = parse_model_family(text, "robot.yaml");
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
+  const std::vector<double> values{3.1e6, 2e11, -0.4};
+  std::string at_values = text;
+  at_values.replace(at_values.find(defaults), defaults.size(), "{k: 3.1e6, E: 2e11, q2: -0.4}");
+  EXPECT_EQ(numbers_of(written(structure, write, values)),
+            numbers_of(parse_model(at_values, "robot.yaml")));
+
+  for (const char* file :
+       {"planar-3rpr-parametric.yaml", "tripteron-parametric.yaml", "delta-parametric.yaml",
+        "delta-us-parametric.yaml", "robots/six-axis.yaml"}) {
+    std::ifstream in(examples + file);
+    std::ostringstream example;
+    example << in.rdbuf();
+    EXPECT_TRUE(detail::expression_bindings(example.str(), examples + file).has_value()) << file;
+  }
+}
+
 // A writer writes every slot of a member: a member written after another, or after a failed
 // one, is the member built on its own, with the structure's names and source locations.
 TEST(ParametricFile, AWriterWritesEveryValueOfAMember) {

@@ -9,7 +9,6 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -213,18 +212,6 @@ std::string matrix_entry(const std::string& path, int i, int j) {
   return path + "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
 }
 
-// TEMP-PROBE
-double probe_value(std::size_t k) {
-  return std::ldexp(1.0 + static_cast<double>(k) * 0x1p-32, 1000);
-}
-std::optional<std::size_t> probed_site(double value) {
-  if (!(value > 0) || !std::isfinite(value) || std::ilogb(value) != 1000) return std::nullopt;
-  const double k = (std::ldexp(value, -1000) - 1.0) * 0x1p32;
-  if (k != std::floor(k) || k >= 0x1p32 || probe_value(static_cast<std::size_t>(k)) != value)
-    return std::nullopt;
-  return static_cast<std::size_t>(k);
-}
-
 // A material or section defined by name, for beams to refer to.
 template <class T>
 struct Definition {
@@ -272,8 +259,6 @@ class Loader {
   // joint's compliance is inverted; a robot's gravity, a load or an offset on a robot frame are
   // turned with the pose): no slot holds it, and each member must be read from the file.
   const std::optional<ExpressionSite>& transformed() const { return transformed_; }
-  void probe_expressions() { probing_ = true; }  // TEMP-PROBE
-  bool probing_ = false;                         // TEMP-PROBE
 
   // Adds find_defects()'s diagnostics to the loader's own, leaving out those about values the
   // loader already found wrong or could not read, and returns them all in file order.
@@ -574,7 +559,6 @@ std::optional<double> Loader::expression(const Value& v) {
   // that the reader rebinds (a named material, a load, a scalar spring).
   bindings_.push_back({v.path, sites_.size()});
   sites_.push_back({text, v.path, located(v.at)});
-  if (probing_) return probe_value(sites_.size() - 1);  // TEMP-PROBE
   const auto outcome = expressions_->evaluate(text);
   if (outcome.follows_earlier_error) {
     spoil(v.path);  // the derived value it uses is reported where it is defined
@@ -1740,7 +1724,7 @@ std::optional<int> Loader::robot_frame(const Entry& frame) {
 }
 
 // A joint position: a number, or an expression of the parameters that the builder evaluates
-// for each member (forward kinematics turns it into many numbers, where no probe would survive).
+// for each member: forward kinematics turns it into many numbers, none of them its value.
 std::optional<double> Loader::robot_position(const Value& v, ExpressionSite& site) {
   if (!parametric_ || !v.node->is_scalar() || detail::plain_number(v.node->text()))
     return number(v);
@@ -2069,8 +2053,10 @@ std::string read_model_text(const std::filesystem::path& path, const LoadLimits&
 }
 
 // What a writer needs to write a member's values without reading the file again: which slot
-// of the structure each expression fills, and each expression's site for its messages (the
-// source map of the family's values).
+// of the structure each expression fills, as the one reading of the file bound them, and each
+// expression's site for its messages (the source map of the family's values). Every site is
+// evaluated for each member, bound or not (a material that no beam uses), so that an
+// expression that fails at a member's values is reported as a reading of the file would.
 struct SlotBindings {
   Structure structure;
   std::vector<ExpressionSite> sites;
@@ -2081,38 +2067,10 @@ struct SlotBindings {
   std::vector<Loader::RobotPosition> robot_positions;
 };
 
-// Reads the file once more with every expression probed, and finds the slot where each probe
-// landed. Nullopt when that cannot be told for sure (a probe value lost or changed on its way
-// into the model, a real number in the probes' range): writers then read the file for each
-// member.
-std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& file_name,
-                                       const Structure& structure,
-                                       std::vector<ExpressionSite> derived) {
-  Loader prober(file_name);
-  prober.probe_expressions();
-  Model probed = prober.read(root);
-  SlotBindings bindings{structure, prober.sites(), std::move(derived), {}, nullptr, {}};
-  std::size_t slot = 0;
-  std::vector<bool> bound(bindings.sites.size(), false);
-  bool doubtful = false;
-  detail::for_each_number(probed, [&](double& value) {
-    if (const auto site = probed_site(value); site && *site < bound.size()) {
-      bindings.filled.emplace_back(slot, *site);
-      bound[*site] = true;
-    } else if (std::isfinite(value) && std::abs(value) > 0x1p999) {
-      doubtful = true;  // a changed probe, or a real number that could be mistaken for one
-    }
-    ++slot;
-  });
-  if (doubtful || slot != structure.value_count() ||
-      std::find(bound.begin(), bound.end(), false) != bound.end())
-    return std::nullopt;
-  return bindings;
-}
-
 // The slots that the expressions of a file fill, as the loader that read it bound them.
 // Nullopt where a number could not be bound: an expression the reader transforms on its way
-// into the model (Loader::transformed()), or one whose slot the structure does not have.
+// into the model (Loader::transformed()), or a slot name the structure does not have (a case
+// the reader does not foresee; its members are then read from the file, with the same result).
 std::optional<SlotBindings> bound_slots(const Loader& loader, const Structure& structure) {
   if (loader.transformed()) return std::nullopt;
   const std::vector<std::string>& names = structure.slot_names();
@@ -2127,39 +2085,6 @@ std::optional<SlotBindings> bound_slots(const Loader& loader, const Structure& s
   }
   std::sort(bindings.filled.begin(), bindings.filled.end());
   return bindings;
-}
-
-// TEMP-PROBE: the probe pass's and the reader's bindings agree.
-void compare_bindings(const YamlNode& root, const std::string& file_name, const Loader& loader,
-                      const Structure& structure) {
-  if (!std::getenv("STIFFMSA_COMPARE_BINDINGS")) return;
-  const auto probed = bind_slots(root, file_name, structure, loader.derived_sites());
-  const auto direct = bound_slots(loader, structure);
-  const auto key = [&](const SlotBindings& b) {
-    std::set<std::string> k;
-    for (const auto& [slot, site] : b.filled)
-      k.insert(structure.slot_names()[slot] + " <- " + b.sites[site].text + " @" +
-               b.sites[site].path);
-    return k;
-  };
-  std::string report;
-  if (!probed) report += "probe: none; ";
-  if (!direct) report += "direct: none; ";
-  if (loader.transformed()) report += "transformed " + loader.transformed()->path + "; ";
-  if (probed && direct && key(*probed) != key(*direct)) {
-    report += "DIFFER:\n probe:";
-    for (const auto& k : key(*probed)) report += "\n  " + k;
-    report += "\n direct:";
-    for (const auto& k : key(*direct)) report += "\n  " + k;
-  }
-  if (!direct)
-    for (const Binding& b : loader.bindings())
-      if (!structure.find_slot(b.slot)) report += "unfound " + b.slot + "; ";
-  if (!report.empty()) {
-    std::ofstream("/tmp/probe-compare.log", std::ios::app) << file_name << ": " << report << "\n";
-    if (report.find("DIFFER") != std::string::npos || (probed && !direct))
-      throw std::logic_error("bindings differ: " + file_name + ": " + report);
-  }
 }
 
 // A writer that evaluates the expressions for the member's parameter values and writes them
@@ -2241,7 +2166,7 @@ ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> binding
       };
 }
 
-// Writers of a file whose numbers could not be bound read the file for each member: each
+// Writers of a file whose expressions could not all be bound read the file for each member: each
 // parses the text once into a tree of its own, so writers on different threads share nothing.
 ModelFamily::ValueWriter rereading_writer(std::shared_ptr<const std::string> text,
                                           const std::string& file_name, const LoadLimits& limits,
@@ -2298,8 +2223,6 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   for (const auto& p : loader.parameters()) names.push_back(p.name);
   const std::vector<std::string> derived_names = loader.derived_names();
   std::shared_ptr<const SlotBindings> bindings;
-  if (!names.empty() || !derived_names.empty())
-    compare_bindings(root, file_name, loader, structure);  // TEMP-PROBE
   if (auto bound = bound_slots(loader, structure)) {
     bound->robot = loader.robot();
     bound->robot_positions = loader.robot_positions();
