@@ -555,8 +555,8 @@ std::optional<double> Loader::number(const Value& v) {
 std::optional<double> Loader::expression(const Value& v) {
   const std::string& text = v.node->text();
   if (const auto value = detail::plain_number(text)) return value;
-  // Where the number lands in the model, the key path is the slot's name, but for the cases
-  // that the reader rebinds (a named material, a load, a scalar spring).
+  // The key path is the name of the slot the number fills; where the reader puts it elsewhere
+  // or in several slots (a named material, a load, a scalar spring), it rebinds it.
   bindings_.push_back({v.path, sites_.size()});
   sites_.push_back({text, v.path, located(v.at)});
   const auto outcome = expressions_->evaluate(text);
