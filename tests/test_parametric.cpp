@@ -586,6 +586,27 @@ end_effectors:
   EXPECT_EQ(numbers_of(written(structure, write, values)),
             numbers_of(parse_model(at_values, "robot.yaml")));
 
+  // A compliance is held inverted: the family with an expression in one is read per member,
+  // with the same numbers as the file read at the member's values.
+  const std::string compliant_text = [&] {
+    std::string changed = text;
+    const std::string from = R"(default_joint: {stiffness: "k / 4"})";
+    changed.replace(changed.find(from), from.size(),
+                    "default_joint: {compliance: [[\"1e-7 * 2e6 / k\", 0, 0, 0, 0, 0], "
+                    "[0, 1e-7, 0, 0, 0, 0], [0, 0, 1e-7, 0, 0, 0], [0, 0, 0, 1e-6, 0, 0], "
+                    "[0, 0, 0, 0, 1e-6, 0], [0, 0, 0, 0, 0, 1e-6]]}");
+    return changed;
+  }();
+  EXPECT_FALSE(detail::expression_bindings(compliant_text, "robot.yaml").has_value());
+  const ModelFamily compliant = parse_model_family(compliant_text, "robot.yaml");
+  const Structure compliant_structure = compliant.structure();
+  auto write_compliant = compliant.make_writer(compliant_structure);
+  std::string compliant_at_values = compliant_text;
+  compliant_at_values.replace(compliant_at_values.find(defaults), defaults.size(),
+                              "{k: 3.1e6, E: 2e11, q2: -0.4}");
+  EXPECT_EQ(numbers_of(written(compliant_structure, write_compliant, values)),
+            numbers_of(parse_model(compliant_at_values, "robot.yaml")));
+
   for (const char* file :
        {"planar-3rpr-parametric.yaml", "tripteron-parametric.yaml", "delta-parametric.yaml",
         "delta-us-parametric.yaml", "robots/six-axis.yaml"}) {
