@@ -1047,8 +1047,10 @@ T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Defini
   }
   for (const auto& [key, at] : found->second.origin.key_locations)
     link.origin.key_locations[entry.key + "." + key] = at;
-  const auto bound = moved(found->second.bindings, plural + "." + *name, {entry.value.path});
-  bindings_.insert(bindings_.end(), bound.begin(), bound.end());
+  if (!found->second.bindings.empty()) {
+    const auto bound = moved(found->second.bindings, plural + "." + *name, {entry.value.path});
+    bindings_.insert(bindings_.end(), bound.begin(), bound.end());
+  }
   spoil(entry.value.path);  // checked at its definition
   return found->second.value;
 }
@@ -2073,11 +2075,14 @@ struct SlotBindings {
 // the reader does not foresee; its members are then read from the file, with the same result).
 std::optional<SlotBindings> bound_slots(const Loader& loader, const Structure& structure) {
   if (loader.transformed()) return std::nullopt;
+  SlotBindings bindings{structure, loader.sites(), loader.derived_sites(), {}, nullptr, {}};
+  // The slots' names are made only for a file that binds something: a large model without
+  // expressions would spend more on them than on its reading.
+  if (loader.bindings().empty()) return bindings;
   const std::vector<std::string>& names = structure.slot_names();
   std::unordered_map<std::string_view, std::size_t> slot_of;
   slot_of.reserve(names.size());
   for (std::size_t i = 0; i < names.size(); ++i) slot_of.emplace(names[i], i);
-  SlotBindings bindings{structure, loader.sites(), loader.derived_sites(), {}, nullptr, {}};
   for (const Binding& b : loader.bindings()) {
     const auto slot = slot_of.find(b.slot);
     if (slot == slot_of.end()) return std::nullopt;
