@@ -11,7 +11,8 @@
 #include <omp.h>
 #endif
 
-#include "elements/free_directions.hpp"
+#include "elements/cad_link.hpp"
+#include "elements/element_kinds.hpp"
 #include "solver/blas_lock.hpp"
 #include "solver/sparse_solver.hpp"
 
@@ -25,6 +26,18 @@ bool welds(const ElementBlock& connection) {
   return !directions || directions->p == 0;
 }
 }  // namespace
+
+std::optional<Mat12> end_stiffness(const ElementBlock& link) {
+  switch (link.kind()) {
+    case BlockKind::link: {
+      const auto& flexible = static_cast<const LinkBlock&>(link);
+      if (!flexible.compliance()) return std::nullopt;
+      return free_free_stiffness(*flexible.compliance(), flexible.d());
+    }
+    case BlockKind::stiffness_link: return static_cast<const StiffnessLinkBlock&>(link).stiffness();
+    default: return std::nullopt;
+  }
+}
 
 std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& blocks) {
   FramePlan plan;
@@ -43,7 +56,7 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
   if (!supported || plan.nodes == 0) return std::nullopt;
   // Last, as it forms every link's K12: a rigid link has none.
   for (int l = 0; l < topology.link_count; ++l)
-    if (!blocks[static_cast<std::size_t>(l)]->end_stiffness()) return std::nullopt;
+    if (!end_stiffness(*blocks[static_cast<std::size_t>(l)])) return std::nullopt;
   return plan;
 }
 
@@ -136,7 +149,7 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(static_cast<std::size_t>(topology.link_count) * 144);
   for (int l = 0; l < topology.link_count; ++l) {
-    std::optional<Mat12> stiffness = blocks[static_cast<std::size_t>(l)]->end_stiffness();
+    std::optional<Mat12> stiffness = end_stiffness(*blocks[static_cast<std::size_t>(l)]);
     if (!stiffness) return std::nullopt;
     link_stiffness.push_back(*stiffness);
     const Mat12& k12 = link_stiffness.back();
