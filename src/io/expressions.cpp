@@ -69,6 +69,9 @@ struct ExpressionEvaluator::Compiled {
   mu::Parser parser;
   std::string error;  // a syntax error found when compiling, reported at every evaluation
   std::size_t last_name_used = 0;  // 1 + the index in names_ of the last name it uses
+  // Per name in names_, whether the expression reads it: muparser's GetUsedVar parses the
+  // expression again at every call, so it is asked once, here.
+  std::vector<bool> uses;
 };
 
 ExpressionEvaluator::ExpressionEvaluator(std::vector<std::string> parameter_names,
@@ -93,6 +96,7 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
   std::unique_ptr<Compiled>& slot = compiled_.size() < max_kept ? compiled_[text] : scratch_;
   slot = std::make_unique<Compiled>();
   Compiled& compiled = *slot;
+  compiled.uses.resize(names_.size());
   if (assigns(text)) {
     compiled.error =
         "the expression '" + text +
@@ -113,7 +117,10 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
           "the expression '" + text + "' gives several values; a number takes one expression";
     const auto& used = compiled.parser.GetUsedVar();
     for (std::size_t i = 0; i < names_.size(); ++i)
-      if (used.count(names_[i]) > 0) compiled.last_name_used = i + 1;
+      if (used.count(names_[i]) > 0) {
+        compiled.uses[i] = true;
+        compiled.last_name_used = i + 1;
+      }
     compiled.parser.Eval();  // GetUsedVar leaves the parser to parse again
   } catch (const mu::Parser::exception_type& e) {
     if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN && is_identifier(e.GetToken())) {
@@ -131,7 +138,7 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
 std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
   std::string text;
   for (std::size_t i = 0; i < names_.size(); ++i) {
-    if (compiled.parser.GetUsedVar().count(names_[i]) == 0) continue;
+    if (!compiled.uses[i]) continue;
     if (!text.empty()) text += ", ";
     text += names_[i] + " = " + shortest_text(values_[i]);
   }
@@ -166,8 +173,7 @@ ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& te
   if (std::isfinite(value)) return {value, {}, false};
   bool uses_failed_value = false;
   for (std::size_t i = parameter_count_; i < names_.size(); ++i)
-    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) &&
-                                              compiled.parser.GetUsedVar().count(names_[i]) > 0);
+    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) && compiled.uses[i]);
   const std::string inputs = inputs_of(compiled);
   return {0,
           "the expression '" + text + "' gives " + shortest_text(value) +
