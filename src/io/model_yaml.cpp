@@ -29,6 +29,7 @@
 #include "io/urdf_tree.hpp"
 #include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
+#include "model/name_errors.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
@@ -2093,7 +2094,9 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   std::vector<std::string> names;
   for (const auto& p : loader.parameters()) names.push_back(p.name);
   if (!unknown.empty())
-    throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
+    throw detail::NameErrorInContext(
+        "parameter", unknown.front(), names,
+        detail::no_parameter_message(file_name, unknown.front(), names));
   // The structure validates the model at the defaults; its defects join the loader's own.
   if (!loader.merge({}).empty()) throw InputError(loader.merge(find_defects(at_defaults)));
   std::optional<Structure> structure;
