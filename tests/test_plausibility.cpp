@@ -237,6 +237,30 @@ TEST(Plausibility, ATipTurningBeyondTheLinearRangeIsWarnedJustAboveTheThresholdO
   EXPECT_TRUE(plausibility_warnings(below).empty());
 }
 
+// A sweep's row takes only part of a solve's result (no joint results, no names but the end
+// effectors'); its warning of large deflections is the full solve's, naming the link end from
+// the model.
+TEST(Plausibility, ASweepPoseBeyondTheLinearRangeSaysWhatItsSolveSays) {
+  const std::string text =
+      "parameters: {tip: {default: 1, unit: m}}\n" +
+      cantilever(steel, rod_section,
+                 transverse_force_turning_by(1.2 * detail::kLargestLinearRotation), "[tip, 0, 0]");
+  const ModelFamily family = parse_model_family(text, "swept.yaml");
+  SweepOptions options;
+  options.threads = 1;
+  options.keep_matrices = true;
+  const SweepResult s = sweep(family, grid_poses({{"tip", 1, 1, 1}}), options);
+  const Result solved = solve(family.build(family.default_values()));
+  ASSERT_EQ(s.results.size(), 1u);
+  const PoseResult& pose = s.results[0];
+  ASSERT_EQ(pose.status, PoseStatus::ok) << pose.message;
+  EXPECT_TRUE(pose.large_deflection);
+  EXPECT_EQ(pose.message, solved.report.large_deflection);
+  EXPECT_TRUE(contains(pose.message, "link end 'L1.to' turns 0.06 rad")) << pose.message;
+  EXPECT_EQ(*pose.end_effectors[0].compliance, *solved.end_effectors[0].compliance);
+  EXPECT_EQ(*pose.end_effectors[0].stiffness, *solved.end_effectors[0].stiffness);
+}
+
 // Tip displacement of a bar under an axial force: δ = F·L/(E·A), without rotation.
 TEST(Plausibility, ATipMovingBeyondAFewPercentOfTheModelIsWarnedWithoutARotation) {
   const double fraction = detail::kLargestLinearTranslationFraction;

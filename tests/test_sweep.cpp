@@ -284,13 +284,17 @@ TEST(Sweep, TopologyChangeIsAnInvalidPose) {
   EXPECT_TRUE(contains(s.results[1].message, "topology")) << s.results[1].message;
 }
 
-TEST(Sweep, UnknownParameterIsAUsageError) {
+TEST(Sweep, UnknownParameterIsANameError) {
   try {
     sweep(three_rpr(), grid_poses({{"xx", 0, 1, 2}}));
     FAIL() << "swept a parameter the model does not have";
-  } catch (const UsageError& e) {
-    EXPECT_TRUE(contains(e.what(), "no parameter 'xx'")) << e.what();
+  } catch (const NameError& e) {
+    EXPECT_TRUE(contains(e.what(), "the model 'planar-3rpr-parametric' has no parameter 'xx'"))
+        << e.what();
     EXPECT_TRUE(contains(e.what(), "did you mean 'x'")) << e.what();
+    EXPECT_EQ(e.kind(), "parameter");
+    EXPECT_EQ(e.name(), "xx");
+    EXPECT_EQ(e.suggestion(), "x");
   }
 }
 

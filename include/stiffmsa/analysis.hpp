@@ -15,6 +15,7 @@ namespace stiffmsa {
 
 namespace detail {
 struct WorkspaceAccess;  // src/analysis/workspace_access.hpp
+class ModelIndex;        // src/model/link_ends.hpp
 }  // namespace detail
 
 // A tree solve (solver "tree" or "tree_with_cuts") factorises no sparse system: singular_rcond,
@@ -74,6 +75,8 @@ class Workspace {
 
  private:
   friend struct detail::WorkspaceAccess;
+  // The same with the model's name index, which a one-shot solve keeps for its results.
+  Workspace(const Model& model, const detail::ModelIndex& index);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -85,9 +85,7 @@ std::vector<double> member_values(const ModelFamily& family,
     if (!index) {
       std::vector<std::string> names;
       for (const auto& p : family.parameters()) names.push_back(p.name);
-      const std::string known = name_list(names);
-      throw UsageError("the family '" + family.name() + "' has no parameter '" + name +
-                       "'; its parameters are " + (known.empty() ? std::string("none") : known));
+      throw NameError("parameter", name, names);
     }
     all[*index] = value;
   }

@@ -160,6 +160,9 @@ void bind_errors(py::module_&) {
       raise("NoEquilibriumError", error_class("NoEquilibriumError")(e.what(), e.load_factor()));
     } catch (const IoError& e) {
       raise("IoError", error_class("IoError")(e.what()));
+    } catch (const NameError& e) {
+      const py::object suggestion = e.suggestion() ? py::cast(*e.suggestion()) : py::none();
+      raise("NameError", error_class("NameError")(e.what(), e.kind(), e.name(), suggestion));
     } catch (const UsageError& e) {
       raise("UsageError", error_class("UsageError")(e.what()));
     } catch (const Error& e) {

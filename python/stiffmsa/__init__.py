@@ -54,8 +54,8 @@ from ._core import (
     check,
     principal_stiffness,
 )
-from .errors import (Diagnostic, Error, InputError, IoError, NoEquilibriumError, SingularModelError,
-                     UsageError)
+from .errors import (Diagnostic, Error, InputError, IoError, NameError, NoEquilibriumError,
+                     SingularModelError, UsageError)
 
 __all__ = [
     "AnalysisInfo", "AnalysisMode", "Connection", "CriticalLoad", "Diagnostic", "DistributedLinkLoad",
@@ -95,8 +95,8 @@ def load_model(path: PathLike, **values: float) -> Model:
     ``stiffmsa solve MODEL --set name=value`` does: ``load_model("arm.yaml", x=0.1)``.
 
     Raises :class:`InputError` listing every defect (with file, line, column and key), or
-    :class:`IoError` when the file cannot be read, or :class:`UsageError` for a value that names
-    no parameter.
+    :class:`IoError` when the file cannot be read, or :class:`NameError` (a :class:`UsageError`)
+    for a value that names no parameter.
     """
     return _core.load_model(os.fspath(path), _values(None, values))
 
@@ -210,7 +210,8 @@ def _sweep(self: ModelFamily, grid: Optional[Mapping[str, Tuple[float, float, in
 
     A pose that fails gets a status (``singular``, ``free-motion``, ``invalid``, ``inaccurate``,
     ``error``) and a message; the sweep goes on. Raises :class:`InputError` when the defaults
-    give an invalid model and :class:`UsageError` when a swept name is not a parameter.
+    give an invalid model and :class:`NameError` (a :class:`UsageError`) when a swept name is not
+    a parameter.
     """
     options = _options(solver, accept_idle_motions, singular_rcond, max_relative_residual, refinement_steps,
                        warn_condition, mode)

@@ -9,6 +9,7 @@ from .errors import Diagnostic as Diagnostic
 from .errors import Error as Error
 from .errors import InputError as InputError
 from .errors import IoError as IoError
+from .errors import NameError as NameError
 from .errors import NoEquilibriumError as NoEquilibriumError
 from .errors import SingularModelError as SingularModelError
 from .errors import UsageError as UsageError

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import List, Optional, Sequence
 
+# NameError is stiffmsa.errors.NameError (and stiffmsa.NameError), left out of the star-import so
+# that it does not hide Python's own NameError.
 __all__ = ["Error", "InputError", "SingularModelError", "NoEquilibriumError", "IoError", "UsageError",
            "Diagnostic"]
 
@@ -84,3 +86,19 @@ class IoError(Error, OSError):
 class UsageError(Error, ValueError):
     """A call's arguments are invalid: an unknown solver or parameter, a wrong shape, a value
     out of range."""
+
+
+class NameError(UsageError, LookupError):
+    """A name looked up through the API that is not there: a result's end effector, link, joint,
+    support or load case, a model's material or section, a family's parameter. ``kind`` says what
+    it was to be (``"end effector"``, ``"parameter"``), ``name`` is the name asked for, and
+    ``suggestion`` the nearest name there is when one is near enough to be a typo (else
+    ``None``). A :class:`UsageError` too, and a ``LookupError``; ``from stiffmsa import *`` leaves
+    it out, so that it does not hide Python's own ``NameError``."""
+
+    def __init__(self, message: str, kind: str = "", name: str = "",
+                 suggestion: Optional[str] = None) -> None:
+        super().__init__(message)
+        self.kind = kind
+        self.name = name
+        self.suggestion = suggestion

@@ -36,8 +36,8 @@ struct LargestDeflection {
   }
 };
 
-std::string end_name(const Result& result, std::size_t end) {
-  return result.links[end / 2].name + (end % 2 == 0 ? ".from" : ".to");
+std::string end_name(const Model& model, std::size_t end) {
+  return model.links[end / 2].name + (end % 2 == 0 ? ".from" : ".to");
 }
 
 }  // namespace
@@ -57,12 +57,12 @@ void add_plausibility_warnings(const Model& model, const ModelIndex& index, Resu
   if (!turns && !moves) return;
   std::string text = std::string(kLargeDeflectionWarning) + ", which assumes small ones:";
   if (turns)
-    text += " link end '" + end_name(result, largest.rotation_at) + "' turns " +
+    text += " link end '" + end_name(model, largest.rotation_at) + "' turns " +
             rounded(largest.rotation) + " rad (more than " + shortest_text(kLargestLinearRotation) +
             " rad)";
   if (moves)
     text += std::string(turns ? ";" : "") + " link end '" +
-            end_name(result, largest.translation_at) + "' moves " + rounded(largest.translation) +
+            end_name(model, largest.translation_at) + "' moves " + rounded(largest.translation) +
             " m (more than " + shortest_text(100 * kLargestLinearTranslationFraction) +
             " % of the model's size, " + rounded(size) + " m)";
   text +=

@@ -13,6 +13,7 @@
 #include "analysis/free_motion.hpp"
 #include "analysis/loaded_mode.hpp"
 #include "analysis/plausibility.hpp"
+#include "analysis/sweep_row.hpp"
 #include "analysis/workspace_access.hpp"
 #include "assembly/assembler.hpp"
 #include "elements/free_directions.hpp"
@@ -115,8 +116,10 @@ void prepare(Workspace::Impl& ws, const Model& model) {
 }
 }  // namespace
 
-Workspace::Workspace(const Model& model) : impl_(std::make_unique<Impl>()) {
-  const detail::ModelIndex index(model);
+Workspace::Workspace(const Model& model) : Workspace(model, detail::ModelIndex(model)) {}
+
+Workspace::Workspace(const Model& model, const detail::ModelIndex& index)
+    : impl_(std::make_unique<Impl>()) {
   detail::validate(model, index);
   impl_->topology = detail::build_topology(model, index);
   prepare(*impl_, model);
@@ -171,6 +174,7 @@ struct Problem {
   const Model& model;
   Workspace::Impl& ws;
   const SolveOptions& options;
+  detail::ResultScope scope;
   detail::Blocks blocks;
   // The load cases, one right-hand side column each (case_loads.hpp): the unnamed case where
   // there is one, every named case, and the robot's self-weight alone where it has one. The
@@ -186,9 +190,9 @@ struct Problem {
   }
 
   // `topology_known`: the workspace was built from this very model.
-  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, bool topology_known,
-          std::vector<detail::CaseLoads>& case_storage)
-      : model(m), ws(w), options(o), cases(case_storage) {
+  Problem(const Model& m, Workspace::Impl& w, const SolveOptions& o, detail::ResultScope s,
+          bool topology_known, std::vector<detail::CaseLoads>& case_storage)
+      : model(m), ws(w), options(o), scope(s), cases(case_storage) {
     if (topology_known && !ws.recorded_blocks.empty()) {
       blocks = std::move(ws.recorded_blocks);
       ws.recorded_blocks.clear();
@@ -271,8 +275,14 @@ void fill_state_results(const Problem& problem, const Column& x, const detail::C
   const Model& model = problem.model;
   const detail::Topology& t = problem.ws.topology;
   const std::vector<Vec6>& external = loads.external;
+  const bool sweep_row = problem.scope == detail::ResultScope::sweep_row;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l), to = from + 1;
+    if (sweep_row) {  // the deflections, for the large-deflection warning
+      result.links[l].from.deflection = deflection_of(x, from);
+      result.links[l].to.deflection = deflection_of(x, to);
+      continue;
+    }
     result.links[l].from = {deflection_of(x, from), wrench_of(x, from)};
     result.links[l].to = {deflection_of(x, to), wrench_of(x, to)};
     if (!loads.fixed_end.empty()) {
@@ -282,7 +292,7 @@ void fill_state_results(const Problem& problem, const Column& x, const detail::C
   }
   for (std::size_t g = 0; g < t.groups.size(); ++g) {
     const detail::ConnectionGroup& group = t.groups[g];
-    if (group.kind == detail::ConnectionGroup::Kind::joint) {
+    if (group.kind == detail::ConnectionGroup::Kind::joint && !sweep_row) {
       const Joint& joint = model.joints[static_cast<std::size_t>(group.source)];
       // The joint's block holds its directions, except a locked actuator's, which it holds rigidly:
       // its effort is still along the joint's own free directions.
@@ -344,21 +354,29 @@ double equilibrium_error(const Problem& problem, const detail::CaseLoads& loads,
   return error;
 }
 
-Result empty_result(const Model& model, const Workspace::Impl& ws) {
+Result empty_result(const Model& model, const Workspace::Impl& ws, detail::ResultScope scope) {
   Result result;
-  result.model = model.name;
-  result.links.reserve(model.links.size());
-  result.joints.reserve(model.joints.size());
-  result.supports.reserve(model.supports.size());
   result.end_effectors.reserve(model.end_effectors.size());
-  for (const auto& l : model.links) result.links.push_back({l.name, {}, {}, {}});
-  for (const auto& j : model.joints) {
-    JointResult joint;
-    joint.name = j.name;
-    joint.actuated = j.connection.is_actuated;
-    result.joints.push_back(std::move(joint));
+  if (scope == detail::ResultScope::sweep_row) {
+    // Unnamed: what a row takes is the end effectors' results and the warnings, which take
+    // the names from the model.
+    result.links.resize(model.links.size());
+    result.joints.resize(model.joints.size());
+    result.supports.resize(model.supports.size());
+  } else {
+    result.model = model.name;
+    result.links.reserve(model.links.size());
+    result.joints.reserve(model.joints.size());
+    result.supports.reserve(model.supports.size());
+    for (const auto& l : model.links) result.links.push_back({l.name, {}, {}, {}});
+    for (const auto& j : model.joints) {
+      JointResult joint;
+      joint.name = j.name;
+      joint.actuated = j.connection.is_actuated;
+      result.joints.push_back(std::move(joint));
+    }
+    for (const auto& s : model.supports) result.supports.push_back({s.name, std::nullopt});
   }
-  for (const auto& s : model.supports) result.supports.push_back({s.name, std::nullopt});
   for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
     const auto& effector = model.end_effectors[e];
     const int end = ws.topology.effector_ends[e];
@@ -453,6 +471,7 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
         detail::cartesian_stiffness(compliance, length, problem.options.warn_condition);
     r.stiffness = cartesian.stiffness;
     if (!r.stiffness) {
+      if (problem.scope == detail::ResultScope::sweep_row) continue;  // only a note says so
       r.reduced_stiffness = detail::reduced_stiffness(compliance, length);
       result.report.notes.push_back(
           "end effector '" + r.name +
@@ -481,7 +500,8 @@ void fill_loads_and_compliance(const Problem& problem, const Solution& x, double
       other.end_effectors[e].reduced_stiffness = result.end_effectors[e].reduced_stiffness;
     }
   }
-  const bool internal_forces = detail::loads_along_links(problem.model);
+  const bool internal_forces =
+      problem.scope == detail::ResultScope::everything && detail::loads_along_links(problem.model);
   for (std::size_t c = 0; c < results.size(); ++c) {
     const detail::CaseLoads& loads = problem.cases[c];
     fill_state_results(problem, x.col(static_cast<Index>(c)), loads, results[c]);
@@ -707,10 +727,11 @@ void leave_undetermined_null(const Problem& problem, const detail::SingularStruc
           undetermined(redundancies.middleRows<6>(wrench_column(group.ends.front())))) {
         auto& joint = result.joints[static_cast<std::size_t>(group.source)];
         if (joint.wrench)
-          note_determined_components("the wrench of joint '" + joint.name + "'", *joint.wrench,
-                                     redundancies.middleRows<6>(wrench_column(group.ends.front())),
-                                     length, detail::kNegligibleShare * largest,
-                                     result.report.notes);
+          note_determined_components(
+              "the wrench of joint '" +
+                  problem.model.joints[static_cast<std::size_t>(group.source)].name + "'",
+              *joint.wrench, redundancies.middleRows<6>(wrench_column(group.ends.front())), length,
+              detail::kNegligibleShare * largest, result.report.notes);
         joint.wrench.reset();
         joint.effort.reset();
       } else if (group.kind == detail::ConnectionGroup::Kind::support) {
@@ -719,9 +740,11 @@ void leave_undetermined_null(const Problem& problem, const detail::SingularStruc
         auto& support = result.supports[static_cast<std::size_t>(group.source)];
         if (!undetermined(sum)) continue;
         if (support.reaction)
-          note_determined_components("the reaction of support '" + support.name + "'",
-                                     *support.reaction, sum, length,
-                                     detail::kNegligibleShare * largest, result.report.notes);
+          note_determined_components(
+              "the reaction of support '" +
+                  problem.model.supports[static_cast<std::size_t>(group.source)].name + "'",
+              *support.reaction, sum, length, detail::kNegligibleShare * largest,
+              result.report.notes);
         support.reaction.reset();
       }
     }
@@ -902,28 +925,29 @@ struct CaseSolve {
 };
 
 CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
-                   bool topology_known);
+                   detail::ResultScope scope, bool topology_known);
 
 CaseSolve solve_validated(Workspace& workspace, const Model& model, const SolveOptions& options,
-                          bool topology_known) {
+                          detail::ResultScope scope, bool topology_known) {
   Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   if (accept_idle && options.solver == SolverKind::automatic && ws.spin_locked) {
-    CaseSolve solved = solve_in(*ws.spin_locked, model, options, topology_known);
+    CaseSolve solved = solve_in(*ws.spin_locked, model, options, scope, topology_known);
     for (Result& result : solved.results)
       report_held_spins(model, ws.topology, ws.spin_locked->spin_locks, result);
     return solved;
   }
-  return solve_in(ws, model, options, topology_known);
+  return solve_in(ws, model, options, scope, topology_known);
 }
 
 CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& options,
-                   bool topology_known) {
+                   detail::ResultScope scope, bool topology_known) {
   CaseSolve solved;
-  Problem problem(model, ws, options, topology_known, solved.cases);
+  Problem problem(model, ws, options, scope, topology_known, solved.cases);
   CaseResults& results = solved.results;
   results.reserve(problem.cases.size());
-  results.push_back(empty_result(model, ws));  // a large model's result is copied only per case
+  results.push_back(
+      empty_result(model, ws, scope));  // a large model's result is copied only per case
   while (results.size() < problem.cases.size()) results.push_back(results.front());
   for (std::size_t c = 0; c < problem.cases.size(); ++c) {
     results[c].load_case = problem.cases[c].name;
@@ -975,9 +999,9 @@ CaseSolve solve_in(Workspace::Impl& ws, const Model& model, const SolveOptions& 
 
 // What every solve adds to its result, however it was solved.
 void finish_result(const Model& model, const detail::ModelIndex& index, const SolveOptions& options,
-                   Result& result) {
+                   detail::ResultScope scope, Result& result) {
   result.model_size = detail::characteristic_length(model);
-  result.parameters = model.parameters;
+  if (scope == detail::ResultScope::everything) result.parameters = model.parameters;
   detail::add_plausibility_warnings(model, index, result);
   if (!options.direction) return;
   for (EndEffectorResult& e : result.end_effectors)
@@ -1074,16 +1098,16 @@ void add_critical_load(Workspace& workspace, const Model& model, const SolveOpti
 // the model's warnings, plausibility); the top level is the unnamed case, or a copy of the first
 // named case where there is no unnamed one, and holds every named case's results.
 Result results_of_cases(const Model& model, const detail::ModelIndex& index,
-                        const SolveOptions& options, CaseSolve solved) {
+                        const SolveOptions& options, detail::ResultScope scope, CaseSolve solved) {
   CaseResults& results = solved.results;
   if (!solved.with_state.back()) {
     add_gravity_deflections(results.back(), results.front());
     results.pop_back();
   }
   for (Result& result : results) {
-    add_results_in_own_axes(model, result);
+    if (scope == detail::ResultScope::everything) add_results_in_own_axes(model, result);
     add_model_warnings(model, result);
-    finish_result(model, index, options, result);
+    finish_result(model, index, options, scope, result);
   }
   const bool unnamed = detail::has_unnamed_case(model);
   Result top = unnamed ? std::move(results.front()) : results.front();
@@ -1098,9 +1122,11 @@ Result results_of_cases(const Model& model, const detail::ModelIndex& index,
 // beside.
 Result solve_checked(Workspace& workspace, const Model& model, const detail::ModelIndex& index,
                      const SolveOptions& options, bool topology_known = false) {
-  CaseSolve solved = solve_validated(workspace, model, options, topology_known);
+  CaseSolve solved =
+      solve_validated(workspace, model, options, detail::ResultScope::everything, topology_known);
   const std::vector<detail::CaseLoads> cases = std::move(solved.cases);
-  Result result = results_of_cases(model, index, options, std::move(solved));
+  Result result =
+      results_of_cases(model, index, options, detail::ResultScope::everything, std::move(solved));
   add_critical_load(workspace, model, options, cases, result);
   return in_analysis_mode(detail::WorkspaceAccess::impl(workspace), model, options, cases,
                           std::move(result));
@@ -1110,22 +1136,41 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
 
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();
-  Workspace workspace(model);  // validates the model
-  return solve_checked(workspace, model, detail::ModelIndex(model), options, true);
+  const detail::ModelIndex index(model);
+  Workspace workspace = detail::WorkspaceAccess::of(model, index);  // validates the model
+  return solve_checked(workspace, model, index, options, true);
 }
 
-Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {
-  options.validate();
-  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+namespace {
+// The member of a structure's workspace at `values`, its values checked.
+const Model& posed_member(Workspace::Impl& ws, std::span<const double> values) {
   if (!ws.structure)
     throw UsageError(
         "solving values needs the workspace of their structure: build it as Workspace(structure)");
   const Structure& structure = *ws.structure;
   structure.write_values(values, ws.member);
-  const Model& model = ws.member;
-  auto defects = detail::find_value_defects(model, structure.impl().index);
+  auto defects = detail::find_value_defects(ws.member, structure.impl().index);
   if (!defects.empty()) throw InputError(std::move(defects));
-  return solve_checked(workspace, model, structure.impl().index, options);
+  return ws.member;
+}
+}  // namespace
+
+Result solve(Workspace& workspace, std::span<const double> values, const SolveOptions& options) {
+  options.validate();
+  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+  const Model& model = posed_member(ws, values);
+  return solve_checked(workspace, model, ws.structure->impl().index, options);
+}
+
+Result detail::solve_sweep_row(Workspace& workspace, std::span<const double> values,
+                               const SolveOptions& options) {
+  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+  const Model& model = posed_member(ws, values);
+  const detail::ModelIndex& index = ws.structure->impl().index;
+  if (options.critical_load || always_finds_critical_load(model, options))
+    return solve_checked(workspace, model, index, options);
+  CaseSolve solved = solve_validated(workspace, model, options, ResultScope::sweep_row, false);
+  return results_of_cases(model, index, options, ResultScope::sweep_row, std::move(solved));
 }
 
 Result solve(const Structure& structure, Workspace& workspace, std::span<const double> values,

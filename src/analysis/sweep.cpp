@@ -18,6 +18,8 @@
 #include <optional>
 #include <set>
 
+#include "analysis/sweep_row.hpp"
+#include "model/name_errors.hpp"
 #include "model/suggest.hpp"
 #include "stiffmsa/number_text.hpp"
 #include "stiffmsa/validate.hpp"
@@ -104,8 +106,10 @@ std::string one_line(const SingularModelError& e) {
   return text;
 }
 
-// What the sweep keeps of a solve.
-PoseResult measure(const Result& result, const SweepOptions& options) {
+// What the sweep keeps of a solve; `member_warnings`, the member's reader's, come first among
+// the solve's warnings.
+PoseResult measure(const Result& result, const std::vector<Diagnostic>& member_warnings,
+                   const SweepOptions& options) {
   PoseResult pose;
   if (!result.report.usable()) {
     pose.status = PoseStatus::inaccurate;
@@ -121,6 +125,8 @@ PoseResult measure(const Result& result, const SweepOptions& options) {
   pose.large_deflection = !result.report.large_deflection.empty();
   if (pose.large_deflection)
     pose.message = result.report.large_deflection;
+  else if (!member_warnings.empty())
+    pose.message = member_warnings.front().to_string();
   else if (!result.report.warnings.empty())
     pose.message = result.report.warnings.front();
   for (const auto& effector : result.end_effectors) {
@@ -198,16 +204,9 @@ PoseResult solve_one(Worker& worker, std::size_t pose, const SweepOptions& optio
   try {
     worker.write(pose, worker.values, worker.warnings);
     built = true;
-    Result solved = solve(worker.workspace, worker.values, options.solve);
-    Result result = options.load_case.empty() ? std::move(solved)
-                                              : Result(solved.load_case_result(options.load_case));
-    if (!worker.warnings.empty()) {
-      std::vector<std::string> warnings;
-      for (const Diagnostic& w : worker.warnings) warnings.push_back(w.to_string());
-      result.report.warnings.insert(result.report.warnings.begin(), warnings.begin(),
-                                    warnings.end());
-    }
-    return measure(result, options);
+    const Result solved = detail::solve_sweep_row(worker.workspace, worker.values, options.solve);
+    return measure(options.load_case.empty() ? solved : solved.load_case_result(options.load_case),
+                   worker.warnings, options);
   } catch (...) {
     return failed_pose(std::current_exception(), built);
   }
@@ -286,7 +285,9 @@ PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
   for (const auto& p : family.parameters()) names.push_back(p.name);
   for (const auto& name : poses.parameters) {
     const auto index = family.find_parameter(name);
-    if (!index) throw UsageError(detail::no_parameter_message(family.name(), name, names));
+    if (!index)
+      throw detail::NameErrorInContext("parameter", name, names,
+                                       detail::no_parameter_message(family.name(), name, names));
     values.swept.push_back(*index);
   }
   return values;

@@ -7,6 +7,10 @@ namespace stiffmsa::detail {
 
 struct WorkspaceAccess {
   static Workspace::Impl& impl(Workspace& workspace) { return *workspace.impl_; }
+  // The workspace of a model whose index the caller built and keeps.
+  static Workspace of(const Model& model, const ModelIndex& index) {
+    return Workspace(model, index);
+  }
 };
 
 }  // namespace stiffmsa::detail

@@ -68,10 +68,24 @@ std::optional<std::string> parameter_name_problem(const std::string& name) {
 struct ExpressionEvaluator::Compiled {
   mu::Parser parser;
   std::string error;  // a syntax error found when compiling, reported at every evaluation
-  // 1 + the index in names_ of the last name it uses: asked of derived values only, since
-  // muparser finds the names by parsing the text once more.
-  std::optional<std::size_t> last_name_used;
+  // Per name in names_, whether the expression reads it; empty until first asked (the order of
+  // derived values, a failed evaluation's message): muparser finds the names by parsing the text
+  // once more, so they are asked once and only where needed.
+  std::vector<bool> uses;
 };
+
+namespace {
+
+const std::vector<bool>& names_used(mu::Parser& parser, const std::vector<std::string>& names,
+                                    std::vector<bool>& uses) {
+  if (uses.size() == names.size()) return uses;
+  const auto& used = parser.GetUsedVar();  // the next Eval() parses again
+  uses.assign(names.size(), false);
+  for (std::size_t i = 0; i < names.size(); ++i) uses[i] = used.count(names[i]) > 0;
+  return uses;
+}
+
+}  // namespace
 
 ExpressionEvaluator::ExpressionEvaluator(std::vector<std::string> parameter_names,
                                          std::vector<std::string> derived_names)
@@ -129,7 +143,7 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
 std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
   std::string text;
   for (std::size_t i = 0; i < names_.size(); ++i) {
-    if (compiled.parser.GetUsedVar().count(names_[i]) == 0) continue;
+    if (!compiled.uses[i]) continue;
     if (!text.empty()) text += ", ";
     text += names_[i] + " = " + shortest_text(values_[i]);
   }
@@ -140,14 +154,14 @@ ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate_derived(std::size_t i
                                                                    const std::string& text) {
   const std::size_t slot = parameter_count_ + index;
   Compiled& compiled = compile(text);
-  if (compiled.error.empty() && !compiled.last_name_used) {
-    const auto& used = compiled.parser.GetUsedVar();  // the next Eval() parses again
-    compiled.last_name_used = 0;
-    for (std::size_t i = 0; i < names_.size(); ++i)
-      if (used.count(names_[i]) > 0) compiled.last_name_used = i + 1;
+  std::size_t last_name_used = 0;  // 1 + the index in names_ of the last name it uses
+  if (compiled.error.empty()) {
+    const std::vector<bool>& uses = names_used(compiled.parser, names_, compiled.uses);
+    for (std::size_t i = 0; i < uses.size(); ++i)
+      if (uses[i]) last_name_used = i + 1;
   }
-  if (compiled.error.empty() && *compiled.last_name_used > slot) {
-    const std::size_t later = *compiled.last_name_used - 1;
+  if (last_name_used > slot) {
+    const std::size_t later = last_name_used - 1;
     return {0, "the expression '" + text + "' uses '" + names_[later] + "', which is " +
                    (later == slot ? std::string("this derived value itself")
                                   : "derived later in the file") +
@@ -168,10 +182,10 @@ ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate(const std::string& te
     return {0, "cannot evaluate the expression '" + text + "': " + e.GetMsg(), false};
   }
   if (std::isfinite(value)) return {value, {}, false};
+  const std::vector<bool>& uses = names_used(compiled.parser, names_, compiled.uses);
   bool uses_failed_value = false;
   for (std::size_t i = parameter_count_; i < names_.size(); ++i)
-    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) &&
-                                              compiled.parser.GetUsedVar().count(names_[i]) > 0);
+    uses_failed_value = uses_failed_value || (std::isnan(values_[i]) && uses[i]);
   const std::string inputs = inputs_of(compiled);
   return {0,
           "the expression '" + text + "' gives " + shortest_text(value) +

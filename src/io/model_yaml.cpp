@@ -30,6 +30,7 @@
 #include "io/urdf_tree.hpp"
 #include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
+#include "model/name_errors.hpp"
 #include "model/suggest.hpp"
 #include "model/value_checks.hpp"
 #include "stiffmsa/io/model_file.hpp"
@@ -2204,11 +2205,12 @@ Structure read_structure(Loader& loader, const YamlNode& root, const std::string
   std::vector<std::string> unknown = loader.unknown_settings();
   if (loader.parameters().empty() && loader.derived_names().empty())
     for (const auto& [name, value] : settings) unknown.push_back(name);
-  if (!unknown.empty()) {
-    std::vector<std::string> names;
-    for (const auto& p : loader.parameters()) names.push_back(p.name);
-    throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
-  }
+  std::vector<std::string> names;
+  for (const auto& p : loader.parameters()) names.push_back(p.name);
+  if (!unknown.empty())
+    throw detail::NameErrorInContext(
+        "parameter", unknown.front(), names,
+        detail::no_parameter_message(file_name, unknown.front(), names));
   // The structure validates the model at the defaults; its defects join the loader's own.
   if (!loader.merge({}).empty()) throw InputError(loader.merge(find_defects(at_defaults)));
   try {

@@ -138,3 +138,31 @@ def test_bad_arguments_are_usage_errors_that_say_what_is_wrong():
         stiffmsa.Connection(stiffmsa.Kinematics.revolute([0, 0, 1]), stiffness=[[1.0, 2.0]])
     with pytest.raises(stiffmsa.UsageError, match="no parameter 'z'"):
         stiffmsa.load_model(EXAMPLES / "planar-3rpr-parametric.yaml", z=1.0)
+
+
+def test_a_name_that_is_not_there_is_a_name_error_with_its_kind_name_and_suggestion():
+    assert issubclass(stiffmsa.NameError, stiffmsa.UsageError)
+    assert issubclass(stiffmsa.NameError, LookupError)
+    assert "NameError" not in stiffmsa.__all__  # a star-import keeps Python's own NameError
+    result = stiffmsa.solve(two_link_mechanism(2e3))
+    with pytest.raises(stiffmsa.NameError, match="there is no joint 'hinje'; did you mean 'hinge'") as raised:
+        result.joint("hinje")
+    assert (raised.value.kind, raised.value.name, raised.value.suggestion) == ("joint", "hinje", "hinge")
+    with pytest.raises(stiffmsa.NameError) as raised:
+        result.end_effector("gripper")
+    assert (raised.value.kind, raised.value.name, raised.value.suggestion) == ("end effector", "gripper", None)
+    with pytest.raises(stiffmsa.NameError) as raised:
+        result.load_case_result("machining")
+    assert (raised.value.kind, raised.value.name) == ("load case", "machining")
+
+    family = stiffmsa.load_family(EXAMPLES / "planar-3rpr-parametric.yaml")
+    for call in (lambda: family.build(phii=0.1), lambda: family.solve(phii=0.1),
+                 lambda: family.sweep(grid={"phii": (0.0, 0.1, 2)}),
+                 lambda: stiffmsa.load_family(EXAMPLES / "planar-3rpr-parametric.yaml", phii=0.1),
+                 lambda: stiffmsa.load_model(EXAMPLES / "planar-3rpr-parametric.yaml", phii=0.1)):
+        with pytest.raises(stiffmsa.NameError, match="no parameter 'phii'") as raised:
+            call()
+        assert (raised.value.kind, raised.value.name, raised.value.suggestion) == ("parameter", "phii", "phi")
+    # Still the UsageError it was.
+    with pytest.raises(stiffmsa.UsageError, match="no parameter 'z'"):
+        family.build(z=1.0)
