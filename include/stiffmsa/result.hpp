@@ -97,9 +97,9 @@ struct EndEffectorResult {
 // The method that solved a system (SolverKind chooses among them; docs/theory.md §7): the tree
 // passes, the tree passes with a dense system for the cuts, the frame's condensed stiffness,
 // or a sparse LU of the whole system. `none` in a report that no solve filled.
-enum class SolverUsed { none, tree, tree_with_cuts, frame, klu, sparse_lu, umfpack };
+enum class SolverUsed { none, tree, tree_with_cuts, frame, klu, sparse_lu, umfpack, block_lu };
 // The names results and messages give them: "tree", "tree_with_cuts", "frame", "klu",
-// "sparse_lu", "umfpack" ("" for none).
+// "sparse_lu", "umfpack", "block_lu" (the loaded mode's tangent) ("" for none).
 const char* to_string(SolverUsed solver);
 std::optional<SolverUsed> solver_used_from_string(std::string_view name);
 

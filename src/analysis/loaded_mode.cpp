@@ -43,78 +43,16 @@ constexpr double kSmallestLoadStep = 1e-5;
 // Where the path passes a critical point, the step is halved until the critical load factor is
 // known to this width.
 constexpr double kCriticalBracket = 1e-4;
+// The tangent compliance's solve is refined where some column's normwise backward error
+// exceeds this: a backward-stable factorisation leaves a few units of rounding, so more means
+// digits were lost to pivot growth.
+constexpr double kRefinedBackwardError = 1e-14;
 
 std::string message_of(const std::ostringstream& text) { return text.str(); }
 
 Vec3 position_of(const Model& model, const Topology& topology, int end) {
   return model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(end)])]
       .position;
-}
-
-std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(
-    const Model& model, const Topology& topology,
-    const std::vector<std::vector<LoadAlongLink>>& along) {
-  std::vector<std::unique_ptr<LoadedBlock>> blocks;
-  for (int l = 0; l < topology.link_count; ++l) {
-    const Link& link = model.links[static_cast<std::size_t>(l)];
-    const int from = 2 * l, to = 2 * l + 1;
-    const Vec3 p_from = position_of(model, topology, from), p_to = position_of(model, topology, to);
-    const Vec3 d = p_to - p_from;
-    if (std::holds_alternative<RigidLink>(link.kind)) {
-      blocks.push_back(
-          with_loads_along(make_loaded_rigid_link(from, to, d), link, p_from, p_to, along[l]));
-      continue;
-    }
-    CorotationalLink element;
-    element.d0 = d;
-    if (const auto* beam = std::get_if<BeamLink>(&link.kind)) {
-      element.stiffness = beam_global_stiffness(*beam, p_from, p_to);
-      element.axial = beam->material.E * section_properties(beam->section).A;
-    } else if (const auto* matrix = std::get_if<MatrixLink>(&link.kind)) {
-      element.stiffness = matrix_link_global_stiffness(*matrix, p_from, p_to);
-    } else {
-      element.stiffness = free_free_stiffness(
-          compliance_link_global_compliance(std::get<ComplianceLink>(link.kind), p_from, p_to), d);
-    }
-    blocks.push_back(
-        with_loads_along(make_corotational_link(from, to, element), link, p_from, p_to, along[l]));
-  }
-  FreeDirections locked;  // no free direction: a weld, a locked drive
-  for (const ConnectionGroup& g : topology.groups) {
-    switch (g.kind) {
-      case ConnectionGroup::Kind::free_end:
-        blocks.push_back(make_loaded_free_end(g.ends.front()));
-        break;
-      case ConnectionGroup::Kind::rigid_connection:
-        blocks.push_back(make_loaded_constraint_joint(g.ends, locked, std::nullopt));
-        break;
-      case ConnectionGroup::Kind::joint: {
-        const Connection& c = model.joints[static_cast<std::size_t>(g.source)].connection;
-        if (c.stiffness)
-          blocks.push_back(make_loaded_elastic_joint(
-              g.ends[0], g.ends[1], free_directions(c.kinematics), *c.stiffness, c.preload));
-        else if (c.is_actuated)
-          blocks.push_back(make_loaded_constraint_joint(g.ends, locked, std::nullopt));
-        else
-          blocks.push_back(
-              make_loaded_constraint_joint(g.ends, free_directions(c.kinematics), c.preload));
-        break;
-      }
-      case ConnectionGroup::Kind::support: {
-        const Support& s = model.supports[static_cast<std::size_t>(g.source)];
-        const Connection& c = s.connection;
-        const Vec3 at = position_of(model, topology, g.ends.front());
-        if (c.is_actuated && !c.stiffness)
-          blocks.push_back(
-              make_loaded_support(g.ends, locked, std::nullopt, std::nullopt, s.displacement, at));
-        else
-          blocks.push_back(make_loaded_support(g.ends, free_directions(c.kinematics), c.stiffness,
-                                               c.preload, s.displacement, at));
-        break;
-      }
-    }
-  }
-  return blocks;
 }
 
 // The scales a correction is measured in: lengths against the model size, wrenches against the
@@ -251,6 +189,72 @@ std::string factor_text(double f) {
 
 }  // namespace
 
+std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(
+    const Model& model, const Topology& topology,
+    const std::vector<std::vector<LoadAlongLink>>& along) {
+  std::vector<std::unique_ptr<LoadedBlock>> blocks;
+  for (int l = 0; l < topology.link_count; ++l) {
+    const Link& link = model.links[static_cast<std::size_t>(l)];
+    const int from = 2 * l, to = 2 * l + 1;
+    const Vec3 p_from = position_of(model, topology, from), p_to = position_of(model, topology, to);
+    const Vec3 d = p_to - p_from;
+    if (std::holds_alternative<RigidLink>(link.kind)) {
+      blocks.push_back(
+          with_loads_along(make_loaded_rigid_link(from, to, d), link, p_from, p_to, along[l]));
+      continue;
+    }
+    CorotationalLink element;
+    element.d0 = d;
+    if (const auto* beam = std::get_if<BeamLink>(&link.kind)) {
+      element.stiffness = beam_global_stiffness(*beam, p_from, p_to);
+      element.axial = beam->material.E * section_properties(beam->section).A;
+    } else if (const auto* matrix = std::get_if<MatrixLink>(&link.kind)) {
+      element.stiffness = matrix_link_global_stiffness(*matrix, p_from, p_to);
+    } else {
+      element.stiffness = free_free_stiffness(
+          compliance_link_global_compliance(std::get<ComplianceLink>(link.kind), p_from, p_to), d);
+    }
+    blocks.push_back(
+        with_loads_along(make_corotational_link(from, to, element), link, p_from, p_to, along[l]));
+  }
+  FreeDirections locked;  // no free direction: a weld, a locked drive
+  for (const ConnectionGroup& g : topology.groups) {
+    switch (g.kind) {
+      case ConnectionGroup::Kind::free_end:
+        blocks.push_back(make_loaded_free_end(g.ends.front()));
+        break;
+      case ConnectionGroup::Kind::rigid_connection:
+        blocks.push_back(make_loaded_constraint_joint(g.ends, locked, std::nullopt));
+        break;
+      case ConnectionGroup::Kind::joint: {
+        const Connection& c = model.joints[static_cast<std::size_t>(g.source)].connection;
+        if (c.stiffness)
+          blocks.push_back(make_loaded_elastic_joint(
+              g.ends[0], g.ends[1], free_directions(c.kinematics), *c.stiffness, c.preload));
+        else if (c.is_actuated)
+          blocks.push_back(make_loaded_constraint_joint(g.ends, locked, std::nullopt));
+        else
+          blocks.push_back(
+              make_loaded_constraint_joint(g.ends, free_directions(c.kinematics), c.preload));
+        break;
+      }
+      case ConnectionGroup::Kind::support: {
+        const Support& s = model.supports[static_cast<std::size_t>(g.source)];
+        const Connection& c = s.connection;
+        const Vec3 at = position_of(model, topology, g.ends.front());
+        if (c.is_actuated && !c.stiffness)
+          blocks.push_back(
+              make_loaded_support(g.ends, locked, std::nullopt, std::nullopt, s.displacement, at));
+        else
+          blocks.push_back(make_loaded_support(g.ends, free_directions(c.kinematics), c.stiffness,
+                                               c.preload, s.displacement, at));
+        break;
+      }
+    }
+  }
+  return blocks;
+}
+
 void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns) {
   blocks_ = &blocks;
   std::vector<int> layout;
@@ -261,41 +265,58 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
     layout.push_back(static_cast<int>(b->ends().size()));
     layout.insert(layout.end(), b->ends().begin(), b->ends().end());
   }
-  if (!solver_ || layout != layout_) {
-    // The layout is kept only once its pattern is analysed, so that a failed analysis is done
-    // again at the next pose instead of leaving solvers that were never analysed.
+  if (layout != layout_) {
+    // The layout is kept only once it is analysed, so that a failed analysis is done again at
+    // the next pose instead of leaving analyses of another layout.
     layout_.clear();
     n_ = unknowns;
-    record_pattern();
+    first_row_.clear();
+    tangents_.assign(blocks.size(), MatX());
+    BlockLayout block_layout;
+    block_layout.group_count = static_cast<int>(unknowns / kBlockColumns);
+    Index row = 0;
+    for (const auto& b : blocks) {
+      first_row_.push_back(row);
+      row += b->equation_count();
+      block_layout.rows.push_back(static_cast<int>(b->equation_count()));
+      block_layout.groups.push_back(b->ends());
+    }
+    positions_.clear();
+    solver_.reset();
+    unloaded_solver_.reset();
+    unloaded_scaling_.reset();
+    if (uses_block_lu())
+      block_lu_.analyze(block_layout);
+    else
+      record_pattern();
     layout_ = std::move(layout);
   }
-  solver_->renew_reference();
+  if (solver_) solver_->renew_reference();
   scaling_.reset();
+  newton_by_block_lu_ = false;
 }
 
 void LoadedTangent::record_pattern() {
-  first_row_.clear();
+  if (!positions_.empty()) return;
   std::vector<Eigen::Triplet<double>> entries;
-  Index row = 0;
-  for (const auto& b : *blocks_) {
-    first_row_.push_back(row);
-    const Index rows = b->equation_count();
-    const auto& ends = b->ends();
+  for (std::size_t b = 0; b < blocks_->size(); ++b) {
+    const LoadedBlock& block = *(*blocks_)[b];
+    const Index rows = block.equation_count(), row = first_row_[b];
+    const auto& ends = block.ends();
     for (std::size_t k = 0; k < ends.size(); ++k)
       for (Index c = 0; c < 12; ++c)
         for (Index i = 0; i < rows; ++i)
           entries.emplace_back(static_cast<int>(row + i), static_cast<int>(12 * ends[k] + c), 1.0);
-    row += rows;
   }
   matrix_.resize(n_, n_);
   matrix_.setFromTriplets(entries.begin(), entries.end());
   matrix_.makeCompressed();
-  positions_.clear();
-  positions_.reserve(entries.size());
+  std::vector<int> positions;
+  positions.reserve(entries.size());
   for (const auto& e : entries) {
     const int* first = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[e.col()];
     const int* last = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[e.col() + 1];
-    positions_.push_back(
+    positions.push_back(
         static_cast<int>(std::lower_bound(first, last, e.row()) - matrix_.innerIndexPtr()));
   }
   scaled_ = matrix_;
@@ -304,23 +325,27 @@ void LoadedTangent::record_pattern() {
   unloaded_solver_ = make_linear_solver(kind_);
   unloaded_solver_->analyze(scaled_);
   unloaded_scaling_.reset();
+  positions_ = std::move(positions);
 }
 
 void LoadedTangent::assemble(const LoadedInputs& in, VecX& residual, bool with_tangent) {
   residual.resize(n_);
-  double* const values = matrix_.valuePtr();
-  if (with_tangent) std::fill(values, values + matrix_.nonZeros(), 0.0);
-  const int* position = positions_.data();
   for (std::size_t b = 0; b < blocks_->size(); ++b) {
     const LoadedBlock& block = *(*blocks_)[b];
-    const Index rows = block.equation_count();
-    block.evaluate(in, residual.segment(first_row_[b], rows),
-                   with_tangent ? &block_tangent_ : nullptr);
-    if (!with_tangent) continue;
-    const Index count = rows * 12 * static_cast<Index>(block.ends().size());
-    const double* entry = block_tangent_.data();
-    for (Index k = 0; k < count; ++k) values[position[k]] += entry[k];
-    position += count;
+    block.evaluate(in, residual.segment(first_row_[b], block.equation_count()),
+                   with_tangent ? &tangents_[b] : nullptr);
+  }
+}
+
+void LoadedTangent::scatter() {
+  record_pattern();
+  double* const values = matrix_.valuePtr();
+  std::fill(values, values + matrix_.nonZeros(), 0.0);
+  const int* position = positions_.data();
+  for (const MatX& tangent : tangents_) {
+    const double* entry = tangent.data();
+    for (Index k = 0; k < tangent.size(); ++k) values[position[k]] += entry[k];
+    position += tangent.size();
   }
 }
 
@@ -338,8 +363,12 @@ void LoadedTangent::scale(const Equilibration& scaling) {
 bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
   assemble(in, residual, factorise);
   if (!factorise) return true;
+  newton_by_block_lu_ =
+      uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised;
+  if (newton_by_block_lu_) return true;
   // The tangents of a case's Newton iterations differ little: the first one's scaling serves
   // them all, as its pivot order does.
+  scatter();
   if (!scaling_) scaling_ = equilibrate(matrix_);
   scale(*scaling_);
   return solver_->factorize(scaled_);
@@ -348,6 +377,12 @@ bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factor
 double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
   VecX residual;
   assemble(in, residual, true);
+  // The block LU's factors are the Newton tangent's from here on no more: the next evaluate
+  // factorises again before any solve.
+  newton_by_block_lu_ = false;
+  if (uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised)
+    return block_lu_.determinant_sign();
+  scatter();
   unloaded_scaling_ = equilibrate(matrix_, unloaded_scaling_ ? &*unloaded_scaling_ : nullptr);
   scale(*unloaded_scaling_);
   if (!unloaded_solver_->factorize(scaled_)) return 0.0;
@@ -358,9 +393,59 @@ double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
 }
 
 void LoadedTangent::solve(MatX& b) const {
+  if (newton_by_block_lu_) {
+    block_lu_.solve(b);
+    return;
+  }
   b.array().colwise() *= scaling_->row.array();
   solver_->solve(b);
   b.array().colwise() *= scaling_->column.array();
+}
+
+double LoadedTangent::backward_error(const MatX& b, const MatX& x, MatX& residual) const {
+  residual = b;
+  VecX row_norm = VecX::Zero(n_);
+  for (std::size_t k = 0; k < tangents_.size(); ++k) {
+    const MatX& t = tangents_[k];
+    const auto& ends = (*blocks_)[k]->ends();
+    for (std::size_t e = 0; e < ends.size(); ++e)
+      residual.middleRows(first_row_[k], t.rows()).noalias() -=
+          t.middleCols(12 * static_cast<Index>(e), 12) * x.middleRows(12 * ends[e], 12);
+    row_norm.segment(first_row_[k], t.rows()) = t.cwiseAbs().rowwise().sum();
+  }
+  const double a_norm = row_norm.size() > 0 ? row_norm.maxCoeff() : 0.0;
+  double largest = 0;
+  for (Index c = 0; c < b.cols(); ++c)
+    largest = std::max(largest, normwise_backward_error(residual.col(c).cwiseAbs().maxCoeff(),
+                                                        a_norm, x.col(c).cwiseAbs().maxCoeff(),
+                                                        b.col(c).cwiseAbs().maxCoeff()));
+  return largest;
+}
+
+MatX LoadedTangent::solve_checked(const MatX& b, int refinement_steps,
+                                  double& relative_residual) const {
+  MatX x = b, residual;
+  solve(x);
+  relative_residual = backward_error(b, x, residual);
+  for (int step = 0; step < refinement_steps && relative_residual > kRefinedBackwardError; ++step) {
+    solve(residual);
+    const MatX refined = x + residual;
+    MatX next_residual;
+    const double refined_error = backward_error(b, refined, next_residual);
+    if (!(refined_error < relative_residual)) break;
+    x = refined;
+    residual = std::move(next_residual);
+    relative_residual = refined_error;
+  }
+  return x;
+}
+
+double LoadedTangent::determinant_sign() const {
+  return newton_by_block_lu_ ? block_lu_.determinant_sign() : solver_->determinant_sign();
+}
+
+const char* LoadedTangent::solver_name() const {
+  return newton_by_block_lu_ ? "block_lu" : solver_->name();
 }
 
 std::vector<Vec6> end_loads(const Model& model, const Topology& topology) {
@@ -534,6 +619,7 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
   }
 
   const double length = path.scales.length;
+  double compliance_residual = 0;
   for (std::size_t e = 0; e < model.end_effectors.size(); ++e) {
     const int end = topology.effector_ends[e];
     const std::size_t holder = static_cast<std::size_t>(
@@ -549,8 +635,9 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
       block.evaluate(LoadedInputs{ends, pushed, 1.0}, moved, nullptr);
       rhs.col(c).segment(first_row, rows) = base - moved;
     }
-    MatX x = std::move(rhs);
-    path.tangent.solve(x);
+    double residual_of_solve = 0;
+    const MatX x = path.tangent.solve_checked(rhs, options.refinement_steps, residual_of_solve);
+    compliance_residual = std::max(compliance_residual, residual_of_solve);
     EndEffectorResult& r = result.end_effectors[e];
     const Mat6 compliance = x.middleRows<6>(12 * static_cast<Index>(end));
     r.compliance = compliance;
@@ -571,6 +658,15 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
     } else {
       r.reduced_stiffness = reduced_stiffness(compliance, length);
     }
+  }
+  result.report.relative_residual = std::max(result.report.relative_residual, compliance_residual);
+  if (compliance_residual > options.max_relative_residual) {
+    std::ostringstream text;
+    text << "the relative residual " << compliance_residual
+         << " of the tangent compliance's solve exceeds " << options.max_relative_residual
+         << "; results may be inaccurate";
+    result.report.failed_checks.push_back(text.str());
+    result.report.warnings.push_back(text.str());
   }
   return result;
 }

@@ -8,6 +8,7 @@
 #include "analysis/case_loads.hpp"
 #include "assembly/topology.hpp"
 #include "elements/loaded_blocks.hpp"
+#include "solver/block_lu.hpp"
 #include "solver/sparse_solver.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/result.hpp"
@@ -15,25 +16,28 @@
 namespace stiffmsa::detail {
 
 // The Newton tangent of the loaded mode, which a workspace keeps from one pose to the next
-// (docs/theory.md §15.7): its pattern, where each block's entries go in the compressed matrix,
-// and the factorising solvers' analyses of that pattern. Two factorisations:
-// - the Newton tangents of a load case: the first after `begin` is the reference, equilibrated
-//   from scratch and pivoted afresh; later ones take its scaling as it is and keep its pivot
-//   order where that stays stable (KluLU in sparse_solver.cpp). So a case's results depend on
-//   its pose alone, never on the poses the workspace solved before.
-// - the unloaded tangent, whose determinant's sign alone is used (the critical-point check): it
-//   starts its equilibration from the last unloaded tangent's scaling and keeps the pivot order
-//   of the last one factorised afresh (a sign does not depend on the pivots).
+// (docs/theory.md §15.7, §15.10): the layout of its blocks, their tangents, and the
+// factorisations of the last tangent.
+// - With the automatic solver, a block LU (solver/block_lu.hpp) whose elimination order is
+//   kept per layout; every tangent is equilibrated and pivoted afresh, so a case's results
+//   depend on its pose alone. Where it meets a tiny pivot, the tangent goes to the sparse path.
+// - The sparse path (a solver the options name, or the block LU's fallback: KLU where built
+//   in): the Newton tangents of a load case: the first after `begin` is the reference,
+//   equilibrated from scratch and pivoted afresh; later ones take its scaling as it is and keep
+//   its pivot order where that stays stable (KluLU in sparse_solver.cpp). The unloaded tangent,
+//   whose determinant's sign alone is used (the critical-point check), starts its equilibration
+//   from the last unloaded tangent's scaling and keeps the pivot order of the last one factorised
+//   afresh (a sign does not depend on the pivots).
 class LoadedTangent {
  public:
   explicit LoadedTangent(SolverKind kind) : kind_(kind) {}
   SolverKind kind() const { return kind_; }
 
-  // Takes `blocks` (kept by reference until the next begin) over `unknowns` unknowns: their
-  // pattern is recorded and analysed again only where the blocks' rows and ends differ from the
-  // last ones'. The next Newton tangent is the reference.
+  // Takes `blocks` (kept by reference until the next begin) over `unknowns` unknowns (12 per
+  // link end): the elimination order, or the sparse pattern, is made again only where the
+  // blocks' rows and ends differ from the last ones'. The next Newton tangent is the reference.
   void begin(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, Index unknowns);
-  // Lets go of the blocks taken by `begin` (the pattern, the analyses and the references stay).
+  // Lets go of the blocks taken by `begin` (the layout, the analyses and the references stay).
   void end() { blocks_ = nullptr; }
 
   // The residual at `in` (and, with `factorise`, the tangent there, factorised). False where
@@ -46,34 +50,53 @@ class LoadedTangent {
 
   // Solves the last factorised Newton tangent for the columns of b, in place.
   void solve(MatX& b) const;
+  // The same, refined (at most `refinement_steps` times) against the tangent as evaluated until
+  // every column's normwise backward error is at rounding level; `relative_residual` gets the
+  // largest, ‖b − J·x‖∞ / (‖J‖∞·‖x‖∞ + ‖b‖∞).
+  MatX solve_checked(const MatX& b, int refinement_steps, double& relative_residual) const;
 
-  double determinant_sign() const { return solver_->determinant_sign(); }
+  double determinant_sign() const;
   Index first_row(std::size_t block) const { return first_row_[block]; }
-  const char* solver_name() const { return solver_->name(); }
+  // The factorisation of the last Newton tangent: "block_lu", or the sparse solver's name.
+  const char* solver_name() const;
 
  private:
+  bool uses_block_lu() const { return kind_ == SolverKind::automatic; }
+  // The sparse pattern of the layout, where not yet recorded (the sparse path is taken).
   void record_pattern();
-  // The blocks' tangents at `in` into matrix_, their residuals into `residual`.
+  // The blocks' tangents at `in` into tangents_, their residuals into `residual`.
   void assemble(const LoadedInputs& in, VecX& residual, bool with_tangent);
+  // tangents_ into matrix_.
+  void scatter();
   // scaled_ = S_r·matrix_·S_c.
   void scale(const Equilibration& scaling);
+  // b − J·x, per column, and the backward errors' largest.
+  double backward_error(const MatX& b, const MatX& x, MatX& residual) const;
 
   SolverKind kind_;
   const std::vector<std::unique_ptr<LoadedBlock>>* blocks_ = nullptr;
   Index n_ = 0;
-  // Per block: its rows, its number of ends and the ends; the pattern is recorded for these.
+  // Per block: its rows, its number of ends and the ends; the analyses are made for these.
   std::vector<int> layout_;
   std::vector<Index> first_row_;
-  // Where each entry of every block's tangent (in the order of the blocks, each column-major)
-  // goes in the compressed matrix's values.
+  std::vector<MatX> tangents_;  // per block, as LoadedBlock::evaluate writes it
+  BlockLU block_lu_;
+  bool newton_by_block_lu_ = false;  // whether the last Newton tangent was factorised by it
+  // The sparse path. Where each entry of every block's tangent (in the order of the blocks,
+  // each column-major) goes in the compressed matrix's values; empty until the path is taken.
   std::vector<int> positions_;
   SparseMatrix matrix_, scaled_;
-  MatX block_tangent_;
   std::optional<Equilibration> scaling_;  // the Newton tangents', from their reference
   std::unique_ptr<LinearSolver> solver_;
   std::optional<Equilibration> unloaded_scaling_;
   std::unique_ptr<LinearSolver> unloaded_solver_;
 };
+
+// The loaded blocks of `model`: its links' (in their order), then its connection groups'
+// (topology.groups' order); `along`: per link, its loads along the link.
+std::vector<std::unique_ptr<LoadedBlock>> make_loaded_blocks(
+    const Model& model, const Topology& topology,
+    const std::vector<std::vector<LoadAlongLink>>& along);
 
 // The external wrench at every link end (global axes, moment about the end) of the model's own
 // `loads`: the unnamed load case's end loads.

@@ -18,7 +18,7 @@ const Entry& named(const std::vector<Entry>& entries, std::string_view name, con
   throw NameError(kind, std::string(name), names);
 }
 
-constexpr std::array<std::pair<SolverUsed, const char*>, 7> kSolverUsedNames{{
+constexpr std::array<std::pair<SolverUsed, const char*>, 8> kSolverUsedNames{{
     {SolverUsed::none, ""},
     {SolverUsed::tree, "tree"},
     {SolverUsed::tree_with_cuts, "tree_with_cuts"},
@@ -26,6 +26,7 @@ constexpr std::array<std::pair<SolverUsed, const char*>, 7> kSolverUsedNames{{
     {SolverUsed::klu, "klu"},
     {SolverUsed::sparse_lu, "sparse_lu"},
     {SolverUsed::umfpack, "umfpack"},
+    {SolverUsed::block_lu, "block_lu"},
 }};
 }  // namespace
 

@@ -1,0 +1,96 @@
+#pragma once
+// A block LU with partial pivoting for square matrices written as dense row blocks over groups
+// of 12 columns (docs/theory.md §15.10): the loaded mode's tangent, whose blocks are the element
+// blocks' rows and whose column groups are the link ends. It eliminates one column group at a
+// time, in an order fixed per layout (a greedy least-front order, leaves first on a tree): the
+// rows of every block touching the group, original or left by earlier steps, make one dense
+// front; its 12 columns are factorised with partial pivoting over all the front's rows, and the
+// rows not chosen, updated, become a block over the front's other groups. The pivots and the
+// row order give the determinant's sign.
+#include <vector>
+
+#include "stiffmsa/types.hpp"
+
+namespace stiffmsa::detail {
+
+using Index = Eigen::Index;
+
+// The columns per group: a link end's δx, δθ, δW.
+inline constexpr int kBlockColumns = 12;
+// A pivot below this, on a matrix whose columns and rows are scaled to a largest entry near 1,
+// has lost ten digits to cancellation: the matrix is singular to within the rounding of its
+// entries' computation, and the factors are not trusted (the caller falls back on a solver that
+// equilibrates and pivots over the whole matrix).
+inline constexpr double kBlockLuTinyPivot = 1e-10;
+
+// The blocks of a matrix, in the order of its rows: block b has `rows[b]` rows and touches the
+// column groups `groups[b]` (each 12 columns, group g at columns 12·g …). Its values are a
+// rows[b] × 12·groups[b].size() column-major matrix, 12 columns per group in that order.
+struct BlockLayout {
+  int group_count = 0;
+  std::vector<int> rows;
+  std::vector<std::vector<int>> groups;
+};
+
+class BlockLU {
+ public:
+  enum class Outcome {
+    factorised,
+    // A pivot below kBlockLuTinyPivot of its (equilibrated) column's size: near-singular; the
+    // factors are not usable.
+    tiny_pivot,
+    // Fewer rows than columns meet at some step, or an exact zero pivot.
+    singular,
+  };
+
+  // The elimination order and every step's front for `layout`; kept while it stays the same.
+  void analyze(const BlockLayout& layout);
+  const BlockLayout& layout() const { return layout_; }
+
+  // Factorises the matrix with the given blocks' values (layout().rows[b] ×
+  // 12·layout().groups[b].size() each). Rows and columns are scaled by powers of two first
+  // (the largest entry of each column, then of each row, near 1).
+  Outcome factorise(const std::vector<MatX>& values);
+
+  // Solves the last factorised matrix for the columns of b, in place.
+  void solve(MatX& b) const;
+
+  // The sign of the last factorised matrix's determinant (+1 or −1).
+  double determinant_sign() const { return sign_; }
+  // The smallest pivot of the last factorisation over its column's size after equilibration.
+  double smallest_pivot() const { return smallest_pivot_; }
+
+ private:
+  // Where a block's rows come from in a front: an original block (`source` < 0: block
+  // −source−1) or the rows a step left (`source`: that step).
+  struct Part {
+    int source = 0;
+    int first_row = 0;  // in the front
+    int rows = 0;
+    std::vector<int> column_groups;  // per group of the part, its place in the front's groups
+  };
+  struct Step {
+    int group = 0;            // the column group eliminated
+    std::vector<int> groups;  // the front's groups: `group` first, then the others
+    std::vector<Part> parts;
+    int rows = 0;
+    MatX front;                // after factorisation: L, U and the rows left
+    std::vector<int> pivots;   // row swaps, LAPACK style (12)
+    std::vector<int> row_ids;  // the matrix's row of each front row, after the swaps
+  };
+
+  BlockLayout layout_;
+  bool structurally_singular_ = false;
+  int n_ = 0;
+  std::vector<int> first_row_;  // per block
+  std::vector<Step> steps_;
+  int column_parity_ = 1;  // of the column order of the elimination
+  VecX row_scale_, column_scale_;
+  double sign_ = 0;
+  double smallest_pivot_ = 0;
+  // The solve's right-hand side of each step's front, reduced: its 12 pivot rows, then the
+  // rows it leaves to a later step.
+  mutable std::vector<MatX> rhs_;
+};
+
+}  // namespace stiffmsa::detail

@@ -1,0 +1,313 @@
+// The block LU of the loaded mode's tangent (src/solver/block_lu.hpp, docs/theory.md §15.10)
+// against Eigen's dense LU with partial pivoting: on random matrices with the loaded tangent's
+// block layouts (a serial chain, closed loops), on the loaded tangents of the examples, on
+// singular and near-singular matrices, and across a change of layout; and the loaded mode's
+// determinant sign of the unloaded tangent against KLU's on every example and test model.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "analysis/loaded_mode.hpp"
+#include "assembly/topology.hpp"
+#include "solver/block_lu.hpp"
+#include "stiffmsa/io/model_file.hpp"
+
+namespace stiffmsa::detail {
+namespace {
+
+// The block LU's solutions agree with the exact ones to this (relative, ∞-norm), or to what
+// the dense LU's condition allows.
+constexpr double kAgreement = 1e-12;
+// Two backward-stable solves of an ill-conditioned matrix lose about as many digits, the
+// rounding deciding which loses more: within this factor of each other.
+constexpr double kSameDigits = 10;
+// A backward-stable solve leaves a normwise backward error of a few rounding units.
+constexpr double kBackwardStable = 1e-15;
+// Models with more unknowns are not compared with a dense factorisation.
+constexpr Index kLargestDense = 2000;
+
+// A layout built as the loaded mode builds its tangent: per link its 12 rows over its two ends,
+// per joint 6 rows per end over its ends, per support 6 rows per end, per free end 6 rows.
+struct LayoutBuilder {
+  BlockLayout layout;
+  void block(int rows, std::vector<int> groups) {
+    layout.rows.push_back(rows);
+    layout.groups.push_back(std::move(groups));
+  }
+  void link(int from, int to) { block(12, {from, to}); }
+  void connection(const std::vector<int>& ends) { block(6 * static_cast<int>(ends.size()), ends); }
+};
+
+// A serial arm of `links` links on one support: ends 2l, 2l+1; joints between links.
+BlockLayout chain(int links) {
+  LayoutBuilder b;
+  b.layout.group_count = 2 * links;
+  for (int l = 0; l < links; ++l) b.link(2 * l, 2 * l + 1);
+  b.connection({0});
+  for (int l = 0; l + 1 < links; ++l) b.connection({2 * l + 1, 2 * l + 2});
+  b.connection({2 * links - 1});  // the free tip
+  return b.layout;
+}
+
+// Three legs of two links each from three supports to one platform link end each, the three
+// platform ends joined by one joint: closed loops through the ground.
+BlockLayout three_legs() {
+  LayoutBuilder b;
+  b.layout.group_count = 12;  // per leg 4 ends: 4k … 4k+3
+  for (int k = 0; k < 3; ++k) {
+    b.link(4 * k, 4 * k + 1);
+    b.link(4 * k + 2, 4 * k + 3);
+  }
+  for (int k = 0; k < 3; ++k) {
+    b.connection({4 * k});
+    b.connection({4 * k + 1, 4 * k + 2});
+  }
+  b.connection({3, 7, 11});
+  return b.layout;
+}
+
+std::vector<MatX> random_values(const BlockLayout& layout, std::mt19937& random) {
+  std::uniform_real_distribution<double> entry(-1.0, 1.0), decade(-4.0, 4.0);
+  // Rows and columns of many decades, as stiffness entries beside identities: the block LU's
+  // equilibration takes them out.
+  VecX column_size(12 * layout.group_count);
+  for (Index j = 0; j < column_size.size(); ++j) column_size(j) = std::pow(10.0, decade(random));
+  std::vector<MatX> values;
+  for (std::size_t b = 0; b < layout.rows.size(); ++b) {
+    MatX v(layout.rows[b], 12 * static_cast<Index>(layout.groups[b].size()));
+    for (Index i = 0; i < v.rows(); ++i) {
+      const double row_size = std::pow(10.0, decade(random));
+      for (Index j = 0; j < v.cols(); ++j)
+        v(i, j) = row_size * column_size(12 * layout.groups[b][j / 12] + j % 12) * entry(random);
+    }
+    values.push_back(std::move(v));
+  }
+  return values;
+}
+
+MatX dense(const BlockLayout& layout, const std::vector<MatX>& values) {
+  const Index n = 12 * layout.group_count;
+  MatX a = MatX::Zero(n, n);
+  Index row = 0;
+  for (std::size_t b = 0; b < layout.rows.size(); ++b) {
+    for (std::size_t k = 0; k < layout.groups[b].size(); ++k)
+      a.block(row, 12 * layout.groups[b][k], layout.rows[b], 12) +=
+          values[b].middleCols(12 * static_cast<Index>(k), 12);
+    row += layout.rows[b];
+  }
+  return a;
+}
+
+double relative_difference(const MatX& x, const MatX& reference) {
+  return (x - reference).cwiseAbs().maxCoeff() / reference.cwiseAbs().maxCoeff();
+}
+
+// b − A·x with the products summed in long double.
+MatX residual_extended(const MatX& a, const MatX& x, const MatX& b) {
+  MatX r(b.rows(), b.cols());
+  for (Index c = 0; c < b.cols(); ++c)
+    for (Index i = 0; i < a.rows(); ++i) {
+      long double sum = b(i, c);
+      for (Index j = 0; j < a.cols(); ++j)
+        sum -= static_cast<long double>(a(i, j)) * static_cast<long double>(x(j, c));
+      r(i, c) = static_cast<double>(sum);
+    }
+  return r;
+}
+
+// ‖b − A·x‖∞ / (‖A‖∞·‖x‖∞ + ‖b‖∞), the largest over the columns.
+double backward_error(const MatX& a, const MatX& x, const MatX& b) {
+  const MatX r = residual_extended(a, x, b);
+  const double a_norm = a.cwiseAbs().rowwise().sum().maxCoeff();
+  double largest = 0;
+  for (Index c = 0; c < b.cols(); ++c)
+    largest = std::max(
+        largest, r.col(c).cwiseAbs().maxCoeff() /
+                     (a_norm * x.col(c).cwiseAbs().maxCoeff() + b.col(c).cwiseAbs().maxCoeff()));
+  return largest;
+}
+
+// The block LU's solution and determinant sign against the dense LU's, on the matrix of
+// `values` (regular). The reference solution is the dense LU's refined with residuals in
+// extended precision, so that it holds the digits the matrix's condition allows: the block LU's
+// solution must be as close to it as kAgreement, or as the dense LU's own unrefined solution
+// (both lose about the condition number times the rounding unit), and backward stable.
+void expect_as_dense(BlockLU& lu, const std::vector<MatX>& values, std::mt19937& random,
+                     const std::string& what) {
+  const MatX a = dense(lu.layout(), values);
+  ASSERT_EQ(lu.factorise(values), BlockLU::Outcome::factorised) << what;
+  const Eigen::PartialPivLU<MatX> reference(a);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  MatX b(a.rows(), 3);
+  for (Index i = 0; i < b.size(); ++i) b.data()[i] = entry(random);
+  MatX x = b;
+  lu.solve(x);
+  const MatX dense_solution = reference.solve(b);
+  MatX exact = dense_solution;
+  for (int step = 0; step < 3; ++step) exact += reference.solve(residual_extended(a, exact, b));
+  EXPECT_LE(relative_difference(x, exact),
+            std::max(kAgreement, kSameDigits * relative_difference(dense_solution, exact)))
+      << what;
+  EXPECT_LT(backward_error(a, x, b), kBackwardStable) << what;
+  const double determinant = reference.determinant();
+  EXPECT_EQ(lu.determinant_sign(), determinant > 0 ? 1.0 : -1.0) << what;
+}
+
+TEST(BlockLU, RandomChainsAndLoopsAsDenseLU) {
+  std::mt19937 random(20261126);
+  for (const auto& [name, layout] : {std::pair{std::string("chain of 1"), chain(1)},
+                                     std::pair{std::string("chain of 7"), chain(7)},
+                                     std::pair{std::string("three legs"), three_legs()}}) {
+    BlockLU lu;
+    lu.analyze(layout);
+    for (int trial = 0; trial < 20; ++trial)
+      expect_as_dense(lu, random_values(layout, random), random,
+                      name + ", trial " + std::to_string(trial));
+  }
+}
+
+TEST(BlockLU, LayoutChangesBetweenFactorisations) {
+  std::mt19937 random(7);
+  BlockLU lu;
+  for (const BlockLayout& layout : {chain(3), three_legs(), chain(3), chain(5)}) {
+    lu.analyze(layout);
+    expect_as_dense(lu, random_values(layout, random), random,
+                    "layout of " + std::to_string(layout.group_count) + " ends");
+  }
+}
+
+TEST(BlockLU, SingularAndNearSingularDetected) {
+  std::mt19937 random(11);
+  const BlockLayout layout = chain(4);
+  BlockLU lu;
+  lu.analyze(layout);
+  // Two rows of one block the same: exactly singular (a zero pivot, or one at rounding level).
+  std::vector<MatX> values = random_values(layout, random);
+  values[2].row(5) = values[2].row(3);
+  EXPECT_NE(lu.factorise(values), BlockLU::Outcome::factorised);
+  // Dependent to 1e-13: the matrix is singular within the rounding of its entries.
+  values[2].row(5) = values[2].row(3) * (1 + 1e-13);
+  EXPECT_EQ(lu.factorise(values), BlockLU::Outcome::tiny_pivot);
+  // A zero column (a link end nothing acts on).
+  values = random_values(layout, random);
+  for (std::size_t b = 0; b < layout.rows.size(); ++b)
+    for (std::size_t k = 0; k < layout.groups[b].size(); ++k)
+      if (layout.groups[b][k] == 3) values[b].col(12 * static_cast<Index>(k) + 4).setZero();
+  EXPECT_EQ(lu.factorise(values), BlockLU::Outcome::singular);
+  // Fewer rows than unknowns at a link end: structurally singular.
+  LayoutBuilder short_of_rows;
+  short_of_rows.layout.group_count = 2;
+  short_of_rows.block(6, {0});
+  short_of_rows.block(6, {1});
+  short_of_rows.block(12, {1});
+  lu.analyze(short_of_rows.layout);
+  EXPECT_EQ(lu.factorise(random_values(short_of_rows.layout, random)), BlockLU::Outcome::singular);
+}
+
+std::vector<std::string> model_files() {
+  std::vector<std::string> files;
+  for (const char* folder : {"/examples", "/examples/robots", "/tests/data/frame3dd"}) {
+    const std::filesystem::path path = std::string(STIFFMSA_SOURCE_DIR) + folder;
+    if (!std::filesystem::is_directory(path)) continue;
+    for (const auto& entry : std::filesystem::directory_iterator(path))
+      if (entry.path().extension() == ".yaml") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// The loaded blocks' values at the unloaded pose under the model's loads (`factor` of them).
+std::vector<MatX> loaded_values(const Model& model, const Topology& topology,
+                                const std::vector<std::unique_ptr<LoadedBlock>>& blocks,
+                                double factor) {
+  std::vector<EndState> ends(static_cast<std::size_t>(topology.end_count()));
+  for (int e = 0; e < topology.end_count(); ++e)
+    ends[static_cast<std::size_t>(e)].position =
+        model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(e)])]
+            .position;
+  std::vector<Vec6> external = end_loads(model, topology);
+  for (Vec6& w : external) w *= factor;
+  std::vector<MatX> values(blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    VecX residual(blocks[b]->equation_count());
+    blocks[b]->evaluate(LoadedInputs{ends, external, factor}, residual, &values[b]);
+  }
+  return values;
+}
+
+BlockLayout layout_of(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, int ends) {
+  BlockLayout layout;
+  layout.group_count = ends;
+  for (const auto& b : blocks) {
+    layout.rows.push_back(static_cast<int>(b->equation_count()));
+    layout.groups.push_back(b->ends());
+  }
+  return layout;
+}
+
+TEST(BlockLU, LoadedTangentsOfTheExamplesAsDenseLU) {
+  std::mt19937 random(3);
+  int checked = 0;
+  for (const std::string& file : model_files()) {
+    Model model;
+    try {
+      model = load_model(file);
+    } catch (const Error&) {
+      continue;  // a parametric family, or a model of the invalid corpus
+    }
+    const Topology topology = build_topology(model);
+    if (topology.unknowns() > kLargestDense) continue;
+    const auto blocks = make_loaded_blocks(
+        model, topology, std::vector<std::vector<LoadAlongLink>>(model.links.size()));
+    BlockLU lu;
+    lu.analyze(layout_of(blocks, topology.end_count()));
+    for (double factor : {0.0, 1.0}) {
+      const std::vector<MatX> values = loaded_values(model, topology, blocks, factor);
+      // A mechanism's tangent (the planar robots' out-of-plane motions) is singular.
+      if (lu.factorise(values) != BlockLU::Outcome::factorised) continue;
+      expect_as_dense(lu, values, random, file + " at load factor " + std::to_string(factor));
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 10);
+}
+
+// The loaded mode's sign of the unloaded tangent (the critical-point check): by the block LU
+// as by KLU on every example and test model.
+TEST(BlockLU, UnloadedDeterminantSignAsKlu) {
+  if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "built without KLU";
+  int checked = 0;
+  for (const std::string& file : model_files()) {
+    Model model;
+    try {
+      model = load_model(file);
+    } catch (const Error&) {
+      continue;
+    }
+    const Topology topology = build_topology(model);
+    const auto blocks = make_loaded_blocks(
+        model, topology, std::vector<std::vector<LoadAlongLink>>(model.links.size()));
+    std::vector<EndState> ends(static_cast<std::size_t>(topology.end_count()));
+    for (int e = 0; e < topology.end_count(); ++e)
+      ends[static_cast<std::size_t>(e)].position =
+          model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(e)])]
+              .position;
+    const std::vector<Vec6> none(ends.size(), Vec6::Zero());
+    LoadedTangent block(SolverKind::automatic), klu(SolverKind::klu);
+    block.begin(blocks, topology.unknowns());
+    klu.begin(blocks, topology.unknowns());
+    const double sign = block.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0});
+    EXPECT_EQ(sign, klu.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0})) << file;
+    block.end();
+    klu.end();
+    if (sign != 0) ++checked;
+  }
+  EXPECT_GE(checked, 10);
+}
+
+}  // namespace
+}  // namespace stiffmsa::detail
