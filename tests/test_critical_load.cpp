@@ -392,6 +392,86 @@ TEST(CriticalLoad, WristTurnedByItsPostMatchesTheEnergyHessian) {
   EXPECT_NEAR(*r.critical_load->factor / exact, 1.0, 1e-12);
 }
 
+// ---- a workspace's poses and sweeps ---------------------------------------------------------
+
+// The tripteron at its default pose and two more: members of one structure.
+std::vector<Model> tripteron_poses() {
+  const ModelFamily family =
+      load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron-parametric.yaml");
+  std::vector<Model> poses;
+  for (const Vec3& p : {Vec3(0.32, 0.28, 0.30), Vec3(0.35, 0.25, 0.28), Vec3(0.29, 0.31, 0.33)}) {
+    std::vector<double> values = family.default_values();
+    values[*family.find_parameter("px")] = p.x();
+    values[*family.find_parameter("py")] = p.y();
+    values[*family.find_parameter("pz")] = p.z();
+    poses.push_back(family.build(values));
+  }
+  return poses;
+}
+
+void expect_same_critical_load(const Result& reused, const Result& alone) {
+  ASSERT_TRUE(reused.critical_load && reused.critical_load->factor);
+  ASSERT_TRUE(alone.critical_load && alone.critical_load->factor);
+  EXPECT_NEAR(*reused.critical_load->factor / *alone.critical_load->factor, 1.0, 1e-12);
+  EXPECT_EQ(reused.critical_load->mode, alone.critical_load->mode);
+}
+
+// A workspace's solve lends the critical load its blocks, tree order and buffers
+// (CriticalLoadReuse): each pose gets the factor and mode of its own one-shot solve, whatever
+// was solved before it, in the linear mode and in the loaded one (which finds it unasked).
+TEST(CriticalLoad, AWorkspaceOfManyPosesGivesEachPoseItsOneShotFactor) {
+  const std::vector<Model> poses = tripteron_poses();
+  SolveOptions loaded;
+  loaded.mode = AnalysisMode::loaded;
+  for (const SolveOptions& options : {with_critical_load(), loaded}) {
+    Workspace workspace(poses.front());
+    for (int round = 0; round < 2; ++round)
+      for (const Model& pose : poses)
+        expect_same_critical_load(solve(workspace, pose, options), solve(pose, options));
+  }
+}
+
+// Where the linear solve factorises (a frame), each load case's factor too.
+TEST(CriticalLoad, AFrameSolvedTwiceInItsWorkspaceGivesTheOneShotFactors) {
+  const Model frame =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/portal-frame-load-cases.yaml");
+  const Result alone = solve(frame, with_critical_load());
+  ASSERT_FALSE(alone.load_cases.empty());
+  Workspace workspace(frame);
+  for (int round = 0; round < 2; ++round) {
+    const Result reused = solve(workspace, frame, with_critical_load());
+    expect_same_critical_load(reused, alone);
+    ASSERT_EQ(reused.load_cases.size(), alone.load_cases.size());
+    for (std::size_t c = 0; c < alone.load_cases.size(); ++c)
+      expect_same_critical_load(reused.load_cases[c], alone.load_cases[c]);
+  }
+}
+
+// A sweep keeps no critical load factor, so its workspaces skip it (skip_critical_loads): its
+// loaded poses are measured as the solves that find it measure them.
+TEST(CriticalLoad, ASweepSkipsItAndMeasuresItsPosesAsTheSolvesThatFindIt) {
+  const std::vector<Model> poses = tripteron_poses();
+  const Structure structure(poses.front());
+  std::vector<double> sets;
+  for (const Model& pose : poses) {
+    const std::vector<double> values = structure.values_of(pose);
+    sets.insert(sets.end(), values.begin(), values.end());
+  }
+  SweepOptions options;
+  options.solve.mode = AnalysisMode::loaded;
+  options.keep_matrices = true;
+  options.threads = 1;
+  const std::vector<PoseResult> swept = solve_poses(structure, sets, options);
+  ASSERT_EQ(swept.size(), poses.size());
+  Workspace workspace(structure);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Result solved = solve(workspace, structure.values_of(poses[i]), options.solve);
+    ASSERT_TRUE(solved.critical_load && solved.critical_load->factor);
+    ASSERT_EQ(swept[i].status, PoseStatus::ok) << swept[i].message;
+    EXPECT_EQ(*swept[i].end_effectors[0].compliance, *solved.end_effectors[0].compliance);
+  }
+}
+
 // ---- kernels ---------------------------------------------------------------------------------
 
 // A rotation by the rotation vector v (Rodrigues).

@@ -319,11 +319,24 @@ std::optional<RightmostEigen> rightmost_by_arnoldi(const std::function<VecX(cons
 // the sum of the columns weighed alike, as the linear solve checks its own.
 class UnloadedSolves {
  public:
-  UnloadedSolves(const Topology& topology, const Blocks& blocks, const SolveOptions& options)
-      : topology_(topology), blocks_(blocks), options_(options) {
-    if (options.solver == SolverKind::automatic && passes_tree(blocks))
-      tree_ = tree_order(topology);
+  // `tree`, `scratch`: the workspace's tree order and buffers (CriticalLoadReuse), or null.
+  UnloadedSolves(const Topology& topology, const Blocks& blocks, const SolveOptions& options,
+                 const TreeOrder* tree, TreeScratch* scratch)
+      : topology_(topology),
+        blocks_(blocks),
+        options_(options),
+        scratch_(scratch ? *scratch : own_scratch_) {
+    if (options.solver != SolverKind::automatic || !passes_tree(blocks)) return;
+    if (!tree) {
+      own_tree_ = tree_order(topology);
+      if (own_tree_) tree = &*own_tree_;
+    }
+    tree_ = tree;
   }
+  // A long model's buffers are not kept in the workspace.
+  ~UnloadedSolves() { scratch_.release_large(); }
+  UnloadedSolves(const UnloadedSolves&) = delete;
+  UnloadedSolves& operator=(const UnloadedSolves&) = delete;
 
   // The wrenches of a solve, a column per load (no preload: these are no load case); fill with
   // external().add, then solve.
@@ -337,7 +350,7 @@ class UnloadedSolves {
   std::optional<MatX> solve() {
     if (tree_) {
       if (std::optional<MatX> x = solve_on_tree()) return x;
-      tree_.reset();  // too many cuts, or ill-conditioned: the factorising solve decides
+      tree_ = nullptr;  // too many cuts, or ill-conditioned: the factorising solve decides
     }
     if (!system_ && !factorise()) return std::nullopt;
     MatX rhs = MatX::Zero(topology_.unknowns(), external_.columns());
@@ -390,8 +403,10 @@ class UnloadedSolves {
   const Topology& topology_;
   const Blocks& blocks_;
   const SolveOptions& options_;
-  std::optional<TreeOrder> tree_;
-  TreeScratch scratch_;
+  std::optional<TreeOrder> own_tree_;
+  const TreeOrder* tree_ = nullptr;
+  TreeScratch own_scratch_;
+  TreeScratch& scratch_;
   EndWrenches external_, check_external_;
   RowMajorMatX check_x_;
   std::unique_ptr<Assembler> assembler_;
@@ -477,6 +492,7 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   // Gaussian elimination with complete pivoting, stopped where the largest entry left is below
   // kLoadTermRank of the first pivot: then P·a·Q = L_ρ·U_ρ to that fraction.
   const Index r = a.rows();
+  if (!a.allFinite()) return std::nullopt;
   MatX m = a;
   std::vector<Index> row_order(static_cast<std::size_t>(r)), column_order(row_order.size());
   for (Index i = 0; i < r; ++i) row_order[static_cast<std::size_t>(i)] = i;
@@ -484,15 +500,18 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   Index rank = 0;
   double first_pivot = 0;
   for (; rank < r; ++rank) {
+    // The largest entry left, the first of its size column by column: each column's largest
+    // (a vectorised pass), then its row in the column that holds it.
     Index pivot_row = rank, pivot_column = rank;
     double pivot = -1;
-    for (Index j = rank; j < r; ++j)
-      for (Index i = rank; i < r; ++i)
-        if (std::abs(m(i, j)) > pivot) {
-          pivot = std::abs(m(i, j));
-          pivot_row = i;
-          pivot_column = j;
-        }
+    for (Index j = rank; j < r; ++j) {
+      const double largest = m.col(j).tail(r - rank).cwiseAbs().maxCoeff();
+      if (largest > pivot) {
+        pivot = largest;
+        pivot_column = j;
+      }
+    }
+    while (std::abs(m(pivot_row, pivot_column)) != pivot) ++pivot_row;
     if (rank == 0) first_pivot = pivot;
     if (!(pivot > kLoadTermRank * first_pivot)) break;
     m.row(rank).swap(m.row(pivot_row));
@@ -535,8 +554,11 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,
                            const Result& result, const std::vector<Vec6>& end_loads,
-                           std::vector<std::string>& notes, EigenMethod method) {
-  const Blocks blocks = make_blocks(model, topology, locks);
+                           std::vector<std::string>& notes, EigenMethod method,
+                           const CriticalLoadReuse& reuse) {
+  Blocks own_blocks;
+  if (!reuse.blocks) own_blocks = make_blocks(model, topology, locks);
+  const Blocks& blocks = reuse.blocks ? *reuse.blocks : own_blocks;
   std::vector<LoadTerm> terms;
   if (!gather_load_terms(model, topology, blocks, result, end_loads, terms)) {
     notes.push_back(
@@ -577,7 +599,7 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
   // The eigenproblem Δt = F·(−λ·K_L·Δt), F the nodes' deflections under unit wrenches at the
   // nodes: the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ are μ = 0 here,
   // below kLeastLoadEigenvalue of the largest |μ|.
-  UnloadedSolves solves(topology, blocks, options);
+  UnloadedSolves solves(topology, blocks, options, reuse.tree, reuse.scratch);
   const LoadDirections directions = load_directions(nodes, placed);
   const Index r = directions.count;
   std::optional<RightmostEigen> rightmost;
@@ -684,23 +706,25 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
 
 void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<SpinLock>& locks, const SolveOptions& options,
-                        const std::vector<CaseLoads>& cases, Result& result) {
+                        const std::vector<CaseLoads>& cases, Result& result,
+                        const CriticalLoadReuse& reuse) {
   // The cases in the order case_loads gives them: the unnamed one where there is one, then
   // the named ones, as Result holds them (the self-weight column after them is no case).
   const bool unnamed = has_unnamed_case(model);
   const std::size_t first_named = unnamed ? 1 : 0;
   for (std::size_t c = 0; c < result.load_cases.size(); ++c) {
     Result& case_result = result.load_cases[c];
-    case_result.critical_load =
-        critical_load(model, topology, locks, options, case_result,
-                      cases[first_named + c].applied_at_ends(), case_result.report.notes);
+    case_result.critical_load = critical_load(
+        model, topology, locks, options, case_result, cases[first_named + c].applied_at_ends(),
+        case_result.report.notes, EigenMethod::automatic, reuse);
   }
   if (!unnamed && !result.load_cases.empty()) {
     result.critical_load = result.load_cases.front().critical_load;
     return;
   }
-  result.critical_load = critical_load(model, topology, locks, options, result,
-                                       cases.front().applied_at_ends(), result.report.notes);
+  result.critical_load =
+      critical_load(model, topology, locks, options, result, cases.front().applied_at_ends(),
+                    result.report.notes, EigenMethod::automatic, reuse);
 }
 
 }  // namespace stiffmsa::detail
