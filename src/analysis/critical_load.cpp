@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <span>
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
@@ -30,7 +31,7 @@ struct LoadTerm {
   Mat6 block;
 };
 
-void add_terms(const MatX& k, const std::vector<int>& ends, std::vector<LoadTerm>& terms) {
+void add_terms(const MatX& k, std::span<const int> ends, std::vector<LoadTerm>& terms) {
   for (std::size_t a = 0; a < ends.size(); ++a)
     for (std::size_t b = 0; b < ends.size(); ++b) {
       const Mat6 block = k.block<6, 6>(6 * static_cast<Index>(a), 6 * static_cast<Index>(b));
@@ -49,6 +50,7 @@ bool gather_load_terms(const Model& model, const Topology& topology, const Block
                        const Result& result, const std::vector<Vec6>& external,
                        std::vector<LoadTerm>& terms) {
   std::vector<Vec6> wrench(static_cast<std::size_t>(topology.end_count()));
+  terms.reserve(4 * model.links.size());
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const LinkResult& r = result.links[l];
     if (!r.from.wrench || !r.to.wrench) return false;
@@ -57,25 +59,26 @@ bool gather_load_terms(const Model& model, const Topology& topology, const Block
   }
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l), to = from + 1;
+    const int ends[] = {from, to};
     const Vec3 &p_from = end_position(model, topology, from),
                &p_to = end_position(model, topology, to);
     const Vec6 &w_from = wrench[static_cast<std::size_t>(from)],
                &w_to = wrench[static_cast<std::size_t>(to)];
     if (const auto* beam = std::get_if<BeamLink>(&model.links[l].kind)) {
       const double n = beam_axial_force(p_from, p_to, w_from.head<3>(), w_to.head<3>());
-      if (n != 0)
-        add_terms(beam_global_geometric_stiffness(*beam, p_from, p_to, n), {from, to}, terms);
+      if (n != 0) add_terms(beam_global_geometric_stiffness(*beam, p_from, p_to, n), ends, terms);
     } else if (!w_to.head<3>().isZero(0)) {
-      add_terms(chord_load_stiffness(w_to.head<3>()), {from, to}, terms);
+      add_terms(chord_load_stiffness(w_to.head<3>()), ends, terms);
     }
   }
+  std::vector<Vec6> reactions;
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const ConnectionGroup& group = topology.groups[g];
     if (group.kind != ConnectionGroup::Kind::joint) continue;
     const FreeDirections* directions =
         blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
     if (!directions || directions->p == 0) continue;
-    std::vector<Vec6> reactions;
+    reactions.clear();
     for (int end : group.ends)
       reactions.push_back(wrench[static_cast<std::size_t>(end)] -
                           external[static_cast<std::size_t>(end)]);
@@ -586,6 +589,7 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
   Vec6 weight = Vec6::Ones();
   weight.tail<3>().setConstant(length);
   std::vector<std::pair<std::pair<int, int>, Mat6>> placed;
+  placed.reserve(terms.size());
   for (const LoadTerm& term : terms) {
     const int row = node(term.row_end), column = node(term.column_end);
     if (row >= 0 && column >= 0)
