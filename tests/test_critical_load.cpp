@@ -447,6 +447,69 @@ TEST(CriticalLoad, AFrameSolvedTwiceInItsWorkspaceGivesTheOneShotFactors) {
   }
 }
 
+// The tripteron's tree solve cuts 21 unknowns: a second tree solve on the same blocks, of other
+// columns, that takes the first one's factorised cut system (tree_solve_with_cut_system_of)
+// gives the solution of a tree solve of its own, at each pose.
+TEST(CriticalLoad, TheLinearSolvesCutSystemSolvesOtherColumnsAsATreeSolveOfTheirOwn) {
+  for (const Model& pose : tripteron_poses()) {
+    const detail::Topology topology = detail::build_topology(pose);
+    const detail::Blocks blocks = detail::make_blocks(pose, topology, {});
+    const std::optional<detail::TreeOrder> order = detail::tree_order(topology);
+    ASSERT_TRUE(order);
+    detail::TreeScratch linear, alone, reused;
+    const std::optional<detail::Index> cuts = detail::tree_solve(
+        blocks, topology, *order, detail::load_cases(pose, topology), 1e-14, linear);
+    ASSERT_TRUE(cuts);
+    EXPECT_EQ(*cuts, 21);
+    // A unit wrench in each direction at every second link end, no preload.
+    detail::EndWrenches external;
+    const detail::Index columns = 6 * ((topology.end_count() + 1) / 2);
+    external.reset(topology.end_count(), columns, 0);
+    for (int end = 0; end < topology.end_count(); end += 2)
+      for (int c = 0; c < 6; ++c) external.add(end, 6 * (end / 2) + c, Vec6::Unit(c));
+    ASSERT_TRUE(detail::tree_solve(blocks, topology, *order, external, 1e-14, alone));
+    const std::optional<detail::Index> reused_cuts =
+        detail::tree_solve_with_cut_system_of(linear, blocks, topology, *order, external, reused);
+    ASSERT_TRUE(reused_cuts);
+    EXPECT_EQ(*reused_cuts, 21);
+    ASSERT_EQ(reused.x.rows(), alone.x.rows());
+    ASSERT_EQ(reused.x.cols(), columns);
+    ASSERT_GT(alone.x.cwiseAbs().maxCoeff(), 0.0);
+    // The same operations on each column: the same numbers.
+    EXPECT_TRUE(reused.x == alone.x);
+    // Nothing to take from a scratch that holds no cut system.
+    detail::TreeScratch empty;
+    EXPECT_FALSE(
+        detail::tree_solve_with_cut_system_of(empty, blocks, topology, *order, external, reused));
+  }
+}
+
+// A workspace's critical load takes the linear solve's cut system (solver "tree_with_cuts"):
+// the very factor and mode of the computation that takes nothing from the solve, at each pose,
+// in the linear mode and the loaded one.
+TEST(CriticalLoad, ThePosesCutSystemGivesTheFactorOfAComputationOfItsOwn) {
+  const std::vector<Model> poses = tripteron_poses();
+  SolveOptions loaded;
+  loaded.mode = AnalysisMode::loaded;
+  for (const SolveOptions& options : {with_critical_load(), loaded}) {
+    Workspace workspace(poses.front());
+    for (const Model& pose : poses) {
+      const Result reused = solve(workspace, pose, options);
+      const Result linear = solve(pose, with_critical_load());
+      ASSERT_EQ(linear.report.solver, SolverUsed::tree_with_cuts);
+      const detail::Topology topology = detail::build_topology(pose);
+      std::vector<std::string> notes;
+      const CriticalLoad alone =
+          detail::critical_load(pose, topology, {}, with_critical_load(), linear,
+                                detail::loads_at_ends(pose, topology), notes);
+      EXPECT_TRUE(notes.empty());
+      ASSERT_TRUE(reused.critical_load && reused.critical_load->factor && alone.factor);
+      EXPECT_EQ(*reused.critical_load->factor, *alone.factor);
+      EXPECT_EQ(reused.critical_load->mode, alone.mode);
+    }
+  }
+}
+
 // A sweep keeps no critical load factor, so its workspaces skip it (skip_critical_loads): its
 // loaded poses are measured as the solves that find it measure them.
 TEST(CriticalLoad, ASweepSkipsItAndMeasuresItsPosesAsTheSolvesThatFindIt) {

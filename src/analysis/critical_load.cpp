@@ -102,14 +102,6 @@ int representative(const Topology& topology, const Blocks& blocks, int end) {
   return welded ? group.ends.front() : end;
 }
 
-// The parts of a mode that move most, in the user's terms.
-struct ModePart {
-  double size = 0;
-  std::string name;  // "link 'column'"
-  std::string singular, plural;
-  double rank = 0;  // the size in steps of kModeTie of the largest
-};
-
 std::string bending_phrase(double about_y, double about_z, double twist, bool plural) {
   const double largest = std::max({about_y, about_z, twist});
   const bool y = about_y >= 0.5 * largest, z = about_z >= 0.5 * largest, t = twist >= 0.5 * largest;
@@ -128,6 +120,21 @@ std::string motion_phrase(double rotation, double slide, bool plural) {
   if (r && s) return plural ? "rotate and slide" : "rotates and slides";
   return r ? (plural ? "rotate" : "rotates") : (plural ? "slide" : "slides");
 }
+
+// The parts of a mode that move most, in the user's terms; their phrases are made only for the
+// parts the description names.
+struct ModePart {
+  double size = 0;
+  const char* kind = "";              // "link", "joint", "support"
+  const std::string* name = nullptr;  // the user's
+  bool bends = false;                 // a link: amounts about_y, about_z, twist
+  double amounts[3] = {0, 0, 0};      // else a joint or support: rotation, slide
+  double rank = 0;                    // the size in steps of kModeTie of the largest
+  std::string phrase(bool plural) const {
+    return bends ? bending_phrase(amounts[0], amounts[1], amounts[2], plural)
+                 : motion_phrase(amounts[0], amounts[1], plural);
+  }
+};
 
 std::optional<Vec3> link_zref(const LinkKind& kind) {
   if (const auto* beam = std::get_if<BeamLink>(&kind)) return beam->zref;
@@ -164,9 +171,7 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     const double twist = std::abs(turn_to.x() - turn_from.x());
     const double size = std::max({about_y, about_z, twist});
     if (size > 0)
-      parts.push_back({size, "link '" + model.links[l].name + "'",
-                       bending_phrase(about_y, about_z, twist, false),
-                       bending_phrase(about_y, about_z, twist, true)});
+      parts.push_back({size, "link", &model.links[l].name, true, {about_y, about_z, twist}});
   }
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const ConnectionGroup& group = topology.groups[g];
@@ -194,9 +199,7 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     const std::string& name = joint ? model.joints[static_cast<std::size_t>(group.source)].name
                                     : model.supports[static_cast<std::size_t>(group.source)].name;
     if (size > 0)
-      parts.push_back({size, (joint ? "joint '" : "support '") + name + "'",
-                       motion_phrase(rotation, slide, false),
-                       motion_phrase(rotation, slide, true)});
+      parts.push_back({size, joint ? "joint" : "support", &name, false, {rotation, slide}});
   }
   if (parts.empty()) return "";
   // Sizes that agree to kModeTie of the largest are equal — a symmetric structure's mirror
@@ -213,7 +216,7 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
   std::map<std::string, std::vector<const ModePart*>> by_phrase;
   for (const ModePart& part : parts) {
     if (part.size < kModeShare * largest) break;
-    const std::string key = part.name.substr(0, part.name.find(' ')) + "|" + part.singular;
+    const std::string key = part.kind + ("|" + part.phrase(false));
     if (!by_phrase.count(key)) order.push_back(key);
     by_phrase[key].push_back(&part);
   }
@@ -225,20 +228,19 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     const std::vector<const ModePart*>& group = by_phrase[order[i]];
     if (i > 0) text << "; ";
     if (group.size() == 1) {
-      text << group.front()->name << ' ' << group.front()->singular;
+      text << group.front()->kind << " '" << *group.front()->name << "' "
+           << group.front()->phrase(false);
       continue;
     }
-    const std::string kind = group.front()->name.substr(0, group.front()->name.find(' '));
-    text << kind << "s ";
+    text << group.front()->kind << "s ";
     constexpr std::size_t kNamed = 3;
     const std::size_t named = std::min(group.size(), kNamed);
     for (std::size_t k = 0; k < named; ++k) {
-      const std::string& name = group[k]->name;
       if (k > 0) text << (k + 1 == named && group.size() <= kNamed ? " and " : ", ");
-      text << name.substr(name.find(' ') + 1);
+      text << '\'' << *group[k]->name << '\'';
     }
     if (group.size() > kNamed) text << " and " << group.size() - kNamed << " more";
-    text << ' ' << group.front()->plural;
+    text << ' ' << group.front()->phrase(true);
   }
   return text.str();
 }
@@ -322,13 +324,15 @@ std::optional<RightmostEigen> rightmost_by_arnoldi(const std::function<VecX(cons
 // the sum of the columns weighed alike, as the linear solve checks its own.
 class UnloadedSolves {
  public:
-  // `tree`, `scratch`: the workspace's tree order and buffers (CriticalLoadReuse), or null.
+  // `reuse`: the workspace's tree order, buffers and the linear solve's cut system, or nulls.
   UnloadedSolves(const Topology& topology, const Blocks& blocks, const SolveOptions& options,
-                 const TreeOrder* tree, TreeScratch* scratch)
+                 const CriticalLoadReuse& reuse)
       : topology_(topology),
         blocks_(blocks),
         options_(options),
-        scratch_(scratch ? *scratch : own_scratch_) {
+        scratch_(reuse.scratch ? *reuse.scratch : own_scratch_),
+        cut_system_(reuse.cut_system) {
+    const TreeOrder* tree = reuse.tree;
     if (options.solver != SolverKind::automatic || !passes_tree(blocks)) return;
     if (!tree) {
       own_tree_ = tree_order(topology);
@@ -376,8 +380,19 @@ class UnloadedSolves {
 
  private:
   std::optional<MatX> solve_on_tree() {
+    if (cut_system_) {
+      if (tree_solve_with_cut_system_of(*cut_system_, blocks_, topology_, *tree_, external_,
+                                        scratch_))
+        if (std::optional<MatX> x = checked_tree_solution()) return x;
+      cut_system_ = nullptr;  // not this model's cut system after all: the tree solve's own
+    }
     if (!tree_solve(blocks_, topology_, *tree_, external_, 1 / options_.warn_condition, scratch_))
       return std::nullopt;
+    return checked_tree_solution();
+  }
+
+  // scratch_.x where it passes the check, as the linear solve's.
+  std::optional<MatX> checked_tree_solution() {
     // The check's one column: every column weighed, with weights that no cancellation of like
     // columns hides.
     const Index columns = external_.columns();
@@ -410,6 +425,7 @@ class UnloadedSolves {
   const TreeOrder* tree_ = nullptr;
   TreeScratch own_scratch_;
   TreeScratch& scratch_;
+  const TreeScratch* cut_system_ = nullptr;
   EndWrenches external_, check_external_;
   RowMajorMatX check_x_;
   std::unique_ptr<Assembler> assembler_;
@@ -603,7 +619,7 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
   // The eigenproblem Δt = F·(−λ·K_L·Δt), F the nodes' deflections under unit wrenches at the
   // nodes: the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ are μ = 0 here,
   // below kLeastLoadEigenvalue of the largest |μ|.
-  UnloadedSolves solves(topology, blocks, options, reuse.tree, reuse.scratch);
+  UnloadedSolves solves(topology, blocks, options, reuse);
   const LoadDirections directions = load_directions(nodes, placed);
   const Index r = directions.count;
   std::optional<RightmostEigen> rightmost;

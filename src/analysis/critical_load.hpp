@@ -31,12 +31,16 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology);
 enum class EigenMethod { automatic, dense, iterative };
 // What the linear solve of the same model lends, so that the critical load repeats none of its
 // work: its blocks (make_blocks of the model, `locks` held), the tree order of its topology, and
-// a tree solve's buffers kept from one pose to the next. Each may be null: it is then made here.
-// The factor and its mode are the same either way.
+// a tree solve's buffers kept from one pose to the next, its cut system. Each may be null: it is
+// then made here. The factor and its mode are the same either way.
 struct CriticalLoadReuse {
   const Blocks* blocks = nullptr;
   const TreeOrder* tree = nullptr;
   TreeScratch* scratch = nullptr;
+  // The linear solve's tree scratch where its tree solve cut and solved the cut system on these
+  // very blocks (solver "tree_with_cuts"): its factorised cut system serves the critical load's
+  // columns (tree_solve_with_cut_system_of).
+  const TreeScratch* cut_system = nullptr;
 };
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,

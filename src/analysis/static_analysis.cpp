@@ -1078,6 +1078,8 @@ void add_critical_load(Workspace& workspace, const Model& model, const SolveOpti
     reuse.blocks = &used.pose_blocks;
   if (used.tree) reuse.tree = &*used.tree;
   reuse.scratch = &used.critical_load_scratch;
+  if (used.tree && result.report.solver == SolverUsed::tree_with_cuts)
+    reuse.cut_system = &used.tree_scratch;
   detail::add_critical_loads(model, used.topology, used.spin_locks, options, cases, result, reuse);
 }
 
