@@ -392,6 +392,149 @@ TEST(CriticalLoad, WristTurnedByItsPostMatchesTheEnergyHessian) {
   EXPECT_NEAR(*r.critical_load->factor / exact, 1.0, 1e-12);
 }
 
+// ---- a workspace's poses and sweeps ---------------------------------------------------------
+
+// The tripteron at its default pose and two more: members of one structure.
+std::vector<Model> tripteron_poses() {
+  const ModelFamily family =
+      load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/tripteron-parametric.yaml");
+  std::vector<Model> poses;
+  for (const Vec3& p : {Vec3(0.32, 0.28, 0.30), Vec3(0.35, 0.25, 0.28), Vec3(0.29, 0.31, 0.33)}) {
+    std::vector<double> values = family.default_values();
+    values[*family.find_parameter("px")] = p.x();
+    values[*family.find_parameter("py")] = p.y();
+    values[*family.find_parameter("pz")] = p.z();
+    poses.push_back(family.build(values));
+  }
+  return poses;
+}
+
+void expect_same_critical_load(const Result& reused, const Result& alone) {
+  ASSERT_TRUE(reused.critical_load && reused.critical_load->factor);
+  ASSERT_TRUE(alone.critical_load && alone.critical_load->factor);
+  EXPECT_NEAR(*reused.critical_load->factor / *alone.critical_load->factor, 1.0, 1e-12);
+  EXPECT_EQ(reused.critical_load->mode, alone.critical_load->mode);
+}
+
+// A workspace's solve lends the critical load its blocks, tree order and buffers
+// (CriticalLoadReuse): each pose gets the factor and mode of its own one-shot solve, whatever
+// was solved before it, in the linear mode and in the loaded one (which finds it unasked).
+TEST(CriticalLoad, AWorkspaceOfManyPosesGivesEachPoseItsOneShotFactor) {
+  const std::vector<Model> poses = tripteron_poses();
+  SolveOptions loaded;
+  loaded.mode = AnalysisMode::loaded;
+  for (const SolveOptions& options : {with_critical_load(), loaded}) {
+    Workspace workspace(poses.front());
+    for (int round = 0; round < 2; ++round)
+      for (const Model& pose : poses)
+        expect_same_critical_load(solve(workspace, pose, options), solve(pose, options));
+  }
+}
+
+// Where the linear solve factorises (a frame), each load case's factor too.
+TEST(CriticalLoad, AFrameSolvedTwiceInItsWorkspaceGivesTheOneShotFactors) {
+  const Model frame =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/portal-frame-load-cases.yaml");
+  const Result alone = solve(frame, with_critical_load());
+  ASSERT_FALSE(alone.load_cases.empty());
+  Workspace workspace(frame);
+  for (int round = 0; round < 2; ++round) {
+    const Result reused = solve(workspace, frame, with_critical_load());
+    expect_same_critical_load(reused, alone);
+    ASSERT_EQ(reused.load_cases.size(), alone.load_cases.size());
+    for (std::size_t c = 0; c < alone.load_cases.size(); ++c)
+      expect_same_critical_load(reused.load_cases[c], alone.load_cases[c]);
+  }
+}
+
+// The tripteron's tree solve cuts 21 unknowns: a second tree solve on the same blocks, of other
+// columns, that takes the first one's factorised cut system (tree_solve_with_cut_system_of)
+// gives the solution of a tree solve of its own, at each pose.
+TEST(CriticalLoad, TheLinearSolvesCutSystemSolvesOtherColumnsAsATreeSolveOfTheirOwn) {
+  for (const Model& pose : tripteron_poses()) {
+    const detail::Topology topology = detail::build_topology(pose);
+    const detail::Blocks blocks = detail::make_blocks(pose, topology, {});
+    const std::optional<detail::TreeOrder> order = detail::tree_order(topology);
+    ASSERT_TRUE(order);
+    detail::TreeScratch linear, alone, reused;
+    const std::optional<detail::Index> cuts = detail::tree_solve(
+        blocks, topology, *order, detail::load_cases(pose, topology), 1e-14, linear);
+    ASSERT_TRUE(cuts);
+    EXPECT_EQ(*cuts, 21);
+    // A unit wrench in each direction at every second link end, no preload.
+    detail::EndWrenches external;
+    const detail::Index columns = 6 * ((topology.end_count() + 1) / 2);
+    external.reset(topology.end_count(), columns, 0);
+    for (int end = 0; end < topology.end_count(); end += 2)
+      for (int c = 0; c < 6; ++c) external.add(end, 6 * (end / 2) + c, Vec6::Unit(c));
+    ASSERT_TRUE(detail::tree_solve(blocks, topology, *order, external, 1e-14, alone));
+    const std::optional<detail::Index> reused_cuts =
+        detail::tree_solve_with_cut_system_of(linear, blocks, topology, *order, external, reused);
+    ASSERT_TRUE(reused_cuts);
+    EXPECT_EQ(*reused_cuts, 21);
+    ASSERT_EQ(reused.x.rows(), alone.x.rows());
+    ASSERT_EQ(reused.x.cols(), columns);
+    ASSERT_GT(alone.x.cwiseAbs().maxCoeff(), 0.0);
+    // The same operations on each column: the same numbers.
+    EXPECT_TRUE(reused.x == alone.x);
+    // Nothing to take from a scratch that holds no cut system.
+    detail::TreeScratch empty;
+    EXPECT_FALSE(
+        detail::tree_solve_with_cut_system_of(empty, blocks, topology, *order, external, reused));
+  }
+}
+
+// A workspace's critical load takes the linear solve's cut system (solver "tree_with_cuts"):
+// the very factor and mode of the computation that takes nothing from the solve, at each pose,
+// in the linear mode and the loaded one.
+TEST(CriticalLoad, ThePosesCutSystemGivesTheFactorOfAComputationOfItsOwn) {
+  const std::vector<Model> poses = tripteron_poses();
+  SolveOptions loaded;
+  loaded.mode = AnalysisMode::loaded;
+  for (const SolveOptions& options : {with_critical_load(), loaded}) {
+    Workspace workspace(poses.front());
+    for (const Model& pose : poses) {
+      const Result reused = solve(workspace, pose, options);
+      const Result linear = solve(pose, with_critical_load());
+      ASSERT_EQ(linear.report.solver, SolverUsed::tree_with_cuts);
+      const detail::Topology topology = detail::build_topology(pose);
+      std::vector<std::string> notes;
+      const CriticalLoad alone =
+          detail::critical_load(pose, topology, {}, with_critical_load(), linear,
+                                detail::loads_at_ends(pose, topology), notes);
+      EXPECT_TRUE(notes.empty());
+      ASSERT_TRUE(reused.critical_load && reused.critical_load->factor && alone.factor);
+      EXPECT_EQ(*reused.critical_load->factor, *alone.factor);
+      EXPECT_EQ(reused.critical_load->mode, alone.mode);
+    }
+  }
+}
+
+// A sweep keeps no critical load factor, so its workspaces skip it (skip_critical_loads): its
+// loaded poses are measured as the solves that find it measure them.
+TEST(CriticalLoad, ASweepSkipsItAndMeasuresItsPosesAsTheSolvesThatFindIt) {
+  const std::vector<Model> poses = tripteron_poses();
+  const Structure structure(poses.front());
+  std::vector<double> sets;
+  for (const Model& pose : poses) {
+    const std::vector<double> values = structure.values_of(pose);
+    sets.insert(sets.end(), values.begin(), values.end());
+  }
+  SweepOptions options;
+  options.solve.mode = AnalysisMode::loaded;
+  options.keep_matrices = true;
+  options.threads = 1;
+  const std::vector<PoseResult> swept = solve_poses(structure, sets, options);
+  ASSERT_EQ(swept.size(), poses.size());
+  Workspace workspace(structure);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Result solved = solve(workspace, structure.values_of(poses[i]), options.solve);
+    ASSERT_TRUE(solved.critical_load && solved.critical_load->factor);
+    ASSERT_EQ(swept[i].status, PoseStatus::ok) << swept[i].message;
+    EXPECT_EQ(*swept[i].end_effectors[0].compliance, *solved.end_effectors[0].compliance);
+  }
+}
+
 // ---- kernels ---------------------------------------------------------------------------------
 
 // A rotation by the rotation vector v (Rodrigues).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <span>
 #include <sstream>
 
 #include "analysis/cartesian.hpp"
@@ -30,7 +31,7 @@ struct LoadTerm {
   Mat6 block;
 };
 
-void add_terms(const MatX& k, const std::vector<int>& ends, std::vector<LoadTerm>& terms) {
+void add_terms(const MatX& k, std::span<const int> ends, std::vector<LoadTerm>& terms) {
   for (std::size_t a = 0; a < ends.size(); ++a)
     for (std::size_t b = 0; b < ends.size(); ++b) {
       const Mat6 block = k.block<6, 6>(6 * static_cast<Index>(a), 6 * static_cast<Index>(b));
@@ -49,6 +50,7 @@ bool gather_load_terms(const Model& model, const Topology& topology, const Block
                        const Result& result, const std::vector<Vec6>& external,
                        std::vector<LoadTerm>& terms) {
   std::vector<Vec6> wrench(static_cast<std::size_t>(topology.end_count()));
+  terms.reserve(4 * model.links.size());
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const LinkResult& r = result.links[l];
     if (!r.from.wrench || !r.to.wrench) return false;
@@ -57,25 +59,26 @@ bool gather_load_terms(const Model& model, const Topology& topology, const Block
   }
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     const int from = 2 * static_cast<int>(l), to = from + 1;
+    const int ends[] = {from, to};
     const Vec3 &p_from = end_position(model, topology, from),
                &p_to = end_position(model, topology, to);
     const Vec6 &w_from = wrench[static_cast<std::size_t>(from)],
                &w_to = wrench[static_cast<std::size_t>(to)];
     if (const auto* beam = std::get_if<BeamLink>(&model.links[l].kind)) {
       const double n = beam_axial_force(p_from, p_to, w_from.head<3>(), w_to.head<3>());
-      if (n != 0)
-        add_terms(beam_global_geometric_stiffness(*beam, p_from, p_to, n), {from, to}, terms);
+      if (n != 0) add_terms(beam_global_geometric_stiffness(*beam, p_from, p_to, n), ends, terms);
     } else if (!w_to.head<3>().isZero(0)) {
-      add_terms(chord_load_stiffness(w_to.head<3>()), {from, to}, terms);
+      add_terms(chord_load_stiffness(w_to.head<3>()), ends, terms);
     }
   }
+  std::vector<Vec6> reactions;
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const ConnectionGroup& group = topology.groups[g];
     if (group.kind != ConnectionGroup::Kind::joint) continue;
     const FreeDirections* directions =
         blocks[static_cast<std::size_t>(topology.link_count) + g]->directions();
     if (!directions || directions->p == 0) continue;
-    std::vector<Vec6> reactions;
+    reactions.clear();
     for (int end : group.ends)
       reactions.push_back(wrench[static_cast<std::size_t>(end)] -
                           external[static_cast<std::size_t>(end)]);
@@ -99,14 +102,6 @@ int representative(const Topology& topology, const Blocks& blocks, int end) {
   return welded ? group.ends.front() : end;
 }
 
-// The parts of a mode that move most, in the user's terms.
-struct ModePart {
-  double size = 0;
-  std::string name;  // "link 'column'"
-  std::string singular, plural;
-  double rank = 0;  // the size in steps of kModeTie of the largest
-};
-
 std::string bending_phrase(double about_y, double about_z, double twist, bool plural) {
   const double largest = std::max({about_y, about_z, twist});
   const bool y = about_y >= 0.5 * largest, z = about_z >= 0.5 * largest, t = twist >= 0.5 * largest;
@@ -125,6 +120,21 @@ std::string motion_phrase(double rotation, double slide, bool plural) {
   if (r && s) return plural ? "rotate and slide" : "rotates and slides";
   return r ? (plural ? "rotate" : "rotates") : (plural ? "slide" : "slides");
 }
+
+// The parts of a mode that move most, in the user's terms; their phrases are made only for the
+// parts the description names.
+struct ModePart {
+  double size = 0;
+  const char* kind = "";              // "link", "joint", "support"
+  const std::string* name = nullptr;  // the user's
+  bool bends = false;                 // a link: amounts about_y, about_z, twist
+  double amounts[3] = {0, 0, 0};      // else a joint or support: rotation, slide
+  double rank = 0;                    // the size in steps of kModeTie of the largest
+  std::string phrase(bool plural) const {
+    return bends ? bending_phrase(amounts[0], amounts[1], amounts[2], plural)
+                 : motion_phrase(amounts[0], amounts[1], plural);
+  }
+};
 
 std::optional<Vec3> link_zref(const LinkKind& kind) {
   if (const auto* beam = std::get_if<BeamLink>(&kind)) return beam->zref;
@@ -161,9 +171,7 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     const double twist = std::abs(turn_to.x() - turn_from.x());
     const double size = std::max({about_y, about_z, twist});
     if (size > 0)
-      parts.push_back({size, "link '" + model.links[l].name + "'",
-                       bending_phrase(about_y, about_z, twist, false),
-                       bending_phrase(about_y, about_z, twist, true)});
+      parts.push_back({size, "link", &model.links[l].name, true, {about_y, about_z, twist}});
   }
   for (std::size_t g = 0; g < topology.groups.size(); ++g) {
     const ConnectionGroup& group = topology.groups[g];
@@ -191,9 +199,7 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     const std::string& name = joint ? model.joints[static_cast<std::size_t>(group.source)].name
                                     : model.supports[static_cast<std::size_t>(group.source)].name;
     if (size > 0)
-      parts.push_back({size, (joint ? "joint '" : "support '") + name + "'",
-                       motion_phrase(rotation, slide, false),
-                       motion_phrase(rotation, slide, true)});
+      parts.push_back({size, joint ? "joint" : "support", &name, false, {rotation, slide}});
   }
   if (parts.empty()) return "";
   // Sizes that agree to kModeTie of the largest are equal — a symmetric structure's mirror
@@ -210,7 +216,7 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
   std::map<std::string, std::vector<const ModePart*>> by_phrase;
   for (const ModePart& part : parts) {
     if (part.size < kModeShare * largest) break;
-    const std::string key = part.name.substr(0, part.name.find(' ')) + "|" + part.singular;
+    const std::string key = part.kind + ("|" + part.phrase(false));
     if (!by_phrase.count(key)) order.push_back(key);
     by_phrase[key].push_back(&part);
   }
@@ -222,20 +228,19 @@ std::string describe_mode(const Model& model, const Topology& topology, const Bl
     const std::vector<const ModePart*>& group = by_phrase[order[i]];
     if (i > 0) text << "; ";
     if (group.size() == 1) {
-      text << group.front()->name << ' ' << group.front()->singular;
+      text << group.front()->kind << " '" << *group.front()->name << "' "
+           << group.front()->phrase(false);
       continue;
     }
-    const std::string kind = group.front()->name.substr(0, group.front()->name.find(' '));
-    text << kind << "s ";
+    text << group.front()->kind << "s ";
     constexpr std::size_t kNamed = 3;
     const std::size_t named = std::min(group.size(), kNamed);
     for (std::size_t k = 0; k < named; ++k) {
-      const std::string& name = group[k]->name;
       if (k > 0) text << (k + 1 == named && group.size() <= kNamed ? " and " : ", ");
-      text << name.substr(name.find(' ') + 1);
+      text << '\'' << *group[k]->name << '\'';
     }
     if (group.size() > kNamed) text << " and " << group.size() - kNamed << " more";
-    text << ' ' << group.front()->plural;
+    text << ' ' << group.front()->phrase(true);
   }
   return text.str();
 }
@@ -319,11 +324,26 @@ std::optional<RightmostEigen> rightmost_by_arnoldi(const std::function<VecX(cons
 // the sum of the columns weighed alike, as the linear solve checks its own.
 class UnloadedSolves {
  public:
-  UnloadedSolves(const Topology& topology, const Blocks& blocks, const SolveOptions& options)
-      : topology_(topology), blocks_(blocks), options_(options) {
-    if (options.solver == SolverKind::automatic && passes_tree(blocks))
-      tree_ = tree_order(topology);
+  // `reuse`: the workspace's tree order, buffers and the linear solve's cut system, or nulls.
+  UnloadedSolves(const Topology& topology, const Blocks& blocks, const SolveOptions& options,
+                 const CriticalLoadReuse& reuse)
+      : topology_(topology),
+        blocks_(blocks),
+        options_(options),
+        scratch_(reuse.scratch ? *reuse.scratch : own_scratch_),
+        cut_system_(reuse.cut_system) {
+    const TreeOrder* tree = reuse.tree;
+    if (options.solver != SolverKind::automatic || !passes_tree(blocks)) return;
+    if (!tree) {
+      own_tree_ = tree_order(topology);
+      if (own_tree_) tree = &*own_tree_;
+    }
+    tree_ = tree;
   }
+  // A long model's buffers are not kept in the workspace.
+  ~UnloadedSolves() { scratch_.release_large(); }
+  UnloadedSolves(const UnloadedSolves&) = delete;
+  UnloadedSolves& operator=(const UnloadedSolves&) = delete;
 
   // The wrenches of a solve, a column per load (no preload: these are no load case); fill with
   // external().add, then solve.
@@ -337,7 +357,7 @@ class UnloadedSolves {
   std::optional<MatX> solve() {
     if (tree_) {
       if (std::optional<MatX> x = solve_on_tree()) return x;
-      tree_.reset();  // too many cuts, or ill-conditioned: the factorising solve decides
+      tree_ = nullptr;  // too many cuts, or ill-conditioned: the factorising solve decides
     }
     if (!system_ && !factorise()) return std::nullopt;
     MatX rhs = MatX::Zero(topology_.unknowns(), external_.columns());
@@ -360,8 +380,19 @@ class UnloadedSolves {
 
  private:
   std::optional<MatX> solve_on_tree() {
+    if (cut_system_) {
+      if (tree_solve_with_cut_system_of(*cut_system_, blocks_, topology_, *tree_, external_,
+                                        scratch_))
+        if (std::optional<MatX> x = checked_tree_solution()) return x;
+      cut_system_ = nullptr;  // not this model's cut system after all: the tree solve's own
+    }
     if (!tree_solve(blocks_, topology_, *tree_, external_, 1 / options_.warn_condition, scratch_))
       return std::nullopt;
+    return checked_tree_solution();
+  }
+
+  // scratch_.x where it passes the check, as the linear solve's.
+  std::optional<MatX> checked_tree_solution() {
     // The check's one column: every column weighed, with weights that no cancellation of like
     // columns hides.
     const Index columns = external_.columns();
@@ -390,8 +421,11 @@ class UnloadedSolves {
   const Topology& topology_;
   const Blocks& blocks_;
   const SolveOptions& options_;
-  std::optional<TreeOrder> tree_;
-  TreeScratch scratch_;
+  std::optional<TreeOrder> own_tree_;
+  const TreeOrder* tree_ = nullptr;
+  TreeScratch own_scratch_;
+  TreeScratch& scratch_;
+  const TreeScratch* cut_system_ = nullptr;
   EndWrenches external_, check_external_;
   RowMajorMatX check_x_;
   std::unique_ptr<Assembler> assembler_;
@@ -477,6 +511,7 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   // Gaussian elimination with complete pivoting, stopped where the largest entry left is below
   // kLoadTermRank of the first pivot: then P·a·Q = L_ρ·U_ρ to that fraction.
   const Index r = a.rows();
+  if (!a.allFinite()) return std::nullopt;
   MatX m = a;
   std::vector<Index> row_order(static_cast<std::size_t>(r)), column_order(row_order.size());
   for (Index i = 0; i < r; ++i) row_order[static_cast<std::size_t>(i)] = i;
@@ -484,15 +519,18 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   Index rank = 0;
   double first_pivot = 0;
   for (; rank < r; ++rank) {
+    // The largest entry left, the first of its size column by column: each column's largest
+    // (a vectorised pass), then its row in the column that holds it.
     Index pivot_row = rank, pivot_column = rank;
     double pivot = -1;
-    for (Index j = rank; j < r; ++j)
-      for (Index i = rank; i < r; ++i)
-        if (std::abs(m(i, j)) > pivot) {
-          pivot = std::abs(m(i, j));
-          pivot_row = i;
-          pivot_column = j;
-        }
+    for (Index j = rank; j < r; ++j) {
+      const double largest = m.col(j).tail(r - rank).cwiseAbs().maxCoeff();
+      if (largest > pivot) {
+        pivot = largest;
+        pivot_column = j;
+      }
+    }
+    while (std::abs(m(pivot_row, pivot_column)) != pivot) ++pivot_row;
     if (rank == 0) first_pivot = pivot;
     if (!(pivot > kLoadTermRank * first_pivot)) break;
     m.row(rank).swap(m.row(pivot_row));
@@ -535,8 +573,11 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,
                            const Result& result, const std::vector<Vec6>& end_loads,
-                           std::vector<std::string>& notes, EigenMethod method) {
-  const Blocks blocks = make_blocks(model, topology, locks);
+                           std::vector<std::string>& notes, EigenMethod method,
+                           const CriticalLoadReuse& reuse) {
+  Blocks own_blocks;
+  if (!reuse.blocks) own_blocks = make_blocks(model, topology, locks);
+  const Blocks& blocks = reuse.blocks ? *reuse.blocks : own_blocks;
   std::vector<LoadTerm> terms;
   if (!gather_load_terms(model, topology, blocks, result, end_loads, terms)) {
     notes.push_back(
@@ -564,6 +605,7 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
   Vec6 weight = Vec6::Ones();
   weight.tail<3>().setConstant(length);
   std::vector<std::pair<std::pair<int, int>, Mat6>> placed;
+  placed.reserve(terms.size());
   for (const LoadTerm& term : terms) {
     const int row = node(term.row_end), column = node(term.column_end);
     if (row >= 0 && column >= 0)
@@ -577,7 +619,7 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
   // The eigenproblem Δt = F·(−λ·K_L·Δt), F the nodes' deflections under unit wrenches at the
   // nodes: the eigenvalues μ = 1/λ of −F·K_L. The constraint rows' infinite λ are μ = 0 here,
   // below kLeastLoadEigenvalue of the largest |μ|.
-  UnloadedSolves solves(topology, blocks, options);
+  UnloadedSolves solves(topology, blocks, options, reuse);
   const LoadDirections directions = load_directions(nodes, placed);
   const Index r = directions.count;
   std::optional<RightmostEigen> rightmost;
@@ -684,23 +726,25 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
 
 void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<SpinLock>& locks, const SolveOptions& options,
-                        const std::vector<CaseLoads>& cases, Result& result) {
+                        const std::vector<CaseLoads>& cases, Result& result,
+                        const CriticalLoadReuse& reuse) {
   // The cases in the order case_loads gives them: the unnamed one where there is one, then
   // the named ones, as Result holds them (the self-weight column after them is no case).
   const bool unnamed = has_unnamed_case(model);
   const std::size_t first_named = unnamed ? 1 : 0;
   for (std::size_t c = 0; c < result.load_cases.size(); ++c) {
     Result& case_result = result.load_cases[c];
-    case_result.critical_load =
-        critical_load(model, topology, locks, options, case_result,
-                      cases[first_named + c].applied_at_ends(), case_result.report.notes);
+    case_result.critical_load = critical_load(
+        model, topology, locks, options, case_result, cases[first_named + c].applied_at_ends(),
+        case_result.report.notes, EigenMethod::automatic, reuse);
   }
   if (!unnamed && !result.load_cases.empty()) {
     result.critical_load = result.load_cases.front().critical_load;
     return;
   }
-  result.critical_load = critical_load(model, topology, locks, options, result,
-                                       cases.front().applied_at_ends(), result.report.notes);
+  result.critical_load =
+      critical_load(model, topology, locks, options, result, cases.front().applied_at_ends(),
+                    result.report.notes, EigenMethod::automatic, reuse);
 }
 
 }  // namespace stiffmsa::detail

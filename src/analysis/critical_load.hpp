@@ -10,6 +10,7 @@
 
 #include "analysis/case_loads.hpp"
 #include "assembly/topology.hpp"
+#include "solver/tree_solver.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/result.hpp"
 
@@ -28,11 +29,25 @@ std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology);
 // lives and all its eigenvalues found densely where that leaves at most 6·kMostDenseNodes load
 // directions, else Arnoldi's iteration on every node's unknowns; the tests ask for either.
 enum class EigenMethod { automatic, dense, iterative };
+// What the linear solve of the same model lends, so that the critical load repeats none of its
+// work: its blocks (make_blocks of the model, `locks` held), the tree order of its topology, and
+// a tree solve's buffers kept from one pose to the next, its cut system. Each may be null: it is
+// then made here. The factor and its mode are the same either way.
+struct CriticalLoadReuse {
+  const Blocks* blocks = nullptr;
+  const TreeOrder* tree = nullptr;
+  TreeScratch* scratch = nullptr;
+  // The linear solve's tree scratch where its tree solve cut and solved the cut system on these
+  // very blocks (solver "tree_with_cuts"): its factorised cut system serves the critical load's
+  // columns (tree_solve_with_cut_system_of).
+  const TreeScratch* cut_system = nullptr;
+};
 CriticalLoad critical_load(const Model& model, const Topology& topology,
                            const std::vector<SpinLock>& locks, const SolveOptions& options,
                            const Result& result, const std::vector<Vec6>& end_loads,
                            std::vector<std::string>& notes,
-                           EigenMethod method = EigenMethod::automatic);
+                           EigenMethod method = EigenMethod::automatic,
+                           const CriticalLoadReuse& reuse = {});
 
 // Result::critical_load of `result` and of each of its load cases (Result::load_cases, those
 // of Model::load_cases in order): each case's factor from its own loads (case_loads.hpp; the
@@ -42,6 +57,13 @@ CriticalLoad critical_load(const Model& model, const Topology& topology,
 // `cases`: case_loads(model, topology), as the solve computed them.
 void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<SpinLock>& locks, const SolveOptions& options,
-                        const std::vector<CaseLoads>& cases, Result& result);
+                        const std::vector<CaseLoads>& cases, Result& result,
+                        const CriticalLoadReuse& reuse = {});
+
+// Makes the solves on `workspace` find no critical load factor, asked for or not: a sweep's
+// (sweep.hpp), whose PoseResult keeps none, so that the poses of a model whose results have the
+// factor unasked (always_finds_critical_load: the loaded mode, issue 22's loads) do not compute
+// one to throw it away.
+void skip_critical_loads(Workspace& workspace);
 
 }  // namespace stiffmsa::detail

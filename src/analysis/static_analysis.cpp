@@ -91,6 +91,10 @@ struct Workspace::Impl {
   // The loaded mode's Newton tangent (its pattern, analysis and buffers), made at the first
   // loaded solve.
   std::unique_ptr<detail::LoadedTangent> loaded_tangent;
+  // The critical load's tree solve buffers, kept from one pose to the next; and whether its
+  // solves skip it (detail::skip_critical_loads: a sweep's).
+  detail::TreeScratch critical_load_scratch;
+  bool skip_critical_loads = false;
 
   // The blocks of `model` (this topology's), and what the solves without factorising need.
   void record(const Model& model) {
@@ -1081,16 +1085,26 @@ bool always_finds_critical_load(const Model& model, const SolveOptions& options)
 }
 
 // The critical load factors of the result's load cases (analysis/critical_load.hpp), where
-// asked, with the blocks the solve used (the rods' spins held where it held them).
+// asked, with the blocks the solve used (the rods' spins held where it held them): the very
+// blocks, where the workspace kept them (Problem's destructor), and its tree order.
 void add_critical_load(Workspace& workspace, const Model& model, const SolveOptions& options,
                        const std::vector<detail::CaseLoads>& cases, Result& result) {
+  Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
+  if (ws.skip_critical_loads) return;
   if (!options.critical_load && !always_finds_critical_load(model, options)) return;
-  const Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
-  const Workspace::Impl& used =
-      accept_idle && options.solver == SolverKind::automatic && ws.spin_locked ? *ws.spin_locked
-                                                                               : ws;
-  detail::add_critical_loads(model, used.topology, used.spin_locks, options, cases, result);
+  Workspace::Impl& used = accept_idle && options.solver == SolverKind::automatic && ws.spin_locked
+                              ? *ws.spin_locked
+                              : ws;
+  detail::CriticalLoadReuse reuse;
+  if (used.pose_blocks.size() ==
+      static_cast<std::size_t>(used.topology.link_count) + used.topology.groups.size())
+    reuse.blocks = &used.pose_blocks;
+  if (used.tree) reuse.tree = &*used.tree;
+  reuse.scratch = &used.critical_load_scratch;
+  if (used.tree && result.report.solver == SolverUsed::tree_with_cuts)
+    reuse.cut_system = &used.tree_scratch;
+  detail::add_critical_loads(model, used.topology, used.spin_locks, options, cases, result, reuse);
 }
 
 // The results of the solved cases as a Result: the robot's self-weight column gives the unnamed
@@ -1133,6 +1147,10 @@ Result solve_checked(Workspace& workspace, const Model& model, const detail::Mod
 }
 
 }  // namespace
+
+void detail::skip_critical_loads(Workspace& workspace) {
+  WorkspaceAccess::impl(workspace).skip_critical_loads = true;
+}
 
 Result solve(const Model& model, const SolveOptions& options) {
   options.validate();

@@ -18,6 +18,7 @@
 #include <optional>
 #include <set>
 
+#include "analysis/critical_load.hpp"
 #include "analysis/sweep_row.hpp"
 #include "model/name_errors.hpp"
 #include "model/suggest.hpp"
@@ -237,8 +238,12 @@ std::vector<PoseResult> run_poses(const Structure& structure, std::size_t count,
   const std::size_t threads = std::min(
       max_threads, options.threads == 0 ? static_cast<std::size_t>(tbb::info::default_concurrency())
                                         : options.threads);
+  // A pose's result keeps no critical load factor (PoseResult has none): its workspace skips
+  // finding one, which the loaded mode's results would otherwise find unasked.
   tbb::enumerable_thread_specific<Worker> workers([&] {
-    return Worker{take_workspace(), std::vector<double>(structure.value_count()), {}, make_write()};
+    Worker worker{take_workspace(), std::vector<double>(structure.value_count()), {}, make_write()};
+    detail::skip_critical_loads(worker.workspace);
+    return worker;
   });
 
   std::atomic<std::size_t> done{0};

@@ -526,4 +526,44 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   return m;
 }
 
+std::optional<Index> tree_solve_with_cut_system_of(const TreeScratch& solved, const Blocks& blocks,
+                                                   const Topology& topology, const TreeOrder& order,
+                                                   const EndWrenches& external,
+                                                   TreeScratch& scratch) {
+  const bool compensated = order.depth >= kCompensatedFromDepth;
+  const int link_count = topology.link_count;
+  const Index unknowns = topology.unknowns();
+  const CutLayout layout = cut_layout(blocks, link_count, order, scratch.cut_first);
+  const Index m = layout.unknowns;
+  if (m == 0 || solved.cut_lu.rows() != m || solved.row_scale.size() != m ||
+      solved.column_scale.size() != m)
+    return std::nullopt;
+
+  // First run: the columns with the cut unknowns at zero; the cut rows' residuals are T_load.
+  const Index k = external.columns();
+  RowMajorMatX& zero_values = scratch.unit_values;
+  zero_values.setZero(m, k);
+  RowMajorMatX& x = scratch.first_run;
+  run_passes(blocks, link_count, order, layout, &zero_values, external, unknowns, compensated, x,
+             scratch.first_run_low, scratch.increment);
+  cut_residuals(blocks, topology, order, x, external, m, scratch);
+  release_if_large(x);
+  const RowMajorMatX& t = scratch.cut_residuals;
+  if (!t.allFinite()) return std::nullopt;
+  MatX& rhs = scratch.cut_load;
+  rhs = t;
+  for (Index c = 0; c < k; ++c) rhs.col(c).array() *= -solved.row_scale.array();
+  MatX& z = scratch.cut_solution;
+  z = solved.cut_lu.solve(rhs);
+  for (Index c = 0; c < k; ++c) z.col(c).array() *= solved.column_scale.array();
+  if (!z.allFinite()) return std::nullopt;
+
+  // Second run: the columns with the cut unknowns solved.
+  RowMajorMatX& cut_values = scratch.cut_values;
+  cut_values = z;
+  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated,
+             scratch.x, scratch.x_low, scratch.increment);
+  return m;
+}
+
 }  // namespace stiffmsa::detail

@@ -108,6 +108,17 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
                                 Index most_cut_unknowns = kMostCutUnknowns,
                                 int compensated_from_depth = kCompensatedFromDepth);
 
+// tree_solve of other columns on the very blocks (the same numbers) that the last tree_solve
+// into `solved` cut and solved: that solve's equilibrated, factorised cut system is taken as it
+// is, so that the first run has no column per cut unknown and nothing is factorised. The same
+// operations on each column as tree_solve's, so the same solution. Nullopt where `solved` holds
+// no cut system of this size (nothing was cut); the caller checks the solution, as after
+// tree_solve. `scratch` is not `solved`.
+std::optional<Index> tree_solve_with_cut_system_of(const TreeScratch& solved, const Blocks& blocks,
+                                                   const Topology& topology, const TreeOrder& order,
+                                                   const EndWrenches& external,
+                                                   TreeScratch& scratch);
+
 // The check of a solution against the equations it solves, one block at a time, so that the
 // system is never assembled: each block's rows hold only its own link ends' unknowns.
 struct BlockCheck {
