@@ -190,6 +190,8 @@ class ElementBlock {
   // frame, for the frame solve (solver/frame_solver.hpp); nullopt for a rigid link and for
   // connection blocks.
   virtual std::optional<Mat12> end_stiffness() const { return std::nullopt; }
+  // Whether end_stiffness() has one, without forming it (a frame's plan asks every link).
+  virtual bool has_end_stiffness() const { return false; }
   // A support's settlement (the ground's prescribed motion, in every load case); nullopt for
   // every other block.
   virtual std::optional<Vec6> settlement() const { return std::nullopt; }

@@ -25,6 +25,7 @@ class LinkBlock final : public ElementBlock {
   void write_equations(Index first_row, EquationWriter& out) const override;
   // free_free_stiffness(C, d) where the link is flexible.
   std::optional<Mat12> end_stiffness() const override;
+  bool has_end_stiffness() const override { return compliance_.has_value(); }
   bool passes_tree() const override { return true; }
   void pass_wrench_to_root(int toward_root, TreeState& state) const override;
   void pass_deflection_from_root(int toward_root, TreeState& state) const override;
@@ -44,6 +45,7 @@ class StiffnessLinkBlock final : public ElementBlock {
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
   std::optional<Mat12> end_stiffness() const override { return stiffness_; }
+  bool has_end_stiffness() const override { return true; }
 
  private:
   int end_i_, end_j_;
