@@ -315,8 +315,7 @@ class YamlTreeBuilder {
     remember_anchor(anchor, node);
     Open opened{&node, nullptr, std::nullopt, is_mapping ? entries_.size() : items_.size(), false};
     const std::string_view indicator = text_of(start);
-    if (indicator == "[" || indicator == "{")
-      opened.bracket = place_of(fy_token_start_mark(start));
+    if (indicator == "[" || indicator == "{") opened.bracket = place_of(fy_token_start_mark(start));
     // libfyaml marks such a pair at its `:`, or at its `?` where it has one, which is its start.
     opened.starts_at_first_key = is_mapping && indicator.empty() && anchor == nullptr &&
                                  tag == nullptr && fy_event_get_node_style(event) == FYNS_FLOW;
@@ -378,8 +377,8 @@ class YamlTreeBuilder {
   const std::string& file_;
   int max_depth_;
   YamlTree tree_;
-  std::vector<Open> open_;           // the collections being read, the innermost last
-  std::vector<YamlNode*> unplaced_;  // empty values that wait for what follows them
+  std::vector<Open> open_;              // the collections being read, the innermost last
+  std::vector<YamlNode*> unplaced_;     // empty values that wait for what follows them
   std::vector<const YamlNode*> items_;  // of the open sequences, the innermost's last
   std::vector<YamlEntry> entries_;      // of the open mappings, the innermost's last
   std::unordered_map<std::string, const YamlNode*> anchors_;

@@ -46,7 +46,9 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
     if (!blocks[static_cast<std::size_t>(l)]->has_end_stiffness()) return std::nullopt;
 
   // K's pattern: the nodes in each node's block column, sorted.
-  auto node_of = [&](int l, int a) { return plan.node_of_end[static_cast<std::size_t>(2 * l + a)]; };
+  auto node_of = [&](int l, int a) {
+    return plan.node_of_end[static_cast<std::size_t>(2 * l + a)];
+  };
   std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(plan.nodes));
   for (int l = 0; l < topology.link_count; ++l)
     for (int a = 0; a < 2; ++a)
@@ -78,7 +80,8 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
         const std::vector<int>& rows = rows_of[static_cast<std::size_t>(column_node)];
         const auto at = std::lower_bound(rows.begin(), rows.end(), row_node) - rows.begin();
         FramePlan::Part& part = plan.parts[static_cast<std::size_t>(4 * l + 2 * a + b)];
-        part.first = first_of_node[static_cast<std::size_t>(column_node)] + 6 * static_cast<int>(at);
+        part.first =
+            first_of_node[static_cast<std::size_t>(column_node)] + 6 * static_cast<int>(at);
         part.stride = 6 * static_cast<int>(rows.size());
       }
   return plan;
