@@ -492,7 +492,8 @@ std::string with_flag_hints(std::string_view message) {
       {"(LoadLimits::max_file_bytes)", "with --max-file-size BYTES"},
       {"(LoadLimits::max_nesting_depth)", "with --max-depth N"},
       {"(LoadLimits::max_entities)", "with --max-entities N"},
-      {"SolveOptions::accept_idle_motions", "--accept-idle-motions"}};
+      {"SolveOptions::accept_idle_motions", "--accept-idle-motions"},
+      {"SweepOptions::load_case", "--case"}};
   std::string text(message);
   for (const auto& [option, flag] : kFlagOfOption)
     for (auto at = text.find(option); at != std::string::npos;

@@ -653,7 +653,7 @@ void frame_dense_ldlt(benchmark::State& state) {
   for (auto _ : state) {
     MatX k = MatX::Zero(n, n);
     for (int l = 0; l < topology.link_count; ++l) {
-      const Mat12 k12 = *blocks[static_cast<std::size_t>(l)]->end_stiffness();
+      const Mat12 k12 = *detail::end_stiffness(*blocks[static_cast<std::size_t>(l)]);
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b) {
           const int row = plan.node_of_end[static_cast<std::size_t>(2 * l + a)];

@@ -10,6 +10,8 @@
 #include "elements/connection_blocks.hpp"
 #include "elements/free_directions.hpp"
 #include "elements/link_blocks.hpp"
+#include "solver/frame_solver.hpp"
+#include "solver/tree_passes.hpp"
 
 using namespace stiffmsa;
 using namespace stiffmsa::detail;
@@ -178,13 +180,13 @@ TEST(LinkBlock, FlexibleEquationsAreSatisfiedByEveryStateOfEquationOne) {
 TEST(LinkBlock, EndStiffnessIsTheLinksFreeFreeStiffness) {
   const Vec3 d = kTo - kFrom;
   const Mat6 C = beam_global_compliance(sample_beam(true), kFrom, kTo);
-  const std::optional<Mat12> k12 = LinkBlock(0, 1, d, C).end_stiffness();
+  const std::optional<Mat12> k12 = end_stiffness(LinkBlock(0, 1, d, C));
   ASSERT_TRUE(k12);
   EXPECT_EQ(*k12, free_free_stiffness(C, d));
   EXPECT_LT((*k12 - k12->transpose()).cwiseAbs().maxCoeff(), 1e-12 * k12->cwiseAbs().maxCoeff());
   const Mat12 K = beam_global_stiffness(sample_beam(false), kFrom, kTo);
-  EXPECT_EQ(*StiffnessLinkBlock(0, 1, K).end_stiffness(), K);
-  EXPECT_FALSE(LinkBlock(0, 1, d, std::nullopt).end_stiffness());
+  EXPECT_EQ(*end_stiffness(StiffnessLinkBlock(0, 1, K)), K);
+  EXPECT_FALSE(end_stiffness(LinkBlock(0, 1, d, std::nullopt)));
 }
 
 TEST(LinkBlock, RigidLinkCarriesRigidMotionsAndBalancedWrenches) {
@@ -341,7 +343,7 @@ TEST(FreeEnd, WrenchEqualsTheLoad) {
   EXPECT_LT((A * unknowns({Vec6::Random()}, {load}) - rhs).norm(), 1e-15);
 }
 
-// ---- the tree solve's passes: each block solves its own equations -------------------------
+// ---- the tree solve's passes (solver/tree_passes.hpp) over each kind's equations ----------
 
 namespace {
 
@@ -374,8 +376,8 @@ struct TreeFixture {
     for (int end : held)
       if (end != toward_root) poison(deflection_column(end));
     auto s = state();
-    block.pass_wrench_to_root(toward_root, s);
-    block.pass_deflection_from_root(toward_root, s);
+    pass_wrench_to_root(block, toward_root, s);
+    pass_deflection_from_root(block, toward_root, s);
     return residual(block, held);
   }
   void load(int end) {
@@ -433,7 +435,7 @@ TEST(TreePasses, LinkPassesWrenchesAndDeflectionsEitherWay) {
     for (const std::optional<Mat6>& compliance :
          {std::optional<Mat6>(sample_compliance()), std::optional<Mat6>()}) {
       const LinkBlock link(0, 1, kTo - kFrom, compliance);
-      ASSERT_TRUE(link.passes_tree());
+      ASSERT_TRUE(passes_tree(link));
       for (int toward_root : {0, 1}) {
         TreeFixture f(2, compensated);
         EXPECT_LT(f.passed(link, toward_root, {}), 1e-15) << "toward end " << toward_root;
@@ -446,7 +448,7 @@ TEST(TreePasses, RigidJointOfThreeEndsBalancesItsLoadsAndMovesAsOne) {
   for (const bool compensated : {true, false}) {
     SCOPED_TRACE(compensated ? "running sums in two parts" : "running sums in one part");
     const ConstraintJointBlock joint({0, 2, 4}, free_directions(Kinematics::rigid()), std::nullopt);
-    ASSERT_TRUE(joint.passes_tree());
+    ASSERT_TRUE(passes_tree(joint));
     for (int toward_root : {0, 2, 4}) {
       TreeFixture f(5, compensated);
       f.load(0);
@@ -489,11 +491,11 @@ TEST(TreePasses, RootSupportHoldsItsEndsRigidlyOrOnItsSpring) {
     const SupportBlock rigid({0, 2}, free_directions(Kinematics::rigid()), std::nullopt,
                              std::nullopt);
     for (const SupportBlock* support : {&elastic, &rigid}) {
-      ASSERT_TRUE(support->passes_tree());
+      ASSERT_TRUE(passes_tree(*support));
       TreeFixture f(3, compensated);
       f.load(2);
       auto state = f.state();
-      support->set_root_deflection(state);
+      set_root_deflection(*support, state);
       EXPECT_LT(f.residual(*support, {0, 2}), 1e-15);
     }
   }
@@ -528,22 +530,22 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
     for (const Case& c : cases) {
       const ConstraintJointBlock joint(c.ends, free_directions(c.kinematics), c.preload);
       const Index p = free_directions(c.kinematics).p;
-      ASSERT_TRUE(joint.passes_tree());
+      ASSERT_TRUE(passes_tree(joint));
       for (int toward_root : c.ends) {
-        EXPECT_EQ(joint.cut_unknowns(toward_root), p * static_cast<Index>(c.ends.size() - 1));
+        EXPECT_EQ(cut_unknowns(joint, toward_root), p * static_cast<Index>(c.ends.size() - 1));
         std::vector<Index> rows;
-        joint.add_cut_rows(toward_root, rows);
-        ASSERT_EQ(static_cast<Index>(rows.size()), joint.cut_unknowns(toward_root));
+        add_cut_rows(joint, toward_root, rows);
+        ASSERT_EQ(static_cast<Index>(rows.size()), cut_unknowns(joint, toward_root));
         const FreeDirections directions = free_directions(c.kinematics);
         TreeFixture f(5, compensated);
         for (int end : c.ends) f.load(end);
-        f.cut(joint.cut_unknowns(toward_root));
+        f.cut(cut_unknowns(joint, toward_root));
         // Random wrenches beyond the root break the cut rows: the passes do not hold them.
         RowMajorMatX random_start = f.x;
         {
           auto state = f.cut_state();
-          joint.pass_wrench_to_root(toward_root, state);
-          joint.pass_deflection_from_root(toward_root, state);
+          pass_wrench_to_root(joint, toward_root, state);
+          pass_deflection_from_root(joint, toward_root, state);
           EXPECT_GT(f.residual(joint, c.ends), 1e-6) << to_string(c.kinematics.type);
         }
         // Where the wrenches beyond the root hold their cut rows (Λ_p·W_k = Λ_p·W_ext,k, + G·w_0
@@ -569,8 +571,8 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
           }
         }
         auto state = f.cut_state();
-        joint.pass_wrench_to_root(toward_root, state);
-        joint.pass_deflection_from_root(toward_root, state);
+        pass_wrench_to_root(joint, toward_root, state);
+        pass_deflection_from_root(joint, toward_root, state);
         EXPECT_LT(f.residual(joint, c.ends), 1e-15)
             << to_string(c.kinematics.type) << ", toward end " << toward_root;
         // The free motions are the given ones: Δt_k − Δt_root = Λ_pᵀ·q_k.
@@ -591,18 +593,20 @@ TEST(TreePasses, PassiveJointTakesItsFreeMotionsAndLeavesItsFreeComponents) {
     // The cut rows in the block's layout: r·(m − 1) compatibility rows, r equilibrium rows, then
     // p rows per end; those of the ends beyond the root's.
     std::vector<Index> rows;
-    ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt)
-        .add_cut_rows(0, rows);
+    add_cut_rows(ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())),
+                                      std::nullopt),
+                 0, rows);
     EXPECT_EQ(rows, std::vector<Index>{11});
     rows.clear();
-    ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())), std::nullopt)
-        .add_cut_rows(2, rows);
+    add_cut_rows(ConstraintJointBlock({0, 2}, free_directions(Kinematics::revolute(Vec3::UnitZ())),
+                                      std::nullopt),
+                 2, rows);
     EXPECT_EQ(rows, std::vector<Index>{10});
     rows.clear();
     const ConstraintJointBlock universal(
         {0, 2, 4}, free_directions(Kinematics::universal(Vec3::UnitX(), Vec3::UnitY())),
         std::nullopt);
-    universal.add_cut_rows(2, rows);
+    add_cut_rows(universal, 2, rows);
     EXPECT_EQ(rows, (std::vector<Index>{12, 13, 16, 17}));
   }
 }
@@ -623,9 +627,9 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
       const std::vector<int> ends =
           support == &rigid ? std::vector<int>{0, 2, 4} : std::vector<int>{0, 2};
       for (int toward_root : ends) {
-        ASSERT_EQ(support->cut_unknowns(toward_root), 6);
+        ASSERT_EQ(cut_unknowns(*support, toward_root), 6);
         std::vector<Index> rows;
-        support->add_cut_rows(toward_root, rows);
+        add_cut_rows(*support, toward_root, rows);
         ASSERT_EQ(rows.size(), 6u);
         TreeFixture f(5, compensated);
         for (int end : ends) f.load(end);
@@ -634,8 +638,8 @@ TEST(TreePasses, SupportAwayFromTheRootTakesItsReactionAndLeavesItsHold) {
         for (int end : ends)
           if (end != toward_root) f.poison(deflection_column(end));
         auto state = f.cut_state();
-        support->pass_wrench_to_root(toward_root, state);
-        support->pass_deflection_from_root(toward_root, state);
+        pass_wrench_to_root(*support, toward_root, state);
+        pass_deflection_from_root(*support, toward_root, state);
         EXPECT_LT(f.residual(*support, ends, rows), 1e-15) << "toward end " << toward_root;
         // The reaction is the given one: Σ(W_k − W_ext,k) = R.
         const RowMajorMatX solution = f.solution();
@@ -653,9 +657,9 @@ TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
     SCOPED_TRACE(compensated ? "running sums in two parts" : "running sums in one part");
     const SupportBlock passive({0, 2}, free_directions(Kinematics::revolute(Vec3(0, 1, 1))),
                                std::nullopt, std::nullopt);
-    ASSERT_EQ(passive.cut_unknowns(-1), 1);
+    ASSERT_EQ(cut_unknowns(passive, -1), 1);
     std::vector<Index> rows;
-    passive.add_cut_rows(-1, rows);
+    add_cut_rows(passive, -1, rows);
     ASSERT_EQ(rows, std::vector<Index>{11});  // Λ_p·Σ W_k = Λ_p·Σ W_ext,k, its last row
     TreeFixture f(3, compensated);
     f.load(2);
@@ -663,25 +667,27 @@ TEST(TreePasses, PassiveRootSupportTakesItsFreeMotion) {
     f.poison(deflection_column(0));
     f.poison(deflection_column(2));
     auto state = f.cut_state();
-    passive.set_root_deflection(state);
+    set_root_deflection(passive, state);
     EXPECT_LT(f.residual(passive, {0, 2}, rows), 1e-15);
     const Vec6 axis = free_directions(Kinematics::revolute(Vec3(0, 1, 1))).free().transpose();
     EXPECT_LT((f.x.middleRows<6>(deflection_column(2)) - axis * f.cut_values).cwiseAbs().maxCoeff(),
               1e-15);
     // Rigid and elastic roots take none.
-    EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::rigid()), std::nullopt, std::nullopt)
-                  .cut_unknowns(-1),
+    EXPECT_EQ(cut_unknowns(SupportBlock({0}, free_directions(Kinematics::rigid()), std::nullopt,
+                                        std::nullopt),
+                           -1),
               0);
-    EXPECT_EQ(SupportBlock({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())),
-                           MatX::Constant(1, 1, 5e3), std::nullopt)
-                  .cut_unknowns(-1),
+    EXPECT_EQ(cut_unknowns(SupportBlock({0}, free_directions(Kinematics::revolute(Vec3::UnitZ())),
+                                        MatX::Constant(1, 1, 5e3), std::nullopt),
+                           -1),
               0);
   }
 }
 
 TEST(TreePasses, SingularLinkMatricesAreLeftToTheFactorisingSolve) {
-  EXPECT_FALSE(StiffnessLinkBlock(0, 1, Mat12::Identity()).passes_tree());
-  EXPECT_EQ(ConstraintJointBlock({0, 2}, free_directions(Kinematics::rigid()), std::nullopt)
-                .cut_unknowns(0),
-            0);
+  EXPECT_FALSE(passes_tree(StiffnessLinkBlock(0, 1, Mat12::Identity())));
+  EXPECT_EQ(
+      cut_unknowns(ConstraintJointBlock({0, 2}, free_directions(Kinematics::rigid()), std::nullopt),
+                   0),
+      0);
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/expressions.hpp"
+#include "io/slot_bindings.hpp"
 #include "model/model_numbers.hpp"
 #include "stiffmsa/analysis.hpp"
 #include "stiffmsa/io/model_file.hpp"
@@ -433,8 +434,8 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
     text << in.rdbuf();
     return text.str();
   };
-  // The last holds a real number in the range of the probe values: its writers read the file
-  // for each member instead of evaluating the bound expressions, with the same result.
+  // The last holds a number of about 1e301, where a search for marker values in the model
+  // (the binding before expressions were bound as the file is read) could not tell.
   for (const std::string& text :
        {std::string(kCantilever), read_text("planar-3rpr-parametric.yaml"),
         read_text("tripteron-parametric.yaml"), with("E: 2.1e11", "E: 2.1e301")}) {
@@ -453,6 +454,166 @@ TEST(ParametricFile, MembersEqualTheFileReadAtTheirValues) {
       EXPECT_EQ(numbers_of(member).size(),
                 numbers_of(family.build(family.default_values())).size());
     }
+  }
+}
+
+// A file with an expression wherever the reader puts a number in other places than its key:
+// a named material and section for several beams, springs as a scalar, a diagonal and a
+// matrix, a scalar preload, uniform loads along links, loads in the lists of cases.
+const char* const kEveryForm = R"yaml(format: stiffmsa/1
+name: every-form
+parameters: {a: 0.5, k: 2000, E: 2.1e11, q: 300, f: 20}
+derived: {b: "a / 2"}
+materials: {steel: {E: E, nu: "0.3", density: "7850 + a"}}
+sections: {bar: {shape: tube, D: "0.02 + a / 100", t: "0.002"}}
+points:
+  O: [0, 0, 0]
+  A: [a, 0, 0]
+  B: [a, b, 0]
+  C: [a, b, "a"]
+  D: [a, b, "a + 0.3"]
+  E: ["a + 0.2", b, "a + 0.3"]
+links:
+  OA: {type: beam, from: O, to: A, material: steel, section: bar}
+  AB: {type: beam, from: A, to: B, material: steel, section: bar, zref: [0, 0, "1 + a"]}
+  BC: {type: beam, from: B, to: C, material: {E: "E / 3", G: "E / 8"}, section: bar}
+  CD: {type: compliance, from: C, to: D, frame: local, zref: [1, 0, "a"],
+       C: [["1e-6 * (1 + a)", 0, 0, 0, 0, 0], [0, 1e-6, 0, 0, 0, 0], [0, 0, 1e-6, 0, 0, 0],
+           [0, 0, 0, 1e-4, 0, 0], [0, 0, 0, 0, 1e-4, 0], [0, 0, 0, 0, 0, "1e-4 * (1 + b)"]]}
+  DE: {type: beam, from: D, to: E, material: steel, section: {shape: rect, b: "0.01", h: 0.02}}
+joints:
+  A1: {type: revolute, at: A, links: [OA, AB], axis: [0, 0, 1], stiffness: "k",
+       preload: "f"}
+  B1: {type: universal, at: B, links: [AB, BC], axes: [[1, 0, 0], [0, 1, "a / 10"]],
+       stiffness: ["k", "2 * k"], preload: [0, "f / 2"]}
+  C1: {type: custom, at: C, links: [BC, CD], free: [[0, 0, 0, 0, 0, 1]], stiffness: [["k"]]}
+  D1: {type: cylindrical, at: D, links: [CD, DE], axis: [0, 1, 0],
+       stiffness: [["k", "k / 10"], ["k / 10", "3 * k"]]}
+supports:
+  S: {type: planar, at: O, link: OA, normal: [0, 0, "1"], stiffness: "10 * k",
+      displacement: [0, 0, "-a / 1000", 0, 0, 0]}
+gravity: [0, 0, "-9.81 * (1 + a)"]
+loads:
+  - {at: E, wrench: ["f", 0, "-q", 0, 0, "f / 10"]}
+  - {link: OA, distributed: [0, "q / 10", "-q"]}
+  - {link: AB, distributed: {from: [0, 0, "-2 * q"], to: ["b", 0, 0]}}
+  - {link: BC, force: [0, 0, "-f"], moment: ["f", 0, 0], position: "b"}
+load_cases:
+  listed: [{at: E, wrench: [0, "q", 0, 0, 0, 0]}, {link: DE, distributed: ["f", 0, 0]}]
+  mapped: {loads: [{link: OA, force: ["q", 0, 0], position: a}], gravity: ["a", 0, -9.81]}
+end_effectors: {tip: {at: E}}
+)yaml";
+
+TEST(ParametricFile, EveryExpressionIsBoundToTheSlotsItFillsAsTheFileIsRead) {
+  const auto bindings = detail::expression_bindings(kEveryForm, "p.yaml");
+  ASSERT_TRUE(bindings.has_value());
+  const auto bound = [&](const std::string& slot) -> std::string {
+    for (const auto& b : *bindings)
+      if (b.slot == slot) return b.expression + " @ " + b.key;
+    return "(none)";
+  };
+  EXPECT_EQ(bound("links.OA.material.E"), "E @ materials.steel.E");
+  EXPECT_EQ(bound("links.DE.material.density"), "7850 + a @ materials.steel.density");
+  EXPECT_EQ(bound("links.AB.section.D"), "0.02 + a / 100 @ sections.bar.D");
+  EXPECT_EQ(bound("links.BC.material.G"), "E / 8 @ links.BC.material.G");
+  EXPECT_EQ(bound("links.CD.C[5][5]"), "1e-4 * (1 + b) @ links.CD.C[5][5]");
+  EXPECT_EQ(bound("joints.A1.stiffness[0][0]"), "k @ joints.A1.stiffness");
+  EXPECT_EQ(bound("joints.A1.preload[0]"), "f @ joints.A1.preload");
+  EXPECT_EQ(bound("joints.B1.stiffness[1][1]"), "2 * k @ joints.B1.stiffness[1]");
+  EXPECT_EQ(bound("joints.B1.stiffness[0][1]"), "(none)");
+  EXPECT_EQ(bound("joints.B1.axes[1][2]"), "a / 10 @ joints.B1.axes[1][2]");
+  EXPECT_EQ(bound("joints.D1.stiffness[1][0]"), "k / 10 @ joints.D1.stiffness[1][0]");
+  EXPECT_EQ(bound("supports.S.stiffness[2][2]"), "10 * k @ supports.S.stiffness");
+  EXPECT_EQ(bound("link_loads[0].distributed.to[1]"), "q / 10 @ loads[1].distributed[1]");
+  EXPECT_EQ(bound("link_loads[1].distributed.to[0]"), "b @ loads[2].distributed.to[0]");
+  EXPECT_EQ(bound("link_loads[2].position"), "b @ loads[3].position");
+  EXPECT_EQ(bound("load_cases.listed.link_loads[0].distributed.from[0]"),
+            "f @ load_cases.listed[1].distributed[0]");
+  EXPECT_EQ(bound("load_cases.mapped.link_loads[0].force[0]"),
+            "q @ load_cases.mapped.loads[0].force[0]");
+  // Each member's numbers are those of the file read with its parameter values as defaults.
+  const ModelFamily family = parse_model_family(kEveryForm, "p.yaml");
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
+  for (const std::vector<double>& values : {std::vector<double>{0.7, 3500, 7e10, 120, 45},
+                                            std::vector<double>{0.3, 900, 2e11, 500, -5}}) {
+    std::string text = kEveryForm;
+    const std::string defaults = "{a: 0.5, k: 2000, E: 2.1e11, q: 300, f: 20}";
+    std::ostringstream given;
+    given.precision(17);
+    given << "{a: " << values[0] << ", k: " << values[1] << ", E: " << values[2]
+          << ", q: " << values[3] << ", f: " << values[4] << "}";
+    text.replace(text.find(defaults), defaults.size(), given.str());
+    EXPECT_EQ(numbers_of(written(structure, write, values)),
+              numbers_of(parse_model(text, "p.yaml")));
+  }
+}
+
+// A robot block's springs and flexible links bind as the file is read too: a default joint's
+// stiffness to each joint it springs, a flexible link's material and section to both beams of
+// the link split at its centre of mass. Every parametric example binds so.
+TEST(ParametricFile, RobotSpringsAndFlexibleLinksAndEveryExampleBindAsTheFileIsRead) {
+  const std::string examples = std::string(STIFFMSA_SOURCE_DIR) + "/examples/";
+  const std::string defaults = "{k: 2.0e6, E: 7e10, q2: 0.3}";
+  const std::string text = "format: stiffmsa/1\nparameters: " + defaults +
+                           "\nrobot:\n  urdf: " + examples + "robots/six-axis.urdf\n" + R"(
+  positions: {joint_2: q2, joint_3: 0.4, joint_5: 0.9}
+  default_joint: {stiffness: "k / 4"}
+  joints: {joint_1: {stiffness: k}, joint_2: {stiffness: "1.5 * k"}}
+  links: {link_3: {material: {E: E, nu: 0.33}, section: {shape: rect, b: 0.05, h: "E / 1e12"}}}
+  gravity: [0, 0, -9.81]
+end_effectors:
+  tcp: {frame: tool0, offset: [0, 0, 0.15]}
+)";
+  const auto bindings = detail::expression_bindings(text, "robot.yaml");
+  ASSERT_TRUE(bindings.has_value());
+  std::vector<std::string> listed;
+  for (const auto& b : *bindings) listed.push_back(b.slot + " <- " + b.expression);
+  EXPECT_EQ(
+      listed,
+      (std::vector<std::string>{
+          "links.link_3.material.E <- E", "links.link_3.section.h <- E / 1e12",
+          "links.link_3.distal.material.E <- E", "links.link_3.distal.section.h <- E / 1e12",
+          "joints.joint_1.stiffness[0][0] <- k", "joints.joint_2.stiffness[0][0] <- 1.5 * k",
+          "joints.joint_3.stiffness[0][0] <- k / 4", "joints.joint_4.stiffness[0][0] <- k / 4",
+          "joints.joint_5.stiffness[0][0] <- k / 4", "joints.joint_6.stiffness[0][0] <- k / 4"}));
+  const ModelFamily family = parse_model_family(text, "robot.yaml");
+  const Structure structure = family.structure();
+  auto write = family.make_writer(structure);
+  const std::vector<double> values{3.1e6, 2e11, -0.4};
+  std::string at_values = text;
+  at_values.replace(at_values.find(defaults), defaults.size(), "{k: 3.1e6, E: 2e11, q2: -0.4}");
+  EXPECT_EQ(numbers_of(written(structure, write, values)),
+            numbers_of(parse_model(at_values, "robot.yaml")));
+
+  // A compliance is held inverted: the family with an expression in one is read per member,
+  // with the same numbers as the file read at the member's values.
+  const std::string compliant_text = [&] {
+    std::string changed = text;
+    const std::string from = R"(default_joint: {stiffness: "k / 4"})";
+    changed.replace(changed.find(from), from.size(),
+                    "default_joint: {compliance: [[\"1e-7 * 2e6 / k\", 0, 0, 0, 0, 0], "
+                    "[0, 1e-7, 0, 0, 0, 0], [0, 0, 1e-7, 0, 0, 0], [0, 0, 0, 1e-6, 0, 0], "
+                    "[0, 0, 0, 0, 1e-6, 0], [0, 0, 0, 0, 0, 1e-6]]}");
+    return changed;
+  }();
+  EXPECT_FALSE(detail::expression_bindings(compliant_text, "robot.yaml").has_value());
+  const ModelFamily compliant = parse_model_family(compliant_text, "robot.yaml");
+  const Structure compliant_structure = compliant.structure();
+  auto write_compliant = compliant.make_writer(compliant_structure);
+  std::string compliant_at_values = compliant_text;
+  compliant_at_values.replace(compliant_at_values.find(defaults), defaults.size(),
+                              "{k: 3.1e6, E: 2e11, q2: -0.4}");
+  EXPECT_EQ(numbers_of(written(compliant_structure, write_compliant, values)),
+            numbers_of(parse_model(compliant_at_values, "robot.yaml")));
+
+  for (const char* file :
+       {"planar-3rpr-parametric.yaml", "tripteron-parametric.yaml", "delta-parametric.yaml",
+        "delta-us-parametric.yaml", "robots/six-axis.yaml"}) {
+    std::ifstream in(examples + file);
+    std::ostringstream example;
+    example << in.rdbuf();
+    EXPECT_TRUE(detail::expression_bindings(example.str(), examples + file).has_value()) << file;
   }
 }
 

@@ -294,6 +294,20 @@ TEST(Sweep, UnknownParameterIsAUsageError) {
   }
 }
 
+// The library names its own option; the command puts its flag (--case) in its place.
+TEST(Sweep, UnknownLoadCaseIsAUsageErrorNamingTheOption) {
+  SweepOptions options;
+  options.load_case = "up";
+  try {
+    sweep(three_rpr(), grid_poses({{"x", 0.4, 0.5, 2}}), options);
+    FAIL() << "swept a load case the model does not have";
+  } catch (const UsageError& e) {
+    EXPECT_TRUE(contains(e.what(), "SweepOptions::load_case 'up'")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "it names no load case")) << e.what();
+    EXPECT_FALSE(contains(e.what(), "--")) << e.what();
+  }
+}
+
 TEST(Sweep, ProgressReachesTheEnd) {
   std::size_t last_done = 0, calls = 0, total_seen = 0;
   SweepOptions options;

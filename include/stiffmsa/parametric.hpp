@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "stiffmsa/model.hpp"
-#include "stiffmsa/result.hpp"
 #include "stiffmsa/structure.hpp"
 
 namespace stiffmsa {

@@ -178,7 +178,7 @@ struct Worker {
   std::function<void(std::size_t, std::span<double>, std::vector<Diagnostic>&)> write;
 };
 
-// A sweep's --case names one of the model's load cases.
+// SweepOptions::load_case names one of the model's load cases.
 void check_load_case(const Model& model, const std::string& name) {
   if (name.empty()) return;
   std::string cases;
@@ -186,9 +186,9 @@ void check_load_case(const Model& model, const std::string& name) {
     if (c.name == name) return;
     cases += (cases.empty() ? "'" : ", '") + c.name + "'";
   }
-  throw UsageError("--case '" + name + "': the model has no load case of that name (" +
-                   (cases.empty() ? std::string("it names no load case") : "its cases: " + cases) +
-                   ")");
+  throw UsageError(
+      "SweepOptions::load_case '" + name + "': the model has no load case of that name (" +
+      (cases.empty() ? std::string("it names no load case") : "its cases: " + cases) + ")");
 }
 
 // Writes, solves and measures one pose; every failure that belongs to the pose becomes its

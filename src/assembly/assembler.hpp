@@ -18,6 +18,9 @@ namespace stiffmsa::detail {
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using Blocks = std::vector<std::unique_ptr<ElementBlock>>;
+// Unknowns of several load cases stored by rows: a link end's deflections and wrenches in every
+// load case are adjacent, as the tree solve visits them end by end and a residual updates them.
+using RowMajorMatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 class Assembler {
  public:

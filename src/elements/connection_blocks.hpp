@@ -39,17 +39,11 @@ class ConstraintJointBlock final : public ElementBlock {
   const FreeDirections* directions() const override { return &directions_; }
   const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
   void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
-  // A passive joint is cut: each end beyond the root's takes its free motion q_k (p unknowns)
-  // as given, and leaves its Λ_p·W_k rows.
-  bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
-  Index cut_unknowns(int toward_root) const override;
-  void add_cut_rows(int toward_root, std::vector<Index>& rows) const override;
-
- private:
+  const std::vector<int>& ends() const { return ends_; }
   Index r() const { return directions_.constrained().rows(); }
   Index p() const { return directions_.free().rows(); }
+
+ private:
   std::vector<int> ends_;
   FreeDirections directions_;
   std::optional<VecX> preload_;
@@ -75,9 +69,10 @@ class ElasticJointBlock final : public ElementBlock {
   const FreeDirections* directions() const override { return &directions_; }
   const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
   void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
-  bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
+  int end_1() const { return end_1_; }
+  int end_2() const { return end_2_; }
+  const SmallMat& spring() const { return spring_; }
+  const std::optional<VecX>& preload() const { return preload_; }
 
  private:
   int end_1_, end_2_;
@@ -111,19 +106,14 @@ class SupportBlock final : public ElementBlock {
   const FreeDirections* directions() const override { return &directions_; }
   const Kinematics* kinematics() const override { return kinematics_ ? &*kinematics_ : nullptr; }
   void set_kinematics(const Kinematics* kinematics) { from_kinematics(kinematics, kinematics_); }
-  // Every support passes. At the root, a passive one is cut: its free motion (p unknowns) is
-  // taken as given and its Λ_p rows are left. Any other support closes a loop through the
-  // ground and is cut there: its ends are joined as one and its reaction R = Σ(W_k − W_ext,k)
-  // (6 unknowns) is taken as given, leaving its last 6 rows, which hold it to the ground.
-  bool passes_tree() const override { return true; }
-  void set_root_deflection(TreeState& state) const override;
-  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
-  Index cut_unknowns(int toward_root) const override;
-  void add_cut_rows(int toward_root, std::vector<Index>& rows) const override;
+  const std::vector<int>& ends() const { return ends_; }
+  // G·K·Λ_p where elastic.
+  const std::optional<SmallMat>& spring() const { return spring_; }
+  const std::optional<VecX>& preload() const { return preload_; }
+  // Free directions and no spring: nothing holds its motion along them.
+  bool passive() const { return directions_.free().rows() > 0 && !spring_; }
 
  private:
-  bool passive() const { return directions_.free().rows() > 0 && !spring_; }
   std::vector<int> ends_;
   FreeDirections directions_;
   std::optional<SmallMat>
@@ -136,14 +126,12 @@ class SupportBlock final : public ElementBlock {
 // A link end alone at its point and named nowhere: W = W_ext.
 class FreeEndBlock final : public ElementBlock {
  public:
-  explicit FreeEndBlock(int end) : end_(end) {}
+  explicit FreeEndBlock(int end) : ElementBlock(BlockKind::free_end), end_(end) {}
   Index equation_count() const override { return 6; }
   void write_equations(Index first_row, EquationWriter& out) const override;
   void add_external_wrench(Index first_row, int end_id, const Vec6& wrench,
                            VecX& rhs) const override;
-  bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
-  void pass_deflection_from_root(int, TreeState&) const override {}
+  int end() const { return end_; }
 
  private:
   int end_;

@@ -6,7 +6,10 @@ namespace stiffmsa::detail {
 
 ConstraintJointBlock::ConstraintJointBlock(std::vector<int> ends, FreeDirections directions,
                                            std::optional<VecX> preload)
-    : ends_(std::move(ends)), directions_(std::move(directions)), preload_(std::move(preload)) {}
+    : ElementBlock(BlockKind::constraint_joint),
+      ends_(std::move(ends)),
+      directions_(std::move(directions)),
+      preload_(std::move(preload)) {}
 
 void ConstraintJointBlock::refill(const FreeDirections& directions,
                                   const std::optional<VecX>& preload) {
@@ -53,41 +56,6 @@ void ConstraintJointBlock::add_preload(Index row, VecX& rhs) const {
   const SmallVec projected = directions_.gram() * *preload_;
   rhs.segment(passive, p()) += projected;
   rhs.segment(passive + p(), p()) -= projected;
-}
-
-// Σ W_k = Σ W_ext,k, all six components: a rigid joint's equilibrium, and a passive joint's
-// with its free components' rows (Λ_p·W_k = Λ_p·W_ext,k) left to the cut, but their sum.
-void ConstraintJointBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
-  state.set_joined_wrench(ends_, toward_root, false);
-}
-
-// Δt_k = Δt_1 where rigid; a passive joint adds each other end's free motion Λ_pᵀ·q_k, its cut
-// unknowns (Λ_r·Λ_pᵀ = 0: the rows of Λ_r are the orthogonal complement of Λ_p's).
-void ConstraintJointBlock::pass_deflection_from_root(int toward_root, TreeState& state) const {
-  Index motion = 0;
-  for (int end : ends_) {
-    if (end == toward_root) continue;
-    if (p() == 0) {
-      state.set_copy(deflection_column(end), deflection_column(toward_root));
-      continue;
-    }
-    state.increment.noalias() = directions_.free().transpose().lazyProduct(state.cut(motion, p()));
-    state.set_sum(deflection_column(end), deflection_column(toward_root), 1.0);
-    motion += p();
-  }
-}
-
-Index ConstraintJointBlock::cut_unknowns(int) const {
-  return p() * (static_cast<Index>(ends_.size()) - 1);
-}
-
-// The free components' rows of the ends beyond the root's: Λ_p·W_k = Λ_p·W_ext,k (+ preload).
-void ConstraintJointBlock::add_cut_rows(int toward_root, std::vector<Index>& rows) const {
-  const Index m = static_cast<Index>(ends_.size());
-  for (Index k = 0; k < m; ++k) {
-    if (ends_[static_cast<std::size_t>(k)] == toward_root) continue;
-    for (Index i = 0; i < p(); ++i) rows.push_back(r() * m + k * p() + i);
-  }
 }
 
 }  // namespace stiffmsa::detail

@@ -10,8 +10,4 @@ void FreeEndBlock::add_external_wrench(Index row, int, const Vec6& wrench, VecX&
   rhs.segment<6>(row) += wrench;
 }
 
-void FreeEndBlock::pass_wrench_to_root(int toward_root, TreeState& state) const {
-  state.set_value(wrench_column(toward_root), state.external.at(toward_root));
-}
-
 }  // namespace stiffmsa::detail

@@ -20,15 +20,18 @@ namespace stiffmsa::detail {
 class LinkBlock final : public ElementBlock {
  public:
   LinkBlock(int end_i, int end_j, const Vec3& d, std::optional<Mat6> compliance)
-      : end_i_(end_i), end_j_(end_j), d_(d), compliance_(std::move(compliance)) {}
+      : ElementBlock(BlockKind::link),
+        end_i_(end_i),
+        end_j_(end_j),
+        d_(d),
+        compliance_(std::move(compliance)) {}
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  // free_free_stiffness(C, d) where the link is flexible.
-  std::optional<Mat12> end_stiffness() const override;
-  bool has_end_stiffness() const override { return compliance_.has_value(); }
-  bool passes_tree() const override { return true; }
-  void pass_wrench_to_root(int toward_root, TreeState& state) const override;
-  void pass_deflection_from_root(int toward_root, TreeState& state) const override;
+  int end_i() const { return end_i_; }
+  int end_j() const { return end_j_; }
+  const Vec3& d() const { return d_; }
+  // C; nothing where the link is rigid.
+  const std::optional<Mat6>& compliance() const { return compliance_; }
 
  private:
   int end_i_, end_j_;
@@ -41,11 +44,13 @@ class LinkBlock final : public ElementBlock {
 class StiffnessLinkBlock final : public ElementBlock {
  public:
   StiffnessLinkBlock(int end_i, int end_j, const Mat12& stiffness)
-      : end_i_(end_i), end_j_(end_j), stiffness_(stiffness) {}
+      : ElementBlock(BlockKind::stiffness_link),
+        end_i_(end_i),
+        end_j_(end_j),
+        stiffness_(stiffness) {}
   Index equation_count() const override { return 12; }
   void write_equations(Index first_row, EquationWriter& out) const override;
-  std::optional<Mat12> end_stiffness() const override { return stiffness_; }
-  bool has_end_stiffness() const override { return true; }
+  const Mat12& stiffness() const { return stiffness_; }
 
  private:
   int end_i_, end_j_;

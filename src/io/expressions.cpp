@@ -68,7 +68,9 @@ std::optional<std::string> parameter_name_problem(const std::string& name) {
 struct ExpressionEvaluator::Compiled {
   mu::Parser parser;
   std::string error;  // a syntax error found when compiling, reported at every evaluation
-  std::size_t last_name_used = 0;  // 1 + the index in names_ of the last name it uses
+  // 1 + the index in names_ of the last name it uses: asked of derived values only, since
+  // muparser finds the names by parsing the text once more.
+  std::optional<std::size_t> last_name_used;
 };
 
 ExpressionEvaluator::ExpressionEvaluator(std::vector<std::string> parameter_names,
@@ -111,10 +113,6 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
     if (compiled.parser.GetNumResults() != 1)
       compiled.error =
           "the expression '" + text + "' gives several values; a number takes one expression";
-    const auto& used = compiled.parser.GetUsedVar();
-    for (std::size_t i = 0; i < names_.size(); ++i)
-      if (used.count(names_[i]) > 0) compiled.last_name_used = i + 1;
-    compiled.parser.Eval();  // GetUsedVar leaves the parser to parse again
   } catch (const mu::Parser::exception_type& e) {
     if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN && is_identifier(e.GetToken())) {
       compiled.error = "unknown parameter '" + e.GetToken() + "' in the expression '" + text + "'" +
@@ -141,12 +139,18 @@ std::string ExpressionEvaluator::inputs_of(const Compiled& compiled) const {
 ExpressionEvaluator::Outcome ExpressionEvaluator::evaluate_derived(std::size_t index,
                                                                    const std::string& text) {
   const std::size_t slot = parameter_count_ + index;
-  const Compiled& compiled = compile(text);
-  if (compiled.error.empty() && compiled.last_name_used > slot) {
-    const std::string& later = names_[compiled.last_name_used - 1];
-    return {0, "the expression '" + text + "' uses '" + later + "', which is " +
-                   (compiled.last_name_used - 1 == slot ? std::string("this derived value itself")
-                                                        : "derived later in the file") +
+  Compiled& compiled = compile(text);
+  if (compiled.error.empty() && !compiled.last_name_used) {
+    const auto& used = compiled.parser.GetUsedVar();  // the next Eval() parses again
+    compiled.last_name_used = 0;
+    for (std::size_t i = 0; i < names_.size(); ++i)
+      if (used.count(names_[i]) > 0) compiled.last_name_used = i + 1;
+  }
+  if (compiled.error.empty() && *compiled.last_name_used > slot) {
+    const std::size_t later = *compiled.last_name_used - 1;
+    return {0, "the expression '" + text + "' uses '" + names_[later] + "', which is " +
+                   (later == slot ? std::string("this derived value itself")
+                                  : "derived later in the file") +
                    "; derived values are computed in the order of the file"};
   }
   Outcome outcome = evaluate(text);

@@ -26,6 +26,7 @@
 #include "io/expressions.hpp"
 #include "io/plain_number.hpp"
 #include "io/robot_model.hpp"
+#include "io/slot_bindings.hpp"
 #include "io/urdf_tree.hpp"
 #include "io/yaml_tree.hpp"
 #include "model/model_numbers.hpp"
@@ -176,17 +177,39 @@ struct ExpressionSite {
   SourceLocation at;
 };
 
-// While probing (Loader::probe_expressions), expression k reads as this value, which no real
-// model holds (about 1e301), so that the numbers it fills can be found in the model built.
-double probe_value(std::size_t k) {
-  return std::ldexp(1.0 + static_cast<double>(k) * 0x1p-32, 1000);
+// A number of the model that an expression of the file fills: the value slot named as the
+// structure names it (`links.upper.material.E`, Structure::slot_names()), and the expression
+// (an index into the loader's sites()).
+struct Binding {
+  std::string slot;
+  std::size_t site;
+};
+
+// Whether key path `path` is `prefix` or lies under it (`prefix.key`, `prefix[i]`).
+bool within(const std::string& path, const std::string& prefix) {
+  return path.starts_with(prefix) &&
+         (path.size() == prefix.size() || path[prefix.size()] == '.' || path[prefix.size()] == '[');
 }
-std::optional<std::size_t> probed_site(double value) {
-  if (!(value > 0) || !std::isfinite(value) || std::ilogb(value) != 1000) return std::nullopt;
-  const double k = (std::ldexp(value, -1000) - 1.0) * 0x1p32;
-  if (k != std::floor(k) || k >= 0x1p32 || probe_value(static_cast<std::size_t>(k)) != value)
-    return std::nullopt;
-  return static_cast<std::size_t>(k);
+
+// The bindings with each slot that lies within `from` moved to lie within each of `to` (one
+// number of the file that fills several slots), the others as they are.
+std::vector<Binding> moved(std::span<const Binding> bindings, const std::string& from,
+                           const std::vector<std::string>& to) {
+  std::vector<Binding> out;
+  for (const Binding& b : bindings) {
+    if (!within(b.slot, from)) {
+      out.push_back(b);
+      continue;
+    }
+    for (const std::string& target : to)
+      out.push_back({target + b.slot.substr(from.size()), b.site});
+  }
+  return out;
+}
+
+// `path[i][j]`, an entry of the matrix at `path` as slot names give it.
+std::string matrix_entry(const std::string& path, int i, int j) {
+  return path + "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
 }
 
 // A material or section defined by name, for beams to refer to.
@@ -194,6 +217,9 @@ template <class T>
 struct Definition {
   T value;
   Origin origin;  // location of the name, key_locations per key
+  // The expressions among its numbers, their slots under `materials.NAME` or `sections.NAME`:
+  // each beam that names it binds them to its own slots.
+  std::vector<Binding> bindings;
 };
 
 class Loader {
@@ -223,10 +249,16 @@ class Loader {
   void set_defaults(const ParameterSettings* settings) { settings_ = settings; }
   const std::vector<std::string>& unknown_settings() const { return unknown_settings_; }
 
-  // Expressions read as probe_value(k), k counting the expressions in reading order, instead
-  // of being evaluated; sites() says which expression each k is.
-  void probe_expressions() { probing_ = true; }
+  // Every expression read where a number goes, in reading order, and the value slots of the
+  // model that they fill (slot names as Structure::slot_names() gives them): one reading binds
+  // a family's expressions. A robot block's joint positions are not among them
+  // (robot_positions()).
   const std::vector<ExpressionSite>& sites() const { return sites_; }
+  const std::vector<Binding>& bindings() const { return bindings_; }
+  // The first expression whose value the reader transforms on its way into the model (a robot
+  // joint's compliance is inverted; a robot's gravity, a load or an offset on a robot frame are
+  // turned with the pose): no slot holds it, and each member must be read from the file.
+  const std::optional<ExpressionSite>& transformed() const { return transformed_; }
 
   // Adds find_defects()'s diagnostics to the loader's own, leaving out those about values the
   // loader already found wrong or could not read, and returns them all in file order.
@@ -272,6 +304,11 @@ class Loader {
 
   std::optional<double> number(const Value& v);
   double given_number(const Value& v);
+  // The bindings recorded since `first` (an index into bindings_) that lie within `from` lie
+  // within each of `to` instead: where the reader puts the number read at `from`.
+  void rebind(std::size_t first, const std::string& from, const std::vector<std::string>& to);
+  // The expressions read since `first` feed numbers the reader transforms (transformed()).
+  void transformed_since(std::size_t first);
   std::optional<bool> boolean(const Value& v);
   std::optional<std::string> text(const Value& v);
   std::optional<std::string> choice(const Value& v, const KeyList& choices,
@@ -371,8 +408,9 @@ class Loader {
   std::vector<Parameter> parameters_;
   std::vector<std::string> derived_names_;
   std::vector<ExpressionSite> derived_sites_;
-  bool probing_ = false;
   std::vector<ExpressionSite> sites_;
+  std::vector<Binding> bindings_;
+  std::optional<ExpressionSite> transformed_;
   const ParameterSettings* settings_ = nullptr;
   std::vector<std::string> unknown_settings_;
   Model model_;
@@ -531,10 +569,10 @@ std::optional<double> Loader::number(const Value& v) {
 std::optional<double> Loader::expression(const Value& v) {
   const std::string& text = v.node->text();
   if (const auto value = detail::plain_number(text)) return value;
-  if (probing_) {
-    sites_.push_back({text, v.path, located(v.at)});
-    return probe_value(sites_.size() - 1);
-  }
+  // The key path is the name of the slot the number fills; where the reader puts it elsewhere
+  // or in several slots (a named material, a load, a scalar spring), it rebinds it.
+  bindings_.push_back({v.path, sites_.size()});
+  sites_.push_back({text, v.path, located(v.at)});
   const auto outcome = expressions_->evaluate(text);
   if (outcome.follows_earlier_error) {
     spoil(v.path);  // the derived value it uses is reported where it is defined
@@ -545,6 +583,21 @@ std::optional<double> Loader::expression(const Value& v) {
     return std::nullopt;
   }
   return outcome.value;
+}
+
+void Loader::rebind(std::size_t first, const std::string& from,
+                    const std::vector<std::string>& to) {
+  if (first == bindings_.size()) return;
+  std::vector<Binding> rebound = moved(std::span(bindings_).subspan(first), from, to);
+  bindings_.resize(first);
+  bindings_.insert(bindings_.end(), std::make_move_iterator(rebound.begin()),
+                   std::make_move_iterator(rebound.end()));
+}
+
+void Loader::transformed_since(std::size_t first) {
+  if (first == bindings_.size()) return;
+  if (!transformed_) transformed_ = sites_[bindings_[first].site];
+  bindings_.resize(first);
 }
 
 // A number whose key is given: NaN where it cannot be read, so that the model shows the key
@@ -889,7 +942,11 @@ void Loader::read_materials(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     Definition<Material> material;
     material.origin.location = located(named.key_at);
+    const std::size_t first = bindings_.size();
     material.value = read_material(named.value, material.origin, "");
+    material.bindings.assign(bindings_.begin() + static_cast<std::ptrdiff_t>(first),
+                             bindings_.end());
+    bindings_.resize(first);
     materials_.emplace(named.key, std::move(material));
   }
 }
@@ -898,7 +955,10 @@ void Loader::read_sections(const Entry& section) {
   for (const auto& named : named_mapping(section)) {
     Definition<Section> s;
     s.origin.location = located(named.key_at);
+    const std::size_t first = bindings_.size();
     s.value = read_section(named.value, s.origin, "");
+    s.bindings.assign(bindings_.begin() + static_cast<std::ptrdiff_t>(first), bindings_.end());
+    bindings_.resize(first);
     sections_.emplace(named.key, std::move(s));
   }
 }
@@ -1001,6 +1061,10 @@ T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Defini
   }
   for (const auto& [key, at] : found->second.origin.key_locations)
     link.origin.key_locations[entry.key + "." + key] = at;
+  if (!found->second.bindings.empty()) {
+    const auto bound = moved(found->second.bindings, plural + "." + *name, {entry.value.path});
+    bindings_.insert(bindings_.end(), bound.begin(), bound.end());
+  }
   spoil(entry.value.path);  // checked at its definition
   return found->second.value;
 }
@@ -1129,9 +1193,13 @@ void Loader::read_springs(const std::vector<Entry>& e, int p, const std::string&
 // Model-format.md: a scalar k means k·I, a list of p values the diagonal, else a p×p matrix.
 std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::string& what) {
   const std::string sized = "p = " + std::to_string(p) + " for " + what;
+  const std::size_t first = bindings_.size();
   if (v.node->is_scalar()) {
     const auto k = number(v);
     if (!k) return std::nullopt;
+    std::vector<std::string> diagonal;
+    for (int i = 0; i < p; ++i) diagonal.push_back(matrix_entry(v.path, i, i));
+    rebind(first, v.path, diagonal);
     return MatX(*k * MatX::Identity(p, p));
   }
   const bool rows_given =
@@ -1139,6 +1207,8 @@ std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::str
   if (!rows_given) {
     const auto diagonal = vector(v, p, "(the diagonal; " + sized + ")");
     if (!diagonal) return std::nullopt;
+    for (int i = 0; i < p; ++i)
+      rebind(first, v.path + "[" + std::to_string(i) + "]", {matrix_entry(v.path, i, i)});
     return MatX(diagonal->asDiagonal());
   }
   const auto k = matrix(v);
@@ -1154,8 +1224,10 @@ std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::str
 std::optional<VecX> Loader::read_preload(const Value& v, int p, const std::string& what) {
   const std::string sized = "p = " + std::to_string(p) + " for " + what;
   if (v.node->is_scalar() && p == 1) {
+    const std::size_t first = bindings_.size();
     const auto f = number(v);
     if (!f) return std::nullopt;
+    rebind(first, v.path, {v.path + "[0]"});
     return VecX::Constant(1, *f);
   }
   return vector(v, p, "(one per free direction; " + sized + ")");
@@ -1211,20 +1283,26 @@ void Loader::read_load_list(const Value& v, const LoadTarget& target) {
                detail::comma_list(point_keys) + " with " + detail::comma_list(link_keys));
       continue;
     }
+    const std::size_t first = bindings_.size();
     if (!link_keys.empty()) {
       const std::size_t index = target.link_loads.size();
       read_link_load(e, entry, target);
-      if (target.link_loads.size() > index)
-        aliases_.emplace(target.model_path + "link_loads[" + std::to_string(index) + "]",
-                         entry.path);
+      const std::string model_path =
+          target.model_path + "link_loads[" + std::to_string(index) + "]";
+      if (target.link_loads.size() > index) {
+        aliases_.emplace(model_path, entry.path);
+        rebind(first, entry.path, {model_path});
+      }
       continue;
     }
     const std::size_t index = target.loads.size();
     read_point_load(e, entry, target);
     // A robot block's weights come first among the model's loads.
     const std::string model_path = target.model_path + "loads[" + std::to_string(index) + "]";
-    if (target.loads.size() > index && model_path != entry.path)
-      aliases_.emplace(model_path, entry.path);
+    if (target.loads.size() > index) {
+      if (model_path != entry.path) aliases_.emplace(model_path, entry.path);
+      rebind(first, entry.path, {model_path});
+    }
   }
 }
 
@@ -1242,10 +1320,12 @@ void Loader::read_point_load(const std::vector<Entry>& e, const Value& entry,
       return;
     }
     const auto link = robot_frame(*frame);
+    const std::size_t first = bindings_.size();
     const Entry* w = required(e, entry, "wrench");
     const auto wrench = w ? fixed_vector<6>(w->value, "[Fx, Fy, Fz, Mx, My, Mz]") : std::nullopt;
     std::optional<Vec3> offset;
     if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
+    transformed_since(first);  // the layout turns the wrench and the offset with the pose
     bool frame_axes = false;
     if (const Entry* a = find(e, "axes"))
       frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
@@ -1298,8 +1378,10 @@ void Loader::read_link_load(const std::vector<Entry>& e, const Value& entry,
 std::optional<DistributedLinkLoad> Loader::read_distributed(const Entry& entry, Origin& origin) {
   const Value& v = entry.value;
   if (v.node->is_sequence()) {
+    const std::size_t first = bindings_.size();
     const auto q = fixed_vector<3>(v, "[qx, qy, qz]");
     if (!q) return std::nullopt;
+    rebind(first, v.path, {v.path + ".from", v.path + ".to"});
     return DistributedLinkLoad{*q, *q};
   }
   if (!v.node->is_mapping()) {
@@ -1396,7 +1478,9 @@ void Loader::read_end_effectors(const Entry& section) {
                  "an end effector on a robot frame");
       const auto link = robot_frame(*frame);
       std::optional<Vec3> offset;
+      const std::size_t first = bindings_.size();
       if (const Entry* o = find(e, "offset")) offset = fixed_vector<3>(o->value, "[x, y, z]");
+      transformed_since(first);  // the offset becomes a point turned with the pose
       bool frame_axes = false;
       if (const Entry* a = find(e, "axes"))
         frame_axes = choice(a->value, kFrameAxes, "axes") == "frame";
@@ -1482,7 +1566,20 @@ void Loader::read_robot(const Entry& section) {
     }
 
   std::optional<detail::JointSpring> default_spring;
-  if (const Entry* d = find(e, "default_joint")) default_spring = read_joint_spring(d->value);
+  // A scalar stiffness fills the 1×1 spring of its joint; the default's, of every joint it springs.
+  std::vector<Binding> default_bindings;
+  std::string default_stiffness;
+  if (const Entry* d = find(e, "default_joint")) {
+    const std::size_t first = bindings_.size();
+    default_spring = read_joint_spring(d->value);
+    default_bindings.assign(bindings_.begin() + static_cast<std::ptrdiff_t>(first),
+                            bindings_.end());
+    bindings_.resize(first);
+    default_stiffness = d->value.path + ".stiffness";
+  }
+  const auto spring_slot = [](const std::string& joint) {
+    return matrix_entry("joints." + joint + ".stiffness", 0, 0);
+  };
   block.springs.assign(tree.joints.size(), {});
   for (const auto& joint : tree.joints)
     aliases_.emplace("joints." + joint.name + ".axis", "robot.urdf");  // the URDF's <axis>
@@ -1491,7 +1588,9 @@ void Loader::read_robot(const Entry& section) {
   if (joints)
     for (const auto& named : named_mapping(*joints)) {
       const auto j = joint_named(named);
+      const std::size_t first = bindings_.size();
       const auto spring = read_joint_spring(named.value);
+      rebind(first, named.value.path + ".stiffness", {spring_slot(named.key)});
       if (!j || !spring) {
         if (j) sprung[*j] = true;  // reported already
         if (j) spoil("joints." + named.key);
@@ -1507,6 +1606,8 @@ void Loader::read_robot(const Entry& section) {
     if (!detail::is_movable(joint.type) || sprung[j]) continue;
     if (default_spring) {
       block.springs[j] = *default_spring;
+      const auto bound = moved(default_bindings, default_stiffness, {spring_slot(joint.name)});
+      bindings_.insert(bindings_.end(), bound.begin(), bound.end());
       aliases_.emplace("joints." + joint.name + ".stiffness", "robot.default_joint");
       continue;
     }
@@ -1519,6 +1620,10 @@ void Loader::read_robot(const Entry& section) {
   }
 
   block.flexible.assign(tree.links.size(), std::nullopt);
+  // The material and section of a flexible link fill its beam's, or its two beams' where the
+  // layout splits it at its centre of mass: rebound once the layout is made.
+  const std::size_t flexible_first = bindings_.size();
+  std::vector<std::string> flexible_names;
   if (const Entry* links = find(e, "links"))
     for (const auto& named : named_mapping(*links)) {
       const auto l = tree.find_link(named.key);
@@ -1542,18 +1647,30 @@ void Loader::read_robot(const Entry& section) {
       if (const Entry* shear = find(le, "shear"))
         beam.shear = boolean(shear->value).value_or(false);
       block.flexible[static_cast<std::size_t>(*l)] = detail::FlexibleLink{beam, holder.origin};
+      flexible_names.push_back(named.key);
       aliases_.emplace("links." + named.key, named.value.path);
       aliases_.emplace("links." + named.key + ".distal", named.value.path);
     }
 
-  if (const Entry* g = find(e, "gravity"))
+  if (const Entry* g = find(e, "gravity")) {
+    const std::size_t first = bindings_.size();
     block.gravity = fixed_vector<3>(g->value, "[gx, gy, gz]");
+    transformed_since(first);  // it becomes the links' weights, turned with the pose
+  }
 
   try {
     robot_ = std::make_shared<detail::RobotLayout>(block, model_);
   } catch (const InputError& error) {
     diagnostics_.insert(diagnostics_.end(), error.diagnostics().begin(), error.diagnostics().end());
     spoil("");
+    return;
+  }
+  for (const std::string& name : flexible_names) {
+    std::vector<std::string> beams{"links." + name};
+    const Link* distal = model_.find_link(name + ".distal");
+    if (distal && std::holds_alternative<BeamLink>(distal->kind))
+      beams.push_back("links." + distal->name);
+    rebind(flexible_first, "robot.links." + name, beams);
   }
 }
 
@@ -1583,7 +1700,9 @@ std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
     spring.origin.key_locations["stiffness"] = located(k->value.at);
     return spring;
   }
+  const std::size_t first = bindings_.size();
   const auto compliance = square_matrix<6>(c->value);
+  transformed_since(first);  // the model's spring is its inverse
   if (!compliance) return std::nullopt;
   spring.origin.key_locations["stiffness"] = located(c->value.at);
   const double scale = compliance->cwiseAbs().maxCoeff();
@@ -1621,7 +1740,7 @@ std::optional<int> Loader::robot_frame(const Entry& frame) {
 }
 
 // A joint position: a number, or an expression of the parameters that the builder evaluates
-// for each member (forward kinematics turns it into many numbers, where no probe would survive).
+// for each member: forward kinematics turns it into many numbers, none of them its value.
 std::optional<double> Loader::robot_position(const Value& v, ExpressionSite& site) {
   if (!parametric_ || !v.node->is_scalar() || detail::plain_number(v.node->text()))
     return number(v);
@@ -1950,8 +2069,10 @@ std::string read_model_text(const std::filesystem::path& path, const LoadLimits&
 }
 
 // What a writer needs to write a member's values without reading the file again: which slot
-// of the structure each expression fills, and each expression's site for its messages (the
-// source map of the family's values).
+// of the structure each expression fills, as the one reading of the file bound them, and each
+// expression's site for its messages (the source map of the family's values). Every site is
+// evaluated for each member, bound or not (a material that no beam uses), so that an
+// expression that fails at a member's values is reported as a reading of the file would.
 struct SlotBindings {
   Structure structure;
   std::vector<ExpressionSite> sites;
@@ -1962,32 +2083,26 @@ struct SlotBindings {
   std::vector<Loader::RobotPosition> robot_positions;
 };
 
-// Reads the file once more with every expression probed, and finds the slot where each probe
-// landed. Nullopt when that cannot be told for sure (a probe value lost or changed on its way
-// into the model, a real number in the probes' range): writers then read the file for each
-// member.
-std::optional<SlotBindings> bind_slots(const YamlNode& root, const std::string& file_name,
-                                       const Structure& structure,
-                                       std::vector<ExpressionSite> derived) {
-  Loader prober(file_name);
-  prober.probe_expressions();
-  Model probed = prober.read(root);
-  SlotBindings bindings{structure, prober.sites(), std::move(derived), {}, nullptr, {}};
-  std::size_t slot = 0;
-  std::vector<bool> bound(bindings.sites.size(), false);
-  bool doubtful = false;
-  detail::for_each_number(probed, [&](double& value) {
-    if (const auto site = probed_site(value); site && *site < bound.size()) {
-      bindings.filled.emplace_back(slot, *site);
-      bound[*site] = true;
-    } else if (std::isfinite(value) && std::abs(value) > 0x1p999) {
-      doubtful = true;  // a changed probe, or a real number that could be mistaken for one
-    }
-    ++slot;
-  });
-  if (doubtful || slot != structure.value_count() ||
-      std::find(bound.begin(), bound.end(), false) != bound.end())
-    return std::nullopt;
+// The slots that the expressions of a file fill, as the loader that read it bound them.
+// Nullopt where a number could not be bound: an expression the reader transforms on its way
+// into the model (Loader::transformed()), or a slot name the structure does not have (a case
+// the reader does not foresee; its members are then read from the file, with the same result).
+std::optional<SlotBindings> bound_slots(const Loader& loader, const Structure& structure) {
+  if (loader.transformed()) return std::nullopt;
+  SlotBindings bindings{structure, loader.sites(), loader.derived_sites(), {}, nullptr, {}};
+  // The slots' names are made only for a file that binds something: a large model without
+  // expressions would spend more on them than on its reading.
+  if (loader.bindings().empty()) return bindings;
+  const std::vector<std::string>& names = structure.slot_names();
+  std::unordered_map<std::string_view, std::size_t> slot_of;
+  slot_of.reserve(names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) slot_of.emplace(names[i], i);
+  for (const Binding& b : loader.bindings()) {
+    const auto slot = slot_of.find(b.slot);
+    if (slot == slot_of.end()) return std::nullopt;
+    bindings.filled.emplace_back(slot->second, b.site);
+  }
+  std::sort(bindings.filled.begin(), bindings.filled.end());
   return bindings;
 }
 
@@ -2070,7 +2185,7 @@ ModelFamily::ValueWriter slot_writer(std::shared_ptr<const SlotBindings> binding
       };
 }
 
-// Writers of a file whose numbers could not be bound read the file for each member: each
+// Writers of a file whose expressions could not all be bound read the file for each member: each
 // parses the text once into a tree of its own, so writers on different threads share nothing.
 ModelFamily::ValueWriter rereading_writer(std::shared_ptr<const std::string> text,
                                           const std::string& file_name, const LoadLimits& limits,
@@ -2093,39 +2208,41 @@ ModelFamily::ValueWriter rereading_writer(std::shared_ptr<const std::string> tex
   };
 }
 
-ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits,
-                      const ParameterSettings& settings) {
-  const detail::YamlTree tree = parse_tree(text, file_name, limits);
-  const YamlNode& root = tree.root();
-  Loader loader(file_name);
+// Reads a family's file once, at the parameters' defaults with `settings` in their place, into
+// `loader` (which keeps the expressions' bindings), and returns the structure of that member.
+Structure read_structure(Loader& loader, const YamlNode& root, const std::string& file_name,
+                         const ParameterSettings& settings) {
   loader.set_defaults(&settings);
   Model at_defaults = loader.read(root);
   // Settings for a file without `parameters:` reach no read_parameters(): all are unknown.
   std::vector<std::string> unknown = loader.unknown_settings();
   if (loader.parameters().empty() && loader.derived_names().empty())
     for (const auto& [name, value] : settings) unknown.push_back(name);
-  std::vector<std::string> names;
-  for (const auto& p : loader.parameters()) names.push_back(p.name);
-  if (!unknown.empty())
+  if (!unknown.empty()) {
+    std::vector<std::string> names;
+    for (const auto& p : loader.parameters()) names.push_back(p.name);
     throw UsageError(detail::no_parameter_message(file_name, unknown.front(), names));
+  }
   // The structure validates the model at the defaults; its defects join the loader's own.
   if (!loader.merge({}).empty()) throw InputError(loader.merge(find_defects(at_defaults)));
-  std::optional<Structure> structure;
   try {
-    structure.emplace(std::move(at_defaults));
+    return Structure(std::move(at_defaults));
   } catch (const InputError& e) {
     throw InputError(loader.merge(e.diagnostics()));
   }
+}
+
+ModelFamily family_of(std::string_view text, const std::string& file_name, const LoadLimits& limits,
+                      const ParameterSettings& settings) {
+  const detail::YamlTree tree = parse_tree(text, file_name, limits);
+  const YamlNode& root = tree.root();
+  Loader loader(file_name);
+  const Structure structure = read_structure(loader, root, file_name, settings);
+  std::vector<std::string> names;
+  for (const auto& p : loader.parameters()) names.push_back(p.name);
   const std::vector<std::string> derived_names = loader.derived_names();
-  const std::string name = structure->model().name;
   std::shared_ptr<const SlotBindings> bindings;
-  // A file without parameters is a family of one member: nothing to bind.
-  std::optional<SlotBindings> bound;
-  if (names.empty() && derived_names.empty())
-    bound = SlotBindings{*structure, {}, {}, {}, {}, {}};
-  else
-    bound = bind_slots(root, file_name, *structure, loader.derived_sites());
-  if (bound) {
+  if (auto bound = bound_slots(loader, structure)) {
     bound->robot = loader.robot();
     bound->robot_positions = loader.robot_positions();
     bindings = std::make_shared<const SlotBindings>(std::move(*bound));
@@ -2133,11 +2250,11 @@ ModelFamily family_of(std::string_view text, const std::string& file_name, const
   // The text is kept only for writers that must read it again.
   auto shared_text = bindings ? nullptr : std::make_shared<const std::string>(text);
   auto make_writer = [bindings, shared_text, file_name, limits, names, derived_names,
-                      structure = *structure]() -> ModelFamily::ValueWriter {
+                      structure]() -> ModelFamily::ValueWriter {
     if (bindings) return slot_writer(bindings, names, derived_names);
     return rereading_writer(shared_text, file_name, limits, structure, names, derived_names);
   };
-  return ModelFamily(name, loader.parameters(), *structure, make_writer);
+  return ModelFamily(structure.model().name, loader.parameters(), structure, make_writer);
 }
 
 }  // namespace
@@ -2159,6 +2276,20 @@ Model load_model(const std::filesystem::path& path, const LoadLimits& limits) {
 ModelFamily parse_model_family(std::string_view text, const std::string& file_name,
                                const LoadLimits& limits, const ParameterSettings& settings) {
   return family_of(text, file_name, limits, settings);
+}
+
+std::optional<std::vector<detail::ExpressionBinding>> detail::expression_bindings(
+    std::string_view text, const std::string& file_name) {
+  const detail::YamlTree tree = parse_tree(text, file_name, LoadLimits{});
+  Loader loader(file_name);
+  const Structure structure = read_structure(loader, tree.root(), file_name, {});
+  const auto bound = bound_slots(loader, structure);
+  if (!bound) return std::nullopt;
+  std::vector<ExpressionBinding> bindings;
+  for (const auto& [slot, site] : bound->filled)
+    bindings.push_back(
+        {structure.slot_names()[slot], bound->sites[site].text, bound->sites[site].path});
+  return bindings;
 }
 
 ModelFamily load_model_family(const std::filesystem::path& path, const LoadLimits& limits,

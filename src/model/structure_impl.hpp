@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "assembly/topology.hpp"
 #include "model/link_ends.hpp"
+#include "model/topology.hpp"
 #include "stiffmsa/structure.hpp"
 
 namespace stiffmsa {

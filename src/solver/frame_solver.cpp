@@ -12,7 +12,8 @@
 #include <omp.h>
 #endif
 
-#include "elements/free_directions.hpp"
+#include "elements/cad_link.hpp"
+#include "elements/element_kinds.hpp"
 #include "solver/blas_lock.hpp"
 #include "solver/sparse_solver.hpp"
 
@@ -24,6 +25,29 @@ namespace {
 bool welds(const ElementBlock& connection) {
   const FreeDirections* directions = connection.directions();
   return !directions || directions->p == 0;
+}
+}  // namespace
+
+std::optional<Mat12> end_stiffness(const ElementBlock& link) {
+  switch (link.kind()) {
+    case BlockKind::link: {
+      const auto& flexible = static_cast<const LinkBlock&>(link);
+      if (!flexible.compliance()) return std::nullopt;
+      return free_free_stiffness(*flexible.compliance(), flexible.d());
+    }
+    case BlockKind::stiffness_link: return static_cast<const StiffnessLinkBlock&>(link).stiffness();
+    default: return std::nullopt;
+  }
+}
+
+namespace {
+// Whether end_stiffness(link) has one, without forming it: a frame's plan asks every link.
+bool has_end_stiffness(const ElementBlock& link) {
+  switch (link.kind()) {
+    case BlockKind::link: return static_cast<const LinkBlock&>(link).compliance().has_value();
+    case BlockKind::stiffness_link: return true;
+    default: return false;
+  }
 }
 }  // namespace
 
@@ -43,7 +67,7 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
   }
   if (!supported || plan.nodes == 0) return std::nullopt;
   for (int l = 0; l < topology.link_count; ++l)
-    if (!blocks[static_cast<std::size_t>(l)]->has_end_stiffness()) return std::nullopt;
+    if (!has_end_stiffness(*blocks[static_cast<std::size_t>(l)])) return std::nullopt;
 
   // K's pattern: the nodes in each node's block column, sorted.
   auto node_of = [&](int l, int a) {
@@ -183,7 +207,7 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   std::vector<Mat12> link_stiffness;
   link_stiffness.reserve(static_cast<std::size_t>(topology.link_count));
   for (int l = 0; l < topology.link_count; ++l) {
-    std::optional<Mat12> stiffness = blocks[static_cast<std::size_t>(l)]->end_stiffness();
+    std::optional<Mat12> stiffness = end_stiffness(*blocks[static_cast<std::size_t>(l)]);
     if (!stiffness) return std::nullopt;
     link_stiffness.push_back(*stiffness);
     const Mat12& k12 = link_stiffness.back();

@@ -26,6 +26,11 @@
 
 namespace stiffmsa::detail {
 
+// A link block's stiffness K12 (paper eq. 1), [W_i; W_j] = K12·[Δt_i; Δt_j] in the global frame:
+// free_free_stiffness(C, d) of a flexible link, a CAD stiffness link's matrix; nullopt for a
+// rigid link and for connection blocks.
+std::optional<Mat12> end_stiffness(const ElementBlock& link);
+
 // Which link ends share a deflection: the value-independent part of a frame solve.
 struct FramePlan {
   std::vector<int>

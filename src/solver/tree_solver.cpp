@@ -14,7 +14,7 @@ namespace stiffmsa::detail {
 std::optional<TreeOrder> tree_order(const Topology& topology) {
   const auto group_count = static_cast<int>(topology.groups.size());
   TreeOrder order;
-  // Other supports close loops through the ground: they are cut (ElementBlock::cut_unknowns).
+  // Other supports close loops through the ground: they are cut (tree_passes.hpp).
   for (int g = 0; g < group_count && order.root < 0; ++g)
     if (topology.groups[static_cast<std::size_t>(g)].kind == ConnectionGroup::Kind::support)
       order.root = g;
@@ -48,7 +48,7 @@ std::optional<TreeOrder> tree_order(const Topology& topology) {
 
 bool passes_tree(const Blocks& blocks) {
   return std::all_of(blocks.begin(), blocks.end(),
-                     [](const auto& block) { return block->passes_tree(); });
+                     [](const auto& block) { return passes_tree(*block); });
 }
 
 EndWrenches load_cases(const Model& model, const Topology& topology) {
@@ -375,47 +375,20 @@ CutLayout cut_layout(const Blocks& blocks, int link_count, const TreeOrder& orde
   layout.first.clear();
   for (std::size_t k = 0; k < order.groups.size(); ++k) {
     layout.first.push_back(layout.unknowns);
-    layout.unknowns += blocks[static_cast<std::size_t>(link_count + order.groups[k])]->cut_unknowns(
-        order.toward_root[k]);
+    layout.unknowns += cut_unknowns(*blocks[static_cast<std::size_t>(link_count + order.groups[k])],
+                                    order.toward_root[k]);
   }
   return layout;
 }
 
-// The two passes into x, with the cut unknowns' values of each column (null where nothing is
-// cut); x_low is scratch, used where `compensated`.
-void run_passes(const Blocks& blocks, int link_count, const TreeOrder& order,
-                const CutLayout& layout, const RowMajorMatX* cut_values,
-                const EndWrenches& external, Index unknowns, bool compensated, RowMajorMatX& x,
-                RowMajorMatX& x_low, RowMajorMatX& increment) {
-  // Not zeroed: the passes set every link end's rows (both parts where compensated).
-  x.resize(unknowns, external.columns());
-  if (compensated) x_low.resize(unknowns, external.columns());
-  TreeState state(x, x_low, external, compensated, increment);
-  state.cut_values = cut_values;
-  // The group at entry k of the order, its cut unknowns made the current ones.
-  auto enter_group = [&](std::size_t k) -> const ElementBlock& {
-    state.cut_first = layout.first[k];
-    return *blocks[static_cast<std::size_t>(link_count + order.groups[k])];
-  };
-  auto link_block = [&](int end) -> const ElementBlock& {
-    return *blocks[static_cast<std::size_t>(end / 2)];
-  };
-  // Leaves first: a group's other ends got their wrenches from the links beyond them.
-  for (std::size_t k = order.groups.size(); k-- > 1;) {
-    const int end = order.toward_root[k];
-    enter_group(k).pass_wrench_to_root(end, state);
-    link_block(end).pass_wrench_to_root(end ^ 1, state);
-  }
-  enter_group(0).set_root_deflection(state);
-  for (std::size_t k = 1; k < order.groups.size(); ++k) {
-    const int end = order.toward_root[k];
-    link_block(end).pass_deflection_from_root(end ^ 1, state);
-    enter_group(k).pass_deflection_from_root(end, state);
-  }
-  if (!compensated) return;
-  x += x_low;
-  release_if_large(
-      x_low);  // so that a long model's low parts do not add to the peak beyond the passes
+// The passes, a long model's low parts released after them, so that they do not add to the
+// peak beyond the passes.
+void passes(const Blocks& blocks, int link_count, const TreeOrder& order, const CutLayout& layout,
+            const RowMajorMatX* cut_values, const EndWrenches& external, Index unknowns,
+            bool compensated, RowMajorMatX& x, RowMajorMatX& x_low, RowMajorMatX& increment) {
+  run_passes(blocks, link_count, order, layout.first, cut_values, external, unknowns, compensated,
+             x, x_low, increment);
+  if (compensated) release_if_large(x_low);
 }
 
 // −A·x on chosen rows of a block, each added into a row of `out`: the cut rows alone, so that
@@ -467,7 +440,7 @@ void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrd
     const std::size_t b = static_cast<std::size_t>(topology.link_count + order.groups[k]);
     const ElementBlock& block = *blocks[b];
     rows.clear();
-    block.add_cut_rows(order.toward_root[k], rows);
+    add_cut_rows(block, order.toward_root[k], rows);
     if (rows.empty()) continue;
     residual.start(rows, next);
     block.write_equations(0, residual);
@@ -491,8 +464,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   const CutLayout layout = cut_layout(blocks, link_count, order, scratch.cut_first);
   const Index m = layout.unknowns;
   if (m == 0) {
-    run_passes(blocks, link_count, order, layout, nullptr, external, unknowns, compensated,
-               scratch.x, scratch.x_low, scratch.increment);
+    passes(blocks, link_count, order, layout, nullptr, external, unknowns, compensated, scratch.x,
+           scratch.x_low, scratch.increment);
     return 0;
   }
   if (m > most_cut_unknowns) return std::nullopt;
@@ -505,8 +478,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   unit_values.setZero(m, k + m);
   unit_values.rightCols(m).setIdentity();
   RowMajorMatX& x = scratch.first_run;
-  run_passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, compensated, x,
-             scratch.first_run_low, scratch.increment);
+  passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, compensated, x,
+         scratch.first_run_low, scratch.increment);
 
   // The cut rows' residuals b − A·x: affine in the cut unknowns z, T_load + T_cut·z.
   cut_residuals(blocks, topology, order, x, widened, m, scratch);
@@ -548,8 +521,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   // Second run: the load cases with the cut unknowns solved.
   RowMajorMatX& cut_values = scratch.cut_values;
   cut_values = z;
-  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated,
-             scratch.x, scratch.x_low, scratch.increment);
+  passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated, scratch.x,
+         scratch.x_low, scratch.increment);
   return m;
 }
 

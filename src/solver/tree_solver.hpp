@@ -3,14 +3,14 @@
 // robot, a chain, a branched arm; a parallel robot whose legs meet at its platform and close
 // their loops through the ground), the mixed system is solved without factorising it. Every
 // wrench follows from equilibrium, passed from the leaves to the root support, and every
-// deflection from the root's, passed back out; each element block solves its own equations
-// for the link ends it hands on (ElementBlock::pass_*). It costs a few 6×6 products per link
+// deflection from the root's, passed back out; each element block's equations are solved for
+// the link ends it hands on (solver/tree_passes.hpp). It costs a few 6×6 products per link
 // end and load case, and sums the transported compliances the way a hand-condensed serial model
 // does. On a deep tree it carries every running sum exactly (TwoSum), so that it loses no digits
 // on long chains.
 //
 // Where the passes cannot solve a block alone (a passive joint's free motion, a second support,
-// a passive support at the root), the block is cut (ElementBlock::cut_unknowns): the passes take
+// a passive support at the root), the block is cut (cut_unknowns, tree_passes.hpp): the passes take
 // its free motion or reaction as given and leave as many of its equations. A first run of the
 // passes, with each cut unknown set to 1 in a column of its own besides the load cases, gives
 // these equations' residuals as an affine function of the cut unknowns: a small dense system,
@@ -27,6 +27,7 @@
 #include <Eigen/LU>
 
 #include "assembly/assembler.hpp"
+#include "solver/tree_passes.hpp"
 
 namespace stiffmsa::detail {
 
