@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <iterator>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "assembly/topology.hpp"
 #include "builders.hpp"
@@ -214,6 +216,55 @@ Model hairpin(int beams) {
   m.add_load(tip, "a" + std::to_string(beams), wrench(30, -200, 80, 0, 4, 0));
   m.add_end_effector("tip", tip, "a" + std::to_string(beams));
   return m;
+}
+
+TEST(FrameSolve, ThePlanHoldsKsPatternAndWhereEachLinksPartsGo) {
+  // K's pattern from the plan against one made here from the links: a 6×6 block for every pair
+  // of nodes a link joins (each node with itself), rows sorted in each column.
+  const Model m = building(2, 1, 2);
+  const detail::Topology topology = detail::build_topology(m);
+  const auto plan = detail::frame_plan(topology, detail::make_blocks(m, topology));
+  ASSERT_TRUE(plan);
+  const int n = 6 * plan->nodes;
+  auto node_of = [&](int l, int a) {
+    return plan->node_of_end[static_cast<std::size_t>(2 * l + a)];
+  };
+  std::vector<std::set<int>> joined(static_cast<std::size_t>(plan->nodes));
+  for (int l = 0; l < topology.link_count; ++l)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        if (node_of(l, a) >= 0 && node_of(l, b) >= 0)
+          joined[static_cast<std::size_t>(node_of(l, b))].insert(node_of(l, a));
+  ASSERT_EQ(plan->column_starts.size(), static_cast<std::size_t>(n) + 1);
+  EXPECT_EQ(plan->column_starts.front(), 0);
+  EXPECT_EQ(static_cast<std::size_t>(plan->column_starts.back()), plan->rows.size());
+  for (int column = 0; column < n; ++column) {
+    std::vector<int> expected;
+    for (int node : joined[static_cast<std::size_t>(column / 6)])
+      for (int i = 0; i < 6; ++i) expected.push_back(6 * node + i);
+    const std::vector<int> rows(
+        plan->rows.begin() + plan->column_starts[static_cast<std::size_t>(column)],
+        plan->rows.begin() + plan->column_starts[static_cast<std::size_t>(column) + 1]);
+    EXPECT_EQ(rows, expected) << "column " << column;
+  }
+  ASSERT_EQ(plan->parts.size(), 4 * static_cast<std::size_t>(topology.link_count));
+  for (int l = 0; l < topology.link_count; ++l)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        const detail::FramePlan::Part& part =
+            plan->parts[static_cast<std::size_t>(4 * l + 2 * a + b)];
+        const int row_node = node_of(l, a), column_node = node_of(l, b);
+        EXPECT_EQ(part.first < 0, row_node < 0 || column_node < 0);
+        if (part.first < 0) continue;
+        for (int j = 0; j < 6; ++j)
+          for (int i = 0; i < 6; ++i) {
+            const int at = part.first + j * part.stride + i;
+            const auto column = static_cast<std::size_t>(6 * column_node + j);
+            EXPECT_GE(at, plan->column_starts[column]);
+            EXPECT_LT(at, plan->column_starts[column + 1]);
+            EXPECT_EQ(plan->rows[static_cast<std::size_t>(at)], 6 * row_node + i);
+          }
+      }
 }
 
 TEST(FrameSolve, NearItsBarAFrameKeepsTenDigits) {

@@ -440,8 +440,12 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
     return std::nullopt;
   }
   std::vector<Entry> entries;
+  entries.reserve(v.node->size());
   // The line of each key's first appearance. The points or links of a large model are one
-  // mapping of 100 000 keys: a scan of the keys before each one would take minutes.
+  // mapping of 100 000 keys: a scan of the keys before each one would take minutes; a few keys
+  // are scanned, without a map of their own.
+  constexpr std::size_t kKeysScanned = 16;
+  const bool scanned = v.node->size() <= kKeysScanned;
   std::unordered_map<std::string, int> first_lines;
   for (const auto& [key, value] : v.node->entries()) {
     const Position key_at = where(*key);
@@ -452,9 +456,17 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
     const std::string& name = key->text();
     if (notes_allowed && name.rfind("x-", 0) == 0) continue;
     const std::string path = v.path.empty() ? name : v.path + "." + name;
-    if (const auto [first, is_new] = first_lines.try_emplace(name, key_at.line); !is_new) {
+    std::optional<int> first_line;  // where the key is a duplicate
+    if (scanned) {
+      const auto first = std::find_if(entries.begin(), entries.end(),
+                                      [&](const Entry& e) { return e.key == name; });
+      if (first != entries.end()) first_line = first->key_at.line;
+    } else if (const auto [first, is_new] = first_lines.try_emplace(name, key_at.line); !is_new) {
+      first_line = first->second;
+    }
+    if (first_line) {
       fail(key_at, path,
-           "duplicate key '" + name + "' (first given at line " + std::to_string(first->second) +
+           "duplicate key '" + name + "' (first given at line " + std::to_string(*first_line) +
                "); give each key once");
       continue;
     }
@@ -528,12 +540,15 @@ std::optional<double> Loader::number(const Value& v) {
   const char* end = text.data() + text.size();
   double value = 0;
   const auto [stop, error] = std::from_chars(begin, end, value);
+  const bool read_whole = error == std::errc() && stop == end;
+  const bool sign_after_plus = begin != text.data() && begin != end && *begin == '-';
+  if (read_whole && std::isfinite(value) && !sign_after_plus) return value;
   // YAML spells them .nan and .inf; from_chars reads nan and inf.
   const bool yaml_special =
       text.find(".nan") != std::string::npos || text.find(".NaN") != std::string::npos ||
       text.find(".NAN") != std::string::npos || text.find(".inf") != std::string::npos ||
       text.find(".Inf") != std::string::npos || text.find(".INF") != std::string::npos;
-  if (yaml_special || (error == std::errc() && stop == end && !std::isfinite(value))) {
+  if (yaml_special || (read_whole && !std::isfinite(value))) {
     fail(v, "expected a finite number, got '" + text + "'");
     return std::nullopt;
   }
@@ -541,7 +556,6 @@ std::optional<double> Loader::number(const Value& v) {
     fail(v, "the number '" + text + "' is out of range");
     return std::nullopt;
   }
-  const bool sign_after_plus = begin != text.data() && begin != end && *begin == '-';
   if (error != std::errc() || stop != end || sign_after_plus) {
     fail(v, "expected a number, got " + describe(*v.node) +
                 "; a number written as an expression needs the file's `parameters:`");

@@ -5,6 +5,7 @@
 // The text is written straight from the Result, without a JSON document in between: a
 // 100 000-link result holds 2.4 million numbers, and building, printing and freeing a
 // document node for each took longer than the solve.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,10 @@ class ResultWriter {
       text += "null";
       return;
     }
+    if (value == 0) {  // either zero: a result's many unloaded parts, without the formatter
+      text += "0.0";
+      return;
+    }
     const std::size_t start = text.size();
     append_shortest_text(text, value);
     if (text.find_first_of(".e", start) == std::string::npos) text += ".0";
@@ -44,8 +49,19 @@ class ResultWriter {
       member("directions", [&] { list(3, [&](Eigen::Index i) { vector(directions.col(i)); }); });
     });
   }
-  // Escaped by nlohmann; invalid UTF-8 in a user's name is replaced rather than failing.
+  // Escaped by nlohmann; invalid UTF-8 in a user's name is replaced rather than failing. A
+  // name of printable ASCII without `"` or `\`, which nlohmann writes as it is, is written so
+  // directly.
   void string(const std::string& value) {
+    const bool as_is = std::all_of(value.begin(), value.end(), [](char c) {
+      return c >= 0x20 && c <= 0x7e && c != '"' && c != '\\';
+    });
+    if (as_is) {
+      text += '"';
+      text += value;
+      text += '"';
+      return;
+    }
     text += nlohmann::json(value).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   }
   void null() { text += "null"; }

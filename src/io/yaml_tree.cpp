@@ -98,10 +98,20 @@ class YamlTreeBuilder {
   }
 
  private:
+  // Where a node is, 1-based (0 for no place); made into a SourceLocation, which holds the
+  // file's name, only for a message.
+  struct Place {
+    int line = 0;
+    int column = 0;
+  };
+
   struct Open {
     YamlNode* node;
     const YamlNode* pending_key = nullptr;  // a mapping's key whose value comes next
-    std::optional<SourceLocation> bracket;  // where a flow collection's `[` or `{` is
+    std::optional<Place> bracket;           // where a flow collection's `[` or `{` is
+    // Where its items (a sequence's) or entries (a mapping's) start in items_ or entries_ below:
+    // gathered there while it is open, and moved into the node, at their exact size, at its end.
+    std::size_t first_child = 0;
     // A single `key: value` pair in a flow list has no `{`: it starts where its key does.
     bool starts_at_first_key = false;
   };
@@ -121,7 +131,7 @@ class YamlTreeBuilder {
         expanded_ = std::min(kUnbounded, expanded_ + repeated->expanded_);
         if (expanded_ > expansion_budget())
           throw InputError(
-              node_start(event->alias.anchor, nullptr, nullptr), "",
+              located(node_start(event->alias.anchor, nullptr, nullptr)), "",
               "aliases repeat so much that the document, spelt out, would hold more than " +
                   std::to_string(expansion_budget()) +
                   " values; write the repeated parts out, or repeat less");
@@ -133,7 +143,16 @@ class YamlTreeBuilder {
       case FYET_SEQUENCE_END:
       case FYET_MAPPING_END: {
         if (open_.empty()) return false;  // libfyaml pairs every end with its start
-        const YamlNode* done = open_.back().node;
+        YamlNode* done = open_.back().node;
+        const std::size_t first = open_.back().first_child;
+        if (done->is_sequence()) {
+          done->items_.assign(items_.begin() + static_cast<std::ptrdiff_t>(first), items_.end());
+          items_.resize(first);
+        } else {
+          done->entries_.assign(entries_.begin() + static_cast<std::ptrdiff_t>(first),
+                                entries_.end());
+          entries_.resize(first);
+        }
         open_.pop_back();
         add_existing(done);
         return false;
@@ -142,10 +161,11 @@ class YamlTreeBuilder {
     }
   }
 
-  SourceLocation location_of(const fy_mark* mark) const {
-    if (mark == nullptr) return {file_, 0, 0};
-    return {file_, mark->line + 1, mark->column + 1};
+  static Place place_of(const fy_mark* mark) {
+    if (mark == nullptr) return {};
+    return {mark->line + 1, mark->column + 1};
   }
+  SourceLocation located(Place place) const { return {file_, place.line, place.column}; }
 
   // The character that opens a token before where libfyaml marks it: a quote, `&` or `*`.
   static char indicator_of(fy_token* token) {
@@ -207,16 +227,16 @@ class YamlTreeBuilder {
   }
 
   // A node starts with its properties: `&anchor` and `!tag` come before its value.
-  SourceLocation node_start(fy_token* value, fy_token* anchor, fy_token* tag) const {
+  Place node_start(fy_token* value, fy_token* anchor, fy_token* tag) const {
     std::optional<fy_mark> first;
     for (fy_token* token : {value, anchor, tag})
       if (const auto start = start_of(token);
           start && (!first || start->input_pos < first->input_pos))
         first = start;
-    return first ? location_of(&*first) : SourceLocation{file_, 0, 0};
+    return first ? place_of(&*first) : Place{};
   }
 
-  YamlNode& new_node(YamlNode::Kind kind, const SourceLocation& at) {
+  YamlNode& new_node(YamlNode::Kind kind, Place at) {
     ++expanded_;
     YamlNode& node = tree_.nodes_.emplace_back();
     node.kind_ = kind;
@@ -273,7 +293,7 @@ class YamlTreeBuilder {
     const std::string name(text_of(event->alias.anchor));
     const auto found = anchors_.find(name);
     if (found == anchors_.end())
-      throw InputError(node_start(event->alias.anchor, nullptr, nullptr), "",
+      throw InputError(located(node_start(event->alias.anchor, nullptr, nullptr)), "",
                        "YAML syntax error: the alias '*" + name +
                            "' names no anchor given before it (as '&" + name + "')");
     return found->second;
@@ -286,17 +306,16 @@ class YamlTreeBuilder {
     fy_token* anchor = is_mapping ? event->mapping_start.anchor : event->sequence_start.anchor;
     fy_token* tag = is_mapping ? event->mapping_start.tag : event->sequence_start.tag;
     // A block collection has no start token: it starts where its first key or item does.
-    SourceLocation at = node_start(start, anchor, tag);
+    Place at = node_start(start, anchor, tag);
     if (start == nullptr && anchor == nullptr && tag == nullptr)
-      at = location_of(fy_event_start_mark(event));
+      at = place_of(fy_event_start_mark(event));
     YamlNode& node = new_node(is_mapping ? YamlNode::Kind::mapping : YamlNode::Kind::sequence, at);
     if (static_cast<int>(open_.size()) >= max_depth_)
-      throw InputError(at, "", nesting_too_deep_message(max_depth_));
+      throw InputError(located(at), "", nesting_too_deep_message(max_depth_));
     remember_anchor(anchor, node);
-    Open opened{&node, nullptr, std::nullopt, false};
+    Open opened{&node, nullptr, std::nullopt, is_mapping ? entries_.size() : items_.size(), false};
     const std::string_view indicator = text_of(start);
-    if (indicator == "[" || indicator == "{")
-      opened.bracket = location_of(fy_token_start_mark(start));
+    if (indicator == "[" || indicator == "{") opened.bracket = place_of(fy_token_start_mark(start));
     // libfyaml marks such a pair at its `:`, or at its `?` where it has one, which is its start.
     opened.starts_at_first_key = is_mapping && indicator.empty() && anchor == nullptr &&
                                  tag == nullptr && fy_event_get_node_style(event) == FYNS_FLOW;
@@ -321,11 +340,11 @@ class YamlTreeBuilder {
       parent.starts_at_first_key = false;
     }
     if (parent.node->is_sequence()) {
-      parent.node->items_.push_back(node);
+      items_.push_back(node);
     } else if (parent.pending_key == nullptr) {
       parent.pending_key = node;
     } else {
-      parent.node->entries_.push_back({parent.pending_key, node});
+      entries_.push_back({parent.pending_key, node});
       parent.pending_key = nullptr;
     }
   }
@@ -340,7 +359,7 @@ class YamlTreeBuilder {
       if (error->type < FYET_ERROR) continue;
       if (error->msg != nullptr) message = error->msg;
       const std::optional<fy_mark> mark = start_of(error->fyt);
-      at = mark ? location_of(&*mark) : SourceLocation{file_, error->line, error->column};
+      at = mark ? located(place_of(&*mark)) : SourceLocation{file_, error->line, error->column};
       break;
     }
     for (auto open = open_.rbegin(); open != open_.rend(); ++open) {
@@ -358,8 +377,10 @@ class YamlTreeBuilder {
   const std::string& file_;
   int max_depth_;
   YamlTree tree_;
-  std::vector<Open> open_;           // the collections being read, the innermost last
-  std::vector<YamlNode*> unplaced_;  // empty values that wait for what follows them
+  std::vector<Open> open_;              // the collections being read, the innermost last
+  std::vector<YamlNode*> unplaced_;     // empty values that wait for what follows them
+  std::vector<const YamlNode*> items_;  // of the open sequences, the innermost's last
+  std::vector<YamlEntry> entries_;      // of the open mappings, the innermost's last
   std::unordered_map<std::string, const YamlNode*> anchors_;
   // Values of the document spelt out so far: nodes made, plus what every alias repeats.
   static constexpr std::uint64_t kUnbounded = std::uint64_t{1} << 62;

@@ -1,6 +1,7 @@
 #include "solver/frame_solver.hpp"
 
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 
 #include "stiffmsa/config.hpp"
@@ -39,6 +40,17 @@ std::optional<Mat12> end_stiffness(const ElementBlock& link) {
   }
 }
 
+namespace {
+// Whether end_stiffness(link) has one, without forming it: a frame's plan asks every link.
+bool has_end_stiffness(const ElementBlock& link) {
+  switch (link.kind()) {
+    case BlockKind::link: return static_cast<const LinkBlock&>(link).compliance().has_value();
+    case BlockKind::stiffness_link: return true;
+    default: return false;
+  }
+}
+}  // namespace
+
 std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& blocks) {
   FramePlan plan;
   plan.node_of_end.assign(static_cast<std::size_t>(topology.end_count()), -1);
@@ -54,9 +66,48 @@ std::optional<FramePlan> frame_plan(const Topology& topology, const Blocks& bloc
     ++plan.nodes;
   }
   if (!supported || plan.nodes == 0) return std::nullopt;
-  // Last, as it forms every link's K12: a rigid link has none.
   for (int l = 0; l < topology.link_count; ++l)
-    if (!end_stiffness(*blocks[static_cast<std::size_t>(l)])) return std::nullopt;
+    if (!has_end_stiffness(*blocks[static_cast<std::size_t>(l)])) return std::nullopt;
+
+  // K's pattern: the nodes in each node's block column, sorted.
+  auto node_of = [&](int l, int a) {
+    return plan.node_of_end[static_cast<std::size_t>(2 * l + a)];
+  };
+  std::vector<std::vector<int>> rows_of(static_cast<std::size_t>(plan.nodes));
+  for (int l = 0; l < topology.link_count; ++l)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        if (node_of(l, a) >= 0 && node_of(l, b) >= 0)
+          rows_of[static_cast<std::size_t>(node_of(l, b))].push_back(node_of(l, a));
+  for (std::vector<int>& rows : rows_of) {
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  }
+  plan.column_starts.reserve(6 * static_cast<std::size_t>(plan.nodes) + 1);
+  plan.column_starts.push_back(0);
+  std::vector<int> first_of_node(static_cast<std::size_t>(plan.nodes));
+  for (int node = 0; node < plan.nodes; ++node) {
+    const std::vector<int>& rows = rows_of[static_cast<std::size_t>(node)];
+    first_of_node[static_cast<std::size_t>(node)] = plan.column_starts.back();
+    for (int j = 0; j < 6; ++j) {
+      for (int row : rows)
+        for (int i = 0; i < 6; ++i) plan.rows.push_back(6 * row + i);
+      plan.column_starts.push_back(static_cast<int>(plan.rows.size()));
+    }
+  }
+  plan.parts.resize(4 * static_cast<std::size_t>(topology.link_count));
+  for (int l = 0; l < topology.link_count; ++l)
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        const int row_node = node_of(l, a), column_node = node_of(l, b);
+        if (row_node < 0 || column_node < 0) continue;
+        const std::vector<int>& rows = rows_of[static_cast<std::size_t>(column_node)];
+        const auto at = std::lower_bound(rows.begin(), rows.end(), row_node) - rows.begin();
+        FramePlan::Part& part = plan.parts[static_cast<std::size_t>(4 * l + 2 * a + b)];
+        part.first =
+            first_of_node[static_cast<std::size_t>(column_node)] + 6 * static_cast<int>(at);
+        part.stride = 6 * static_cast<int>(rows.size());
+      }
   return plan;
 }
 
@@ -132,7 +183,6 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
   const Index columns = external.columns();
   auto node_of = [&](int end) { return plan.node_of_end[static_cast<std::size_t>(end)]; };
 
-  // K = Σ K12 over the links, each of its 6×6 parts where both ends have a node.
   // A pose whose blocks are no frame's (a link made rigid, a weld made a hinge) is declined;
   // its pattern differs, which the factorising solve's assembler then refuses as a changed
   // topology.
@@ -144,10 +194,18 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
     if (const std::optional<Vec6> d = connection.settlement())
       for (int end : topology.groups[g].ends) settled[static_cast<std::size_t>(end)] = d;
   }
+  // K = Σ K12 over the links, each of its 6×6 parts where both ends have a node, in the plan's
+  // pattern; each entry summed in the order of the links, its first term standing alone as in
+  // a sum of triplets (−0 is the start that keeps it: −0 + v is v, a −0 term included).
+  const std::size_t nonzeros = plan.rows.size();
+  SparseMatrix k(n, n);
+  k.resizeNonZeros(static_cast<Index>(nonzeros));
+  std::copy(plan.column_starts.begin(), plan.column_starts.end(), k.outerIndexPtr());
+  std::copy(plan.rows.begin(), plan.rows.end(), k.innerIndexPtr());
+  double* values = k.valuePtr();
+  std::fill(values, values + nonzeros, -0.0);
   std::vector<Mat12> link_stiffness;
   link_stiffness.reserve(static_cast<std::size_t>(topology.link_count));
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<std::size_t>(topology.link_count) * 144);
   for (int l = 0; l < topology.link_count; ++l) {
     std::optional<Mat12> stiffness = end_stiffness(*blocks[static_cast<std::size_t>(l)]);
     if (!stiffness) return std::nullopt;
@@ -155,27 +213,30 @@ std::optional<FrameSolution> frame_solve(const Blocks& blocks, const Topology& t
     const Mat12& k12 = link_stiffness.back();
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b) {
-        const int row_node = node_of(2 * l + a), column_node = node_of(2 * l + b);
-        if (row_node < 0 || column_node < 0) continue;
-        for (Index i = 0; i < 6; ++i)
-          for (Index j = 0; j < 6; ++j)
-            entries.emplace_back(static_cast<int>(6 * row_node + i),
-                                 static_cast<int>(6 * column_node + j), k12(6 * a + i, 6 * b + j));
+        const FramePlan::Part& part = plan.parts[static_cast<std::size_t>(4 * l + 2 * a + b)];
+        if (part.first < 0) continue;
+        for (Index j = 0; j < 6; ++j) {
+          double* column = values + part.first + j * part.stride;
+          for (Index i = 0; i < 6; ++i) column[i] += k12(6 * a + i, 6 * b + j);
+        }
       }
   }
-  SparseMatrix k(n, n);
-  k.setFromTriplets(entries.begin(), entries.end());
-  entries = {};
 
   // Scaled to a unit diagonal: K̂ = S·K·S, S = diag(1/√K_ii), so that forces beside moments
   // and metres beside radians do not set the condition estimate.
+  const int* rows = k.innerIndexPtr();
+  const int* starts = k.outerIndexPtr();
   VecX scale(n);
-  for (Index i = 0; i < n; ++i) {
-    const double diagonal = k.coeff(i, i);
-    if (!(diagonal > 0) || !std::isfinite(diagonal)) return std::nullopt;
-    scale(i) = 1 / std::sqrt(diagonal);
+  for (Index column = 0; column < n; ++column) {
+    const int* end = rows + starts[column + 1];
+    const int* diagonal = std::lower_bound(rows + starts[column], end, static_cast<int>(column));
+    const double value = diagonal != end && *diagonal == column ? values[diagonal - rows] : 0.0;
+    if (!(value > 0) || !std::isfinite(value)) return std::nullopt;
+    scale(column) = 1 / std::sqrt(value);
   }
-  k = scale.asDiagonal() * k * scale.asDiagonal();
+  for (Index column = 0; column < n; ++column)
+    for (int e = starts[column]; e < starts[column + 1]; ++e)
+      values[e] = values[e] * scale(rows[e]) * scale(column);
   StiffnessCholesky cholesky;
   cholesky.analyze(k);
   if (!cholesky.factorize(k)) return std::nullopt;

@@ -36,6 +36,17 @@ struct FramePlan {
   std::vector<int>
       node_of_end;  // per link end: its connection's node, −1 where a rigid support holds it
   int nodes = 0;    // connections that are not supports, 6 unknowns each
+  // K's pattern, compressed by columns (both triangles, rows sorted): a dense 6×6 block for every
+  // pair of nodes that a link joins, and for every node with itself.
+  std::vector<int> column_starts;  // 6·nodes + 1
+  std::vector<int> rows;
+  // Per link and part (a, b) of its K12 (4·l + 2·a + b), where that 6×6 part goes in K's values:
+  // entry (i, j) at first + j·stride + i; first −1 where an end has no node.
+  struct Part {
+    int first = -1;
+    int stride = 0;
+  };
+  std::vector<Part> parts;
 };
 
 // The plan where the model is a frame as above with at least one rigid support and one node;
