@@ -84,12 +84,13 @@ TEST(Elastica, ReferenceMatchesTheSmallLoadLimitAndIsConverged) {
   EXPECT_NEAR(coarse.theta, fine.theta, 1e-12);
 }
 
-// The same cantilever as n beams, nearly inextensible (A large against I/L²).
-Model cantilever(int n, double force) {
+// The same cantilever as n beams, nearly inextensible (A large against I/L²) unless `area` says
+// otherwise.
+Model cantilever(int n, double force, double area = 1e3) {
   Model m;
   m.name = "elastica";
   const Material material{1e9, 0.3, std::nullopt, std::nullopt};
-  const Section section = Section::generic(1e3, 1e-6, 1e-6, 2e-6);  // EI = 1000
+  const Section section = Section::generic(area, 1e-6, 1e-6, 2e-6);  // EI = 1000
   for (int i = 0; i <= n; ++i) m.add_point("p" + std::to_string(i), Vec3(double(i) / n, 0, 0));
   for (int i = 0; i < n; ++i)
     m.add_beam("b" + std::to_string(i), "p" + std::to_string(i), "p" + std::to_string(i + 1),
@@ -128,6 +129,32 @@ TEST(LoadedMode, CantileverConvergesToTheElasticaFromPL2EI01To10) {
     EXPECT_LT(finer, 1e-6);
     EXPECT_LT(finest, 1e-8);
   }
+}
+
+// The block LU's elimination order comes from a search whose cost grows as the square of the
+// link ends (theory §15.10): a model of more than kBlockLuMostGroups link ends takes the sparse
+// path. Below it, the block LU and a sparse LU find the same equilibrium and tangent. (With the
+// elastica's near-inextensible section, EA/EI = 1e12, the tangent's condition leaves the
+// compliance only ~6 digits whichever LU solves it: an axial stiffness of a real beam here.)
+TEST(LoadedMode, LongModelsTakeTheSparsePathAndBothPathsAgree) {
+  const double force = 3.0 * 1e3;                    // PL²/EI = 3
+  const Model within = cantilever(60, force, 1e-2);  // 120 link ends
+  const Result by_block_lu = solve(within, loaded_options());
+  EXPECT_EQ(by_block_lu.report.solver, SolverUsed::block_lu);
+  SolveOptions sparse = loaded_options();
+  sparse.solver = SolverKind::sparse_lu;
+  const Result by_sparse_lu = solve(within, sparse);
+  EXPECT_EQ(by_sparse_lu.report.solver, SolverUsed::sparse_lu);
+  const Vec6 a = *by_block_lu.end_effector("tip").deflection;
+  const Vec6 b = *by_sparse_lu.end_effector("tip").deflection;
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-10 * b.cwiseAbs().maxCoeff());
+  const Mat6 ca = *by_block_lu.end_effector("tip").compliance;
+  const Mat6 cb = *by_sparse_lu.end_effector("tip").compliance;
+  EXPECT_LT((ca - cb).norm(), 1e-9 * cb.norm());
+
+  const Result beyond = solve(cantilever(70, force, 1e-2), loaded_options());  // 140 link ends
+  EXPECT_NE(beyond.report.solver, SolverUsed::block_lu);
+  EXPECT_LT(beyond.report.relative_residual, 1e-10);
 }
 
 // ---- a planar 2R arm with joint springs --------------------------------------------------

@@ -530,7 +530,8 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
         pivot_column = j;
       }
     }
-    while (std::abs(m(pivot_row, pivot_column)) != pivot) ++pivot_row;
+    if (!(pivot >= 0)) break;  // every entry left is NaN: no rank beyond this
+    while (pivot_row + 1 < r && std::abs(m(pivot_row, pivot_column)) != pivot) ++pivot_row;
     if (rank == 0) first_pivot = pivot;
     if (!(pivot > kLoadTermRank * first_pivot)) break;
     m.row(rank).swap(m.row(pivot_row));

@@ -637,7 +637,10 @@ Result loaded_result(const Model& model, const Topology& topology, const SolveOp
     }
     double residual_of_solve = 0;
     const MatX x = path.tangent.solve_checked(rhs, options.refinement_steps, residual_of_solve);
-    compliance_residual = std::max(compliance_residual, residual_of_solve);
+    // A non-finite residual is a failed check, not one that std::max would drop.
+    compliance_residual = std::isfinite(residual_of_solve)
+                              ? std::max(compliance_residual, residual_of_solve)
+                              : std::numeric_limits<double>::infinity();
     EndEffectorResult& r = result.end_effectors[e];
     const Mat6 compliance = x.middleRows<6>(12 * static_cast<Index>(end));
     r.compliance = compliance;

@@ -61,7 +61,9 @@ class LoadedTangent {
   const char* solver_name() const;
 
  private:
-  bool uses_block_lu() const { return kind_ == SolverKind::automatic; }
+  bool uses_block_lu() const {
+    return kind_ == SolverKind::automatic && n_ <= Index{kBlockColumns} * kBlockLuMostGroups;
+  }
   // The sparse pattern of the layout, where not yet recorded (the sparse path is taken).
   void record_pattern();
   // The blocks' tangents at `in` into tangents_, their residuals into `residual`.

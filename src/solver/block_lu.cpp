@@ -139,6 +139,9 @@ BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values) {
   smallest_pivot_ = 0;
   if (structurally_singular_) return Outcome::singular;
   const std::size_t blocks = layout_.rows.size();
+  // A non-finite entry would pass the pivot tests below (NaN compares false): no factors.
+  for (std::size_t b = 0; b < blocks; ++b)
+    if (!values[b].allFinite()) return Outcome::singular;
 
   // Equilibration by powers of two (no rounding): each column's largest entry, then each row's
   // of the column-scaled matrix, near 1. Partial pivoting then compares rows of like size, and
@@ -212,7 +215,7 @@ BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values) {
       Index p = 0;
       const double size = f.col(k).tail(m - k).cwiseAbs().maxCoeff(&p);
       p += k;
-      if (size == 0) return Outcome::singular;
+      if (!(size > 0)) return Outcome::singular;
       smallest_pivot_ = std::min(smallest_pivot_, size);
       s.pivots[static_cast<std::size_t>(k)] = static_cast<int>(p);
       if (p != k) {

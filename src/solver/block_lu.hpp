@@ -22,6 +22,10 @@ inline constexpr int kBlockColumns = 12;
 // entries' computation, and the factors are not trusted (the caller falls back on a solver that
 // equilibrates and pivots over the whole matrix).
 inline constexpr double kBlockLuTinyPivot = 1e-10;
+// The elimination order's analysis scores every group against every block at each step (its
+// cost grows as groups² × blocks): past this many groups a sparse LU's own ordering is the
+// cheaper way, and callers take it.
+inline constexpr int kBlockLuMostGroups = 128;
 
 // The blocks of a matrix, in the order of its rows: block b has `rows[b]` rows and touches the
 // column groups `groups[b]` (each 12 columns, group g at columns 12·g …). Its values are a

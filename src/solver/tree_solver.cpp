@@ -544,8 +544,8 @@ std::optional<Index> tree_solve_with_cut_system_of(const TreeScratch& solved, co
   RowMajorMatX& zero_values = scratch.unit_values;
   zero_values.setZero(m, k);
   RowMajorMatX& x = scratch.first_run;
-  run_passes(blocks, link_count, order, layout, &zero_values, external, unknowns, compensated, x,
-             scratch.first_run_low, scratch.increment);
+  passes(blocks, link_count, order, layout, &zero_values, external, unknowns, compensated, x,
+         scratch.first_run_low, scratch.increment);
   cut_residuals(blocks, topology, order, x, external, m, scratch);
   release_if_large(x);
   const RowMajorMatX& t = scratch.cut_residuals;
@@ -561,8 +561,8 @@ std::optional<Index> tree_solve_with_cut_system_of(const TreeScratch& solved, co
   // Second run: the columns with the cut unknowns solved.
   RowMajorMatX& cut_values = scratch.cut_values;
   cut_values = z;
-  run_passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated,
-             scratch.x, scratch.x_low, scratch.increment);
+  passes(blocks, link_count, order, layout, &cut_values, external, unknowns, compensated, scratch.x,
+         scratch.x_low, scratch.increment);
   return m;
 }
 
