@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/loaded_mode.hpp"
@@ -220,15 +221,34 @@ std::vector<std::string> model_files() {
   return files;
 }
 
-// The loaded blocks' values at the unloaded pose under the model's loads (`factor` of them).
-std::vector<MatX> loaded_values(const Model& model, const Topology& topology,
-                                const std::vector<std::unique_ptr<LoadedBlock>>& blocks,
-                                double factor) {
+// The models of model_files() that load as one model, with their files.
+std::vector<std::pair<std::string, Model>> loadable_models() {
+  std::vector<std::pair<std::string, Model>> models;
+  for (const std::string& file : model_files()) {
+    try {
+      models.emplace_back(file, load_model(file));
+    } catch (const Error&) {
+      // a parametric family, or a model of the invalid corpus
+    }
+  }
+  return models;
+}
+
+// Every link end at its unloaded position, no wrench.
+std::vector<EndState> unloaded_ends(const Model& model, const Topology& topology) {
   std::vector<EndState> ends(static_cast<std::size_t>(topology.end_count()));
   for (int e = 0; e < topology.end_count(); ++e)
     ends[static_cast<std::size_t>(e)].position =
         model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(e)])]
             .position;
+  return ends;
+}
+
+// The loaded blocks' values at the unloaded pose under the model's loads (`factor` of them).
+std::vector<MatX> loaded_values(const Model& model, const Topology& topology,
+                                const std::vector<std::unique_ptr<LoadedBlock>>& blocks,
+                                double factor) {
+  const std::vector<EndState> ends = unloaded_ends(model, topology);
   std::vector<Vec6> external = end_loads(model, topology);
   for (Vec6& w : external) w *= factor;
   std::vector<MatX> values(blocks.size());
@@ -252,13 +272,7 @@ BlockLayout layout_of(const std::vector<std::unique_ptr<LoadedBlock>>& blocks, i
 TEST(BlockLU, LoadedTangentsOfTheExamplesAsDenseLU) {
   std::mt19937 random(3);
   int checked = 0;
-  for (const std::string& file : model_files()) {
-    Model model;
-    try {
-      model = load_model(file);
-    } catch (const Error&) {
-      continue;  // a parametric family, or a model of the invalid corpus
-    }
+  for (const auto& [file, model] : loadable_models()) {
     const Topology topology = build_topology(model);
     if (topology.unknowns() > kLargestDense) continue;
     const auto blocks = make_loaded_blocks(
@@ -281,21 +295,11 @@ TEST(BlockLU, LoadedTangentsOfTheExamplesAsDenseLU) {
 TEST(BlockLU, UnloadedDeterminantSignAsKlu) {
   if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "built without KLU";
   int checked = 0;
-  for (const std::string& file : model_files()) {
-    Model model;
-    try {
-      model = load_model(file);
-    } catch (const Error&) {
-      continue;
-    }
+  for (const auto& [file, model] : loadable_models()) {
     const Topology topology = build_topology(model);
     const auto blocks = make_loaded_blocks(
         model, topology, std::vector<std::vector<LoadAlongLink>>(model.links.size()));
-    std::vector<EndState> ends(static_cast<std::size_t>(topology.end_count()));
-    for (int e = 0; e < topology.end_count(); ++e)
-      ends[static_cast<std::size_t>(e)].position =
-          model.points[static_cast<std::size_t>(topology.end_points[static_cast<std::size_t>(e)])]
-              .position;
+    const std::vector<EndState> ends = unloaded_ends(model, topology);
     const std::vector<Vec6> none(ends.size(), Vec6::Zero());
     LoadedTangent block(SolverKind::automatic), klu(SolverKind::klu);
     block.begin(blocks, topology.unknowns());
