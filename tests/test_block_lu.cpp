@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <string>
 #include <utility>
@@ -207,6 +209,89 @@ TEST(BlockLU, SingularAndNearSingularDetected) {
   short_of_rows.block(12, {1});
   lu.analyze(short_of_rows.layout);
   EXPECT_EQ(lu.factorise(random_values(short_of_rows.layout, random)), BlockLU::Outcome::singular);
+}
+
+// The scale read off the exponent's bits as frexp and ldexp give it, over the whole range of
+// doubles: subnormal sizes, the largest normal ones (whose scale is subnormal), and between.
+TEST(BlockLU, PowerOfTwoScaleAsFrexp) {
+  const auto by_frexp = [](double largest) {
+    int exponent = 0;
+    std::frexp(largest, &exponent);
+    return std::ldexp(1.0, -exponent);
+  };
+  std::vector<double> sizes = {std::numeric_limits<double>::denorm_min(),
+                               std::numeric_limits<double>::min(),
+                               std::numeric_limits<double>::max(),
+                               std::nextafter(std::numeric_limits<double>::min(), 0.0),
+                               0.5,
+                               1.0,
+                               std::nextafter(1.0, 0.0),
+                               3e-200,
+                               7e250};
+  for (int exponent = -1074; exponent <= 1023; ++exponent)
+    for (double mantissa : {1.0, 1.5, std::nextafter(2.0, 0.0)})
+      sizes.push_back(std::ldexp(mantissa, exponent));
+  for (double size : sizes) {
+    EXPECT_EQ(power_of_two_scale(size), by_frexp(size)) << size;
+    EXPECT_EQ(power_of_two_scale(-size), 1.0) << -size;
+  }
+  EXPECT_EQ(power_of_two_scale(0.0), 1.0);
+  EXPECT_EQ(power_of_two_scale(std::numeric_limits<double>::infinity()), 1.0);
+  EXPECT_EQ(power_of_two_scale(std::numeric_limits<double>::quiet_NaN()), 1.0);
+}
+
+// Columns scaled by powers of two far apart (2^±800), and all rows by one more, leave the
+// equilibrated matrix, and so the factors, exactly as they were: the solution scales back
+// exactly, the sign and the smallest pivot are the same. (Rows scaled apart would change which
+// entry is each column's largest: the scaling is column first.)
+TEST(BlockLU, PowerOfTwoScalingsTakenOutExactly) {
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> exponent(-800, 800);
+  for (const BlockLayout& layout : {chain(4), three_legs()}) {
+    BlockLU lu;
+    lu.analyze(layout);
+    const std::vector<MatX> values = random_values(layout, random);
+    ASSERT_EQ(lu.factorise(values), BlockLU::Outcome::factorised);
+    const Index n = 12 * layout.group_count;
+    const MatX b = MatX::Random(n, 2);
+    MatX x = b;
+    lu.solve(x);
+    const double sign = lu.determinant_sign(), smallest = lu.smallest_pivot();
+
+    const double row_scale = std::ldexp(1.0, 100);
+    VecX column_scale(n);
+    for (Index j = 0; j < n; ++j) column_scale(j) = std::ldexp(1.0, exponent(random));
+    std::vector<MatX> scaled = values;
+    for (std::size_t k = 0; k < scaled.size(); ++k)
+      for (Index j = 0; j < scaled[k].cols(); ++j)
+        scaled[k].col(j) *= row_scale * column_scale(12 * layout.groups[k][j / 12] + j % 12);
+    ASSERT_EQ(lu.factorise(scaled), BlockLU::Outcome::factorised);
+    MatX scaled_x = row_scale * b;
+    lu.solve(scaled_x);
+    EXPECT_EQ(MatX((scaled_x.array().colwise() * column_scale.array()).matrix()), x);
+    EXPECT_EQ(lu.determinant_sign(), sign);
+    EXPECT_EQ(lu.smallest_pivot(), smallest);
+  }
+}
+
+// A front whose pivot rows are all at its bottom (the row swaps of every step, in the
+// factorised columns and the ones updated after) and a tangent with whole zero blocks in its
+// fronts (the updates a zero multiplier skips): as the dense LU.
+TEST(BlockLU, SwappedAndSparseFrontsAsDenseLU) {
+  std::mt19937 random(17);
+  const BlockLayout layout = three_legs();
+  BlockLU lu;
+  lu.analyze(layout);
+  for (int trial = 0; trial < 10; ++trial) {
+    std::vector<MatX> values = random_values(layout, random);
+    // Every link's entries in its first end's columns small: after the scaling, those columns'
+    // pivots come from the connections' rows, stacked below the link's in the fronts.
+    for (std::size_t k = 0; k < 6; ++k) values[k].leftCols(12) *= 1e-6;
+    // Zero couplings in half the blocks' second ends.
+    for (std::size_t k = 0; k < values.size(); ++k)
+      if (values[k].cols() > 12 && k % 2 == 0) values[k].middleCols(12, 6).setZero();
+    expect_as_dense(lu, values, random, "trial " + std::to_string(trial));
+  }
 }
 
 std::vector<std::string> model_files() {

@@ -72,8 +72,10 @@ class LoadedTangent {
   void scatter();
   // scaled_ = S_r·matrix_·S_c.
   void scale(const Equilibration& scaling);
-  // b − J·x, per column, and the backward errors' largest.
-  double backward_error(const MatX& b, const MatX& x, MatX& residual) const;
+  // ‖J‖∞ of the tangent as evaluated.
+  double norm_inf() const;
+  // b − J·x, per column, and the backward errors' largest (`a_norm`: ‖J‖∞).
+  double backward_error(const MatX& b, const MatX& x, double a_norm, MatX& residual) const;
 
   SolverKind kind_;
   const std::vector<std::unique_ptr<LoadedBlock>>* blocks_ = nullptr;

@@ -2,20 +2,26 @@
 #include "solver/block_lu.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace stiffmsa::detail {
 
-namespace {
-
-// The power of two that brings `largest` into [0.5, 1); 1 for a zero (or non-finite) size.
 double power_of_two_scale(double largest) {
   if (!(largest > 0) || !std::isfinite(largest)) return 1.0;
+  // A normal `largest` of biased exponent E lies in [2^(E−1023), 2^(E−1022)): its scale is
+  // 2^(1022−E), of biased exponent 2045 − E, read off the bits where that is normal too.
+  const auto exponent_bits = static_cast<int>(std::bit_cast<std::uint64_t>(largest) >> 52);
+  if (exponent_bits > 0 && exponent_bits < 2045)
+    return std::bit_cast<double>(static_cast<std::uint64_t>(2045 - exponent_bits) << 52);
   int exponent = 0;
   std::frexp(largest, &exponent);
   return std::ldexp(1.0, -exponent);
 }
+
+namespace {
 
 // +1 or −1: the parity of the permutation k ↦ order[k] of 0 … n−1.
 int permutation_parity(const std::vector<int>& order) {
@@ -31,6 +37,35 @@ int permutation_parity(const std::vector<int>& order) {
     if (length % 2 == 0) parity = -parity;
   }
   return parity;
+}
+
+// The largest finite double: an entry's size above it is infinite or NaN.
+constexpr double kLargestFinite = std::numeric_limits<double>::max();
+
+// y[first … last) −= y[first − 1]·x[first … last), where that multiplier is not zero: one
+// column of the elimination's update (the multiplier is the pivot row's entry).
+inline void subtract_multiple(double* __restrict y, const double* __restrict x, Index first,
+                              Index last) {
+  const double multiplier = y[first - 1];
+  if (multiplier == 0) return;
+  for (Index i = first; i < last; ++i) y[i] -= multiplier * x[i];
+}
+
+// target[i] = row_scale[i]·scaled[i] for i < rows.
+inline void scale_rows(double* __restrict target, const double* __restrict row_scale,
+                       const double* __restrict scaled, int rows) {
+  for (int i = 0; i < rows; ++i) target[i] = row_scale[i] * scaled[i];
+}
+
+// z[0 … 12) −= U·x for a 12 × 12 block U of leading dimension `stride`, each row's sum formed
+// from its first term on (as the dense product did).
+inline void subtract_group_product(double* __restrict z, const double* __restrict u, Index stride,
+                                   const double* __restrict x) {
+  double sum[kBlockColumns];
+  for (int i = 0; i < kBlockColumns; ++i) sum[i] = u[i] * x[0];
+  for (int p = 1; p < kBlockColumns; ++p)
+    for (int i = 0; i < kBlockColumns; ++i) sum[i] += u[stride * p + i] * x[p];
+  for (int i = 0; i < kBlockColumns; ++i) z[i] -= sum[i];
 }
 
 }  // namespace
@@ -118,6 +153,11 @@ void BlockLU::analyze(const BlockLayout& layout) {
       break;
     }
     if (left > 0) active.push_back({step, left, others, true});
+    for (Part& part : s.parts)
+      for (int k = 0; k < static_cast<int>(s.groups.size()); ++k)
+        if (std::find(part.column_groups.begin(), part.column_groups.end(), k) ==
+            part.column_groups.end())
+          part.zero_groups.push_back(k);
     s.front.resize(s.rows, kBlockColumns * static_cast<Index>(s.groups.size()));
     s.pivots.assign(kBlockColumns, 0);
     s.row_ids.assign(static_cast<std::size_t>(s.rows), 0);
@@ -132,149 +172,227 @@ void BlockLU::analyze(const BlockLayout& layout) {
   row_scale_.resize(n_);
   column_scale_.resize(n_);
   rhs_.assign(steps_.size(), MatX());
+  column_scaled_.resize(layout.rows.size());
+  for (std::size_t b = 0; b < layout.rows.size(); ++b)
+    column_scaled_[b].resize(layout.rows[b],
+                             kBlockColumns * static_cast<Index>(layout.groups[b].size()));
+  row_order_.reserve(static_cast<std::size_t>(n_));
+  std::size_t widest = 0;
+  for (const std::vector<int>& groups : layout.groups) widest = std::max(widest, groups.size());
+  block_scratch_.resize(kBlockColumns * static_cast<Index>(widest));
 }
 
 BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values) {
   sign_ = 0;
   smallest_pivot_ = 0;
   if (structurally_singular_) return Outcome::singular;
-  const std::size_t blocks = layout_.rows.size();
-  // A non-finite entry would pass the pivot tests below (NaN compares false): no factors.
-  for (std::size_t b = 0; b < blocks; ++b)
-    if (!values[b].allFinite()) return Outcome::singular;
-
-  // Equilibration by powers of two (no rounding): each column's largest entry, then each row's
-  // of the column-scaled matrix, near 1. Partial pivoting then compares rows of like size, and
-  // a pivot's size reads against 1.
-  column_scale_.setZero();
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const MatX& v = values[b];
-    for (std::size_t k = 0; k < layout_.groups[b].size(); ++k)
-      for (int c = 0; c < kBlockColumns; ++c) {
-        const Index j = kBlockColumns * layout_.groups[b][k] + c;
-        column_scale_(j) =
-            std::max(column_scale_(j),
-                     v.col(kBlockColumns * static_cast<Index>(k) + c).cwiseAbs().maxCoeff());
-      }
-  }
-  for (Index j = 0; j < n_; ++j) column_scale_(j) = power_of_two_scale(column_scale_(j));
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const MatX& v = values[b];
-    for (Index i = 0; i < layout_.rows[b]; ++i) {
-      double largest = 0;
-      for (std::size_t k = 0; k < layout_.groups[b].size(); ++k)
-        largest = std::max(
-            largest,
-            (v.row(i).segment<kBlockColumns>(kBlockColumns * static_cast<Index>(k)).array() *
-             column_scale_.segment<kBlockColumns>(kBlockColumns * layout_.groups[b][k])
-                 .transpose()
-                 .array())
-                .abs()
-                .maxCoeff());
-      row_scale_(first_row_[b] + i) = power_of_two_scale(largest);
-    }
-  }
-
+  if (!equilibrate(values)) return Outcome::singular;
   double sign = column_parity_;
   smallest_pivot_ = std::numeric_limits<double>::infinity();
-  std::vector<int> row_order;
-  row_order.reserve(static_cast<std::size_t>(n_));
+  row_order_.clear();
   for (Step& s : steps_) {
-    MatX& f = s.front;
-    f.setZero();
-    for (const Part& part : s.parts) {
-      if (part.source < 0) {
-        const std::size_t b = static_cast<std::size_t>(-part.source - 1);
-        const MatX& v = values[b];
-        const auto rows = row_scale_.segment(first_row_[b], part.rows);
-        for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
-          const auto columns =
-              column_scale_.segment<kBlockColumns>(kBlockColumns * layout_.groups[b][k]);
-          f.block(part.first_row, kBlockColumns * part.column_groups[k], part.rows,
-                  kBlockColumns) +=
-              rows.asDiagonal() *
-              v.block(0, kBlockColumns * static_cast<Index>(k), part.rows, kBlockColumns) *
-              columns.asDiagonal();
-        }
-        for (int i = 0; i < part.rows; ++i)
-          s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
-      } else {
-        const Step& earlier = steps_[static_cast<std::size_t>(part.source)];
-        for (std::size_t k = 0; k < part.column_groups.size(); ++k)
-          f.block(part.first_row, kBlockColumns * part.column_groups[k], part.rows,
-                  kBlockColumns) +=
-              earlier.front.block(kBlockColumns, kBlockColumns * static_cast<Index>(k + 1),
-                                  part.rows, kBlockColumns);
-        for (int i = 0; i < part.rows; ++i)
-          s.row_ids[static_cast<std::size_t>(part.first_row + i)] =
-              earlier.row_ids[static_cast<std::size_t>(kBlockColumns + i)];
-      }
-    }
-    const Index m = f.rows(), w = f.cols();
-    for (Index k = 0; k < kBlockColumns; ++k) {
-      Index p = 0;
-      const double size = f.col(k).tail(m - k).cwiseAbs().maxCoeff(&p);
-      p += k;
-      if (!(size > 0)) return Outcome::singular;
-      smallest_pivot_ = std::min(smallest_pivot_, size);
-      s.pivots[static_cast<std::size_t>(k)] = static_cast<int>(p);
-      if (p != k) {
-        f.row(k).swap(f.row(p));
-        std::swap(s.row_ids[static_cast<std::size_t>(k)], s.row_ids[static_cast<std::size_t>(p)]);
-      }
-      const double pivot = f(k, k);
-      if (pivot < 0) sign = -sign;
-      const Index below = m - k - 1;
-      f.col(k).tail(below) /= pivot;
-      // The rank-one update column by column (axpy): a general product's blocking costs more
-      // than the update itself at these sizes.
-      for (Index j = k + 1; j < w; ++j)
-        if (const double u = f(k, j); u != 0) f.col(j).tail(below) -= u * f.col(k).tail(below);
-    }
-    row_order.insert(row_order.end(), s.row_ids.begin(), s.row_ids.begin() + kBlockColumns);
+    assemble_front(s);
+    if (!eliminate(s, sign)) return Outcome::singular;
+    row_order_.insert(row_order_.end(), s.row_ids.begin(), s.row_ids.begin() + kBlockColumns);
   }
-  sign_ = sign * permutation_parity(row_order);
+  sign_ = sign * permutation_parity(row_order_);
   return smallest_pivot_ < kBlockLuTinyPivot ? Outcome::tiny_pivot : Outcome::factorised;
 }
 
+// Each column's largest size of a block of `Rows` rows (Eigen::Dynamic: `rows`), in `largest`
+// (one per column); the columns' reductions unrolled where the rows are fixed.
+template <int Rows>
+void column_largest(const double* values, Index rows, Index columns, double* largest) {
+  const Eigen::Map<const Eigen::Matrix<double, Rows, Eigen::Dynamic>> block(values, rows, columns);
+  Eigen::Map<Eigen::RowVectorXd>(largest, columns) = block.cwiseAbs().colwise().maxCoeff();
+}
+
+// scaled = values·diag(scale), and each row's largest size of it into row_largest.
+template <int Rows>
+void scale_columns(const double* values, Index rows, Index columns, const double* scale,
+                   double* scaled, double* row_largest) {
+  using Block = Eigen::Matrix<double, Rows, Eigen::Dynamic>;
+  Eigen::Map<Block> result(scaled, rows, columns);
+  result = Eigen::Map<const Block>(values, rows, columns) *
+           Eigen::Map<const VecX>(scale, columns).asDiagonal();
+  Eigen::Map<Eigen::Matrix<double, Rows, 1>>(row_largest, rows) =
+      result.cwiseAbs().rowwise().maxCoeff();
+}
+
+// Equilibration by powers of two (no rounding): each column's largest entry, then each row's
+// of the column-scaled matrix, near 1. Partial pivoting then compares rows of like size, and a
+// pivot's size reads against 1. The column-scaled values are kept for the fronts. False where
+// some entry is not finite (a NaN would pass the pivot tests, as it compares false).
+bool BlockLU::equilibrate(const std::vector<MatX>& values) {
+  const std::size_t blocks = layout_.rows.size();
+  column_scale_.setZero();
+  // Zero, unless some entry is infinite or NaN (0·∞ is NaN).
+  double probe = 0;
+  double* const block_columns = block_scratch_.data();
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const MatX& v = values[b];
+    probe += (Eigen::Map<const VecX>(v.data(), v.size()).array() * 0.0).sum();
+    // The blocks' usual row counts (a link's 12, a joint's 12 over two ends, a support's or a
+    // free end's 6) have their reductions unrolled.
+    switch (v.rows()) {
+      case 12: column_largest<12>(v.data(), v.rows(), v.cols(), block_columns); break;
+      case 6: column_largest<6>(v.data(), v.rows(), v.cols(), block_columns); break;
+      default: column_largest<Eigen::Dynamic>(v.data(), v.rows(), v.cols(), block_columns);
+    }
+    const double* largest = block_columns;
+    for (int group : layout_.groups[b])
+      for (int c = 0; c < kBlockColumns; ++c, ++largest) {
+        double& column = column_scale_[kBlockColumns * group + c];
+        column = std::max(column, *largest);
+      }
+  }
+  if (!(probe == 0)) return false;
+  for (Index j = 0; j < n_; ++j) column_scale_[j] = power_of_two_scale(column_scale_[j]);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const MatX& v = values[b];
+    double* scale = block_columns;
+    for (int group : layout_.groups[b])
+      scale = std::copy_n(column_scale_.data() + kBlockColumns * group, kBlockColumns, scale);
+    double* const row_largest = row_scale_.data() + first_row_[b];
+    double* const scaled = column_scaled_[b].data();
+    switch (v.rows()) {
+      case 12:
+        scale_columns<12>(v.data(), v.rows(), v.cols(), block_columns, scaled, row_largest);
+        break;
+      case 6:
+        scale_columns<6>(v.data(), v.rows(), v.cols(), block_columns, scaled, row_largest);
+        break;
+      default:
+        scale_columns<Eigen::Dynamic>(v.data(), v.rows(), v.cols(), block_columns, scaled,
+                                      row_largest);
+    }
+    for (Index i = 0; i < v.rows(); ++i) row_largest[i] = power_of_two_scale(row_largest[i]);
+  }
+  return true;
+}
+
+// The front of step `s` from the scaled original blocks and the rows earlier steps left; every
+// entry written once (the zeros where a part's rows meet none of its columns).
+void BlockLU::assemble_front(Step& s) {
+  const Index m = s.rows;
+  double* const front = s.front.data();
+  for (const Part& part : s.parts) {
+    const int rows = part.rows;
+    for (int group : part.zero_groups) {
+      double* target = front + m * kBlockColumns * group + part.first_row;
+      for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
+    }
+    if (part.source < 0) {
+      const std::size_t b = static_cast<std::size_t>(-part.source - 1);
+      const double* scaled = column_scaled_[b].data();
+      const double* const row_scale = row_scale_.data() + first_row_[b];
+      for (int group : part.column_groups) {
+        double* target = front + m * kBlockColumns * group + part.first_row;
+        for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
+          scale_rows(target, row_scale, scaled, rows);
+      }
+      for (int i = 0; i < rows; ++i)
+        s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
+    } else {
+      const Step& earlier = steps_[static_cast<std::size_t>(part.source)];
+      const Index earlier_rows = earlier.rows;
+      for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+        // The rows left below the earlier front's 12 pivot rows, in its group k + 1.
+        const double* left = earlier.front.data() +
+                             earlier_rows * kBlockColumns * static_cast<Index>(k + 1) +
+                             kBlockColumns;
+        double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+        for (int c = 0; c < kBlockColumns; ++c, left += earlier_rows, target += m)
+          std::copy_n(left, rows, target);
+      }
+      for (int i = 0; i < rows; ++i)
+        s.row_ids[static_cast<std::size_t>(part.first_row + i)] =
+            earlier.row_ids[static_cast<std::size_t>(kBlockColumns + i)];
+    }
+  }
+}
+
+// Gaussian elimination with partial pivoting of the front's first 12 columns, then the other
+// columns one by one: the row swaps, L⁻¹ and the Schur update, in the order of a right-looking
+// elimination of the whole front (every entry sees the same operations in the same order). False
+// on a zero pivot.
+bool BlockLU::eliminate(Step& s, double& sign) {
+  const Index m = s.rows, width = s.front.cols();
+  double* const front = s.front.data();
+  for (Index k = 0; k < kBlockColumns; ++k) {
+    double* const pivot_column = front + m * k;
+    Index p = k;
+    double size = std::abs(pivot_column[k]);
+    for (Index i = k + 1; i < m; ++i)
+      if (std::abs(pivot_column[i]) > size) {
+        size = std::abs(pivot_column[i]);
+        p = i;
+      }
+    if (!(size > 0)) return false;
+    smallest_pivot_ = std::min(smallest_pivot_, size);
+    s.pivots[static_cast<std::size_t>(k)] = static_cast<int>(p);
+    if (p != k) {
+      for (Index j = 0; j < kBlockColumns; ++j) std::swap(front[m * j + k], front[m * j + p]);
+      std::swap(s.row_ids[static_cast<std::size_t>(k)], s.row_ids[static_cast<std::size_t>(p)]);
+    }
+    const double pivot = pivot_column[k];
+    if (pivot < 0) sign = -sign;
+    for (Index i = k + 1; i < m; ++i) pivot_column[i] /= pivot;
+    for (Index j = k + 1; j < kBlockColumns; ++j)
+      subtract_multiple(front + m * j, pivot_column, k + 1, m);
+  }
+  for (Index j = kBlockColumns; j < width; ++j) {
+    double* const column = front + m * j;
+    for (Index k = 0; k < kBlockColumns; ++k)
+      if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
+        std::swap(column[k], column[p]);
+    for (Index k = 0; k < kBlockColumns; ++k) subtract_multiple(column, front + m * k, k + 1, m);
+  }
+  return true;
+}
+
 void BlockLU::solve(MatX& b) const {
-  const Index columns = b.cols();
+  const Index columns = b.cols(), n = b.rows();
   b.array().colwise() *= row_scale_.array();
   for (std::size_t index = 0; index < steps_.size(); ++index) {
     const Step& s = steps_[index];
+    const Index m = s.rows;
     MatX& y = rhs_[index];
-    y.resize(s.rows, columns);
-    for (const Part& part : s.parts) {
-      if (part.source < 0)
-        y.middleRows(part.first_row, part.rows) =
-            b.middleRows(first_row_[static_cast<std::size_t>(-part.source - 1)], part.rows);
-      else
-        y.middleRows(part.first_row, part.rows) =
-            rhs_[static_cast<std::size_t>(part.source)].bottomRows(part.rows);
+    y.resize(m, columns);
+    for (Index c = 0; c < columns; ++c) {
+      double* const target = y.data() + m * c;
+      for (const Part& part : s.parts) {
+        const double* source =
+            part.source < 0
+                ? b.data() + n * c + first_row_[static_cast<std::size_t>(-part.source - 1)]
+                : rhs_[static_cast<std::size_t>(part.source)].data() +
+                      steps_[static_cast<std::size_t>(part.source)].rows * c + kBlockColumns;
+        std::copy(source, source + part.rows, target + part.first_row);
+      }
+      for (Index k = 0; k < kBlockColumns; ++k)
+        if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
+          std::swap(target[k], target[p]);
+      for (Index k = 0; k < kBlockColumns; ++k)
+        subtract_multiple(target, s.front.data() + m * k, k + 1, m);
     }
-    for (Index k = 0; k < kBlockColumns; ++k)
-      if (s.pivots[static_cast<std::size_t>(k)] != k)
-        y.row(k).swap(y.row(s.pivots[static_cast<std::size_t>(k)]));
-    // L's columns applied one by one (small sizes: no blocked triangular solve or product).
-    for (Index k = 0; k < kBlockColumns; ++k)
-      for (Index c = 0; c < columns; ++c)
-        if (const double v = y(k, c); v != 0)
-          y.col(c).tail(s.rows - k - 1) -= v * s.front.col(k).tail(s.rows - k - 1);
   }
   for (std::size_t index = steps_.size(); index-- > 0;) {
     const Step& s = steps_[index];
-    auto z = rhs_[index].topRows(kBlockColumns);
-    for (std::size_t k = 1; k < s.groups.size(); ++k)
-      z.noalias() -=
-          s.front.block(0, kBlockColumns * static_cast<Index>(k), kBlockColumns, kBlockColumns)
-              .lazyProduct(b.middleRows(kBlockColumns * s.groups[k], kBlockColumns));
-    for (Index k = kBlockColumns; k-- > 0;)
-      for (Index c = 0; c < columns; ++c) {
-        const double v = z(k, c) / s.front(k, k);
-        z(k, c) = v;
-        if (v != 0) z.col(c).head(k) -= v * s.front.col(k).head(k);
+    const Index m = s.rows;
+    const double* const u = s.front.data();
+    for (Index c = 0; c < columns; ++c) {
+      double* const z = rhs_[index].data() + m * c;
+      for (std::size_t k = 1; k < s.groups.size(); ++k)
+        subtract_group_product(z, u + m * kBlockColumns * static_cast<Index>(k), m,
+                               b.data() + n * c + kBlockColumns * s.groups[k]);
+      for (Index k = kBlockColumns; k-- > 0;) {
+        const double v = z[k] / u[m * k + k];
+        z[k] = v;
+        if (v != 0)
+          for (Index i = 0; i < k; ++i) z[i] -= v * u[m * k + i];
       }
-    b.middleRows(kBlockColumns * s.group, kBlockColumns) = z;
+      std::copy(z, z + kBlockColumns, b.data() + n * c + kBlockColumns * s.group);
+    }
   }
   b.array().colwise() *= column_scale_.array();
 }

@@ -27,6 +27,10 @@ inline constexpr double kBlockLuTinyPivot = 1e-10;
 // cheaper way, and callers take it.
 inline constexpr int kBlockLuMostGroups = 128;
 
+// The power of two that brings `largest` into [0.5, 1); 1 for a zero (or non-finite) size:
+// the block LU's scale of a row or column whose largest entry is `largest`.
+double power_of_two_scale(double largest);
+
 // The blocks of a matrix, in the order of its rows: block b has `rows[b]` rows and touches the
 // column groups `groups[b]` (each 12 columns, group g at columns 12·g …). Its values are a
 // rows[b] × 12·groups[b].size() column-major matrix, 12 columns per group in that order.
@@ -72,6 +76,7 @@ class BlockLU {
     int first_row = 0;  // in the front
     int rows = 0;
     std::vector<int> column_groups;  // per group of the part, its place in the front's groups
+    std::vector<int> zero_groups;    // the front's groups it does not touch
   };
   struct Step {
     int group = 0;            // the column group eliminated
@@ -83,6 +88,14 @@ class BlockLU {
     std::vector<int> row_ids;  // the matrix's row of each front row, after the swaps
   };
 
+  // The two-pass scaling of `values` into row_scale_ and column_scale_, the column-scaled
+  // values into column_scaled_; false where an entry is not finite.
+  bool equilibrate(const std::vector<MatX>& values);
+  void assemble_front(Step& s);
+  // Factorises the front's first 12 columns and updates the rest; `sign` takes the pivots'
+  // signs. False on a zero pivot.
+  bool eliminate(Step& s, double& sign);
+
   BlockLayout layout_;
   bool structurally_singular_ = false;
   int n_ = 0;
@@ -90,8 +103,11 @@ class BlockLU {
   std::vector<Step> steps_;
   int column_parity_ = 1;  // of the column order of the elimination
   VecX row_scale_, column_scale_;
+  std::vector<MatX> column_scaled_;  // per block, its values times the column scales
+  VecX block_scratch_;               // one block's columns' sizes or scales
   double sign_ = 0;
   double smallest_pivot_ = 0;
+  std::vector<int> row_order_;  // the matrix's rows in pivot order
   // The solve's right-hand side of each step's front, reduced: its 12 pivot rows, then the
   // rows it leaves to a later step.
   mutable std::vector<MatX> rhs_;
