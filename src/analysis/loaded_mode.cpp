@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -415,24 +416,57 @@ double LoadedTangent::norm_inf() const {
   return n_ > 0 ? row_sum.maxCoeff() : 0.0;
 }
 
+namespace {
+
+// residual −= T·x over one block's rows: T (`Rows` × 12 per end, column-major, as the block
+// writes its tangent) times x's rows of each end, column by column of x, the block's rows of
+// the residual held in a local array. Fixed row counts (a link's or a two-end joint's 12, a
+// one-end connection's 6) unroll the rows; other blocks take `rows` at run time.
+template <int Rows>
+void subtract_block_product(const MatX& t, const std::vector<int>& ends, const MatX& x,
+                            Index first_row, MatX& residual) {
+  const Index rows = Rows > 0 ? Rows : t.rows();
+  std::array<double, Rows> sum;
+  for (Index c = 0; c < x.cols(); ++c) {
+    double* const r = residual.col(c).data() + first_row;
+    std::copy_n(r, Rows, sum.begin());
+    const double* entry = t.data();
+    for (int end : ends) {
+      const double* const unknowns = x.col(c).data() + 12 * static_cast<Index>(end);
+      for (int p = 0; p < 12; ++p, entry += rows)
+        for (int i = 0; i < Rows; ++i) sum[i] -= entry[i] * unknowns[p];
+    }
+    std::copy_n(sum.begin(), Rows, r);
+  }
+}
+
+// The same for any row count.
+void subtract_block_product_any(const MatX& t, const std::vector<int>& ends, const MatX& x,
+                                Index first_row, MatX& residual) {
+  const Index rows = t.rows();
+  for (Index c = 0; c < x.cols(); ++c) {
+    double* const r = residual.col(c).data() + first_row;
+    const double* entry = t.data();
+    for (int end : ends) {
+      const double* const unknowns = x.col(c).data() + 12 * static_cast<Index>(end);
+      for (int p = 0; p < 12; ++p, entry += rows)
+        for (Index i = 0; i < rows; ++i) r[i] -= entry[i] * unknowns[p];
+    }
+  }
+}
+
+}  // namespace
+
 double LoadedTangent::backward_error(const MatX& b, const MatX& x, double a_norm,
                                      MatX& residual) const {
   residual = b;
-  // Block by block, column by column of the block: the tangent's zeros need not be visited
-  // twice, and a zero entry of x (a load's unknowns away from it) costs nothing.
   for (std::size_t k = 0; k < tangents_.size(); ++k) {
     const MatX& t = tangents_[k];
-    const Index rows = t.rows();
     const auto& ends = (*blocks_)[k]->ends();
-    for (Index c = 0; c < b.cols(); ++c) {
-      double* const r = residual.col(c).data() + first_row_[k];
-      const double* entry = t.data();
-      for (int end : ends) {
-        const double* const unknowns = x.col(c).data() + 12 * static_cast<Index>(end);
-        for (Index p = 0; p < 12; ++p, entry += rows)
-          if (const double value = unknowns[p]; value != 0)
-            for (Index i = 0; i < rows; ++i) r[i] -= entry[i] * value;
-      }
+    switch (t.rows()) {
+      case 12: subtract_block_product<12>(t, ends, x, first_row_[k], residual); break;
+      case 6: subtract_block_product<6>(t, ends, x, first_row_[k], residual); break;
+      default: subtract_block_product_any(t, ends, x, first_row_[k], residual);
     }
   }
   double largest = 0;
