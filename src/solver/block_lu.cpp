@@ -51,6 +51,28 @@ inline void subtract_multiple(double* __restrict y, const double* __restrict x, 
   for (Index i = first; i < last; ++i) y[i] -= multiplier * x[i];
 }
 
+// One column of a front after its row swaps: L⁻¹ on its 12 pivot rows, then the Schur update
+// of the rows below, each entry updated by the multipliers in their order (as column by column
+// with subtract_multiple). The 12 pivot rows' triangle has compile-time bounds, unrolled.
+inline void update_column(double* __restrict column, const double* __restrict l, Index m) {
+  int nonzero[kBlockColumns];
+  int count = 0;
+#pragma GCC unroll 12
+  for (int k = 0; k < kBlockColumns; ++k) {
+    const double multiplier = column[k];
+    if (multiplier == 0) continue;
+    nonzero[count++] = k;
+    const double* const pivot_column = l + m * k;
+#pragma GCC unroll 12
+    for (int i = k + 1; i < kBlockColumns; ++i) column[i] -= multiplier * pivot_column[i];
+  }
+  for (int t = 0; t < count; ++t) {
+    const double multiplier = column[nonzero[t]];
+    const double* const pivot_column = l + m * nonzero[t];
+    for (Index i = kBlockColumns; i < m; ++i) column[i] -= multiplier * pivot_column[i];
+  }
+}
+
 // target[i] = row_scale[i]·scaled[i] for i < rows.
 inline void scale_rows(double* __restrict target, const double* __restrict row_scale,
                        const double* __restrict scaled, int rows) {
@@ -346,7 +368,7 @@ bool BlockLU::eliminate(Step& s, double& sign) {
     for (Index k = 0; k < kBlockColumns; ++k)
       if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
         std::swap(column[k], column[p]);
-    for (Index k = 0; k < kBlockColumns; ++k) subtract_multiple(column, front + m * k, k + 1, m);
+    update_column(column, front, m);
   }
   return true;
 }
@@ -372,8 +394,7 @@ void BlockLU::solve(MatX& b) const {
       for (Index k = 0; k < kBlockColumns; ++k)
         if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
           std::swap(target[k], target[p]);
-      for (Index k = 0; k < kBlockColumns; ++k)
-        subtract_multiple(target, s.front.data() + m * k, k + 1, m);
+      update_column(target, s.front.data(), m);
     }
   }
   for (std::size_t index = steps_.size(); index-- > 0;) {
