@@ -39,9 +39,6 @@ int permutation_parity(const std::vector<int>& order) {
   return parity;
 }
 
-// The largest finite double: an entry's size above it is infinite or NaN.
-constexpr double kLargestFinite = std::numeric_limits<double>::max();
-
 // y[first … last) −= y[first − 1]·x[first … last), where that multiplier is not zero: one
 // column of the elimination's update (the multiplier is the pivot row's entry).
 inline void subtract_multiple(double* __restrict y, const double* __restrict x, Index first,
