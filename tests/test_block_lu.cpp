@@ -1,8 +1,10 @@
 // The block LU of the loaded mode's tangent (src/solver/block_lu.hpp, docs/theory.md §15.10)
 // against Eigen's dense LU with partial pivoting: on random matrices with the loaded tangent's
 // block layouts (a serial chain, closed loops), on the loaded tangents of the examples, on
-// singular and near-singular matrices, and across a change of layout; and the loaded mode's
-// determinant sign of the unloaded tangent against KLU's on every example and test model.
+// singular and near-singular matrices, on fronts with swapped and zero blocks, and across a
+// change of layout; the equilibration's power-of-two scales against frexp and their exactness;
+// and the loaded mode's determinant sign of the unloaded tangent against KLU's on every example
+// and test model.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
