@@ -506,8 +506,8 @@ VecX eigenvector_by_inverse_iteration(const MatX& a, double value) {
 // serial robot's joints and beams, whatever the number of its link ends): an LU with complete
 // pivoting P·a·Q = L·U, stopped at pivots below kLoadTermRank of the first, gives
 // a = X·Y, X = P⁻¹·L_ρ, Y = U_ρ·Q⁻¹, whose nonzero eigenvalues are those of the ρ×ρ matrix
-// Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (Hessenberg and real
-// Schur forms, no vectors), then the one vector by inverse iteration.
+// Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (eigenvalues_of:
+// Hessenberg form and the QR iteration, no vectors), then the one vector by inverse iteration.
 std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   // Gaussian elimination with complete pivoting, stopped where the largest entry left is below
   // kLoadTermRank of the first pivot: then P·a·Q = L_ρ·U_ρ to that fraction.
@@ -731,9 +731,9 @@ Eigen::VectorXcd eigenvalues_of(MatX a) {
     double s = h(hi - 1, hi - 1) + h(hi, hi);
     double t = h(hi - 1, hi - 1) * h(hi, hi) - h(hi - 1, hi) * h(hi, hi - 1);
     if (++since_split % kQrExceptionalShiftEvery == 0) {
-      const double w = std::abs(h(hi, hi - 1)) + std::abs(h(hi - 1, hi - 2));
-      s = 1.5 * w;
-      t = w * w;
+      const double size = std::abs(h(hi, hi - 1)) + std::abs(h(hi - 1, hi - 2));
+      s = 1.5 * size;
+      t = size * size;
     }
     francis_sweep(h, lo, hi, s, t);
   }
