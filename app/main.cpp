@@ -89,7 +89,8 @@ int run_solve(const SolveCommand& command) {
         load_model_family(command.model_file, command.limits, parse_settings(command.settings));
     return family.build(family.default_values());
   }();
-  options.critical_load = command.critical_load;
+  // Without --critical-load, the result file's contract decides (SolveOptions::critical_load).
+  if (command.critical_load) options.critical_load = true;
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);

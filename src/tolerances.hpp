@@ -2,6 +2,8 @@
 // Every tolerance of the analysis in one place, each with the reason for its value. Messages
 // that quote one are built from the constant (shortest_text), so that a message and the check
 // it reports cannot drift apart. The options a caller may change (SolveOptions) are not here.
+#include <limits>
+
 namespace stiffmsa::detail {
 
 // ---- model checks (validate) -------------------------------------------------------------
@@ -100,6 +102,14 @@ inline constexpr double kLoadTermRank = 1e-13;
 // Inverse iteration for the critical mode moves its shift off the eigenvalue by this fraction
 // of the reduced matrix's largest entry, so that the LU's pivots stay finite.
 inline constexpr double kInverseIterationShift = 1e-14;
+// The reduced eigenproblem's eigenvalues by the double-shift QR iteration (critical_load.hpp,
+// eigenvalues_of): a subdiagonal entry below this fraction of its two diagonal neighbours is
+// zero (the matrix splits there), and the iteration gives up after this many sweeps per
+// eigenvalue on average (Eigen's EigenSolver then decides), with an exceptional shift every
+// kQrExceptionalShiftEvery sweeps without a split.
+inline constexpr double kQrSplit = std::numeric_limits<double>::epsilon();
+inline constexpr int kMostQrSweepsPerEigenvalue = 40;
+inline constexpr int kQrExceptionalShiftEvery = 10;
 // The parts of a buckling mode that a description names: those moving at least this fraction
 // of the most moving one.
 inline constexpr double kModeShare = 0.25;

@@ -4,10 +4,14 @@
 // of the load-dependent stiffness against finite differences of the turned statics.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "analysis/critical_load.hpp"
@@ -533,6 +537,131 @@ TEST(CriticalLoad, ASweepSkipsItAndMeasuresItsPosesAsTheSolvesThatFindIt) {
     ASSERT_EQ(swept[i].status, PoseStatus::ok) << swept[i].message;
     EXPECT_EQ(*swept[i].end_effectors[0].compliance, *solved.end_effectors[0].compliance);
   }
+}
+
+// ---- SolveOptions::critical_load: unset, true, false -----------------------------------------
+
+// A result file's text without its critical load keys (critical_load_factor, _mode), at every
+// level: what the rest of the result says.
+std::string without_critical_load_lines(const Result& result) {
+  std::istringstream in(result_to_json(result));
+  std::string line, kept;
+  while (std::getline(in, line))
+    if (line.find("\"critical_load_") == std::string::npos) kept += line + '\n';
+  return kept;
+}
+
+void expect_no_critical_load(const Result& result) {
+  EXPECT_FALSE(result.critical_load.has_value());
+  for (const Result& c : result.load_cases) EXPECT_FALSE(c.critical_load.has_value());
+  if (result.linear) EXPECT_FALSE(result.linear->critical_load.has_value());
+}
+
+// The loaded mode finds the factor unasked (its result file's contract has it); a caller that
+// says false gets none, and every other number of the result to the last bit, through a
+// workspace pose after pose as in one-shot solves.
+TEST(CriticalLoad, TheLoadedModeToldNotToFindItHasNoneAndTheSameOtherNumbers) {
+  const std::vector<Model> poses = tripteron_poses();
+  SolveOptions loaded;
+  loaded.mode = AnalysisMode::loaded;
+  SolveOptions without = loaded;
+  without.critical_load = false;
+  Workspace with_factor(poses.front()), without_factor(poses.front());
+  for (const Model& pose : poses) {
+    const Result usual = solve(with_factor, pose, loaded);
+    ASSERT_TRUE(usual.critical_load && usual.critical_load->factor);
+    const Result skipped = solve(without_factor, pose, without);
+    expect_no_critical_load(skipped);
+    EXPECT_EQ(result_to_json(skipped).find("critical_load"), std::string::npos);
+    ASSERT_TRUE(usual.end_effectors.front().compliance && skipped.end_effectors.front().compliance);
+    EXPECT_TRUE(*usual.end_effectors.front().compliance ==
+                *skipped.end_effectors.front().compliance);
+    EXPECT_EQ(without_critical_load_lines(skipped), without_critical_load_lines(usual));
+    EXPECT_EQ(without_critical_load_lines(solve(pose, without)),
+              without_critical_load_lines(solve(pose, loaded)));
+  }
+}
+
+// The same for a model whose linear results carry the factor unasked (load cases): false finds
+// none in any case, true and unset the same factors.
+TEST(CriticalLoad, LoadCasesToldNotToFindItHaveNoneAndTheSameOtherNumbers) {
+  const Model frame =
+      load_model(std::string(STIFFMSA_SOURCE_DIR) + "/examples/portal-frame-load-cases.yaml");
+  const Result usual = solve(frame);
+  ASSERT_FALSE(usual.load_cases.empty());
+  ASSERT_TRUE(usual.critical_load);
+  for (const Result& c : usual.load_cases) ASSERT_TRUE(c.critical_load);
+  SolveOptions never;
+  never.critical_load = false;
+  const Result skipped = solve(frame, never);
+  expect_no_critical_load(skipped);
+  EXPECT_EQ(without_critical_load_lines(skipped), without_critical_load_lines(usual));
+  EXPECT_EQ(result_to_json(solve(frame, with_critical_load())), result_to_json(usual));
+}
+
+// True finds it where the contract does not (a model of plain loads, the linear mode), and
+// changes nothing else; unset and false find none there.
+TEST(CriticalLoad, TrueFindsItWhereTheContractDoesNot) {
+  const Model model = column(4, End::pinned, End::pinned, -1000.0);
+  EXPECT_FALSE(solve(model).critical_load.has_value());
+  SolveOptions never;
+  never.critical_load = false;
+  EXPECT_FALSE(solve(model, never).critical_load.has_value());
+  const Result asked = solve(model, with_critical_load());
+  ASSERT_TRUE(asked.critical_load && asked.critical_load->factor);
+  EXPECT_EQ(without_critical_load_lines(asked), without_critical_load_lines(solve(model)));
+}
+
+// ---- the reduced eigenproblem's eigenvalues ---------------------------------------------------
+
+// Both spectra sorted alike, and each eigenvalue of the QR iteration within `relative` of the
+// spectral radius from Eigen's.
+void expect_same_spectrum(const MatX& a, double relative) {
+  auto sorted = [](Eigen::VectorXcd v) {
+    std::vector<std::complex<double>> values(v.data(), v.data() + v.size());
+    std::sort(values.begin(), values.end(), [](auto x, auto y) {
+      return x.real() != y.real() ? x.real() < y.real() : x.imag() < y.imag();
+    });
+    return values;
+  };
+  const auto ours = sorted(detail::eigenvalues_of(a));
+  const auto eigen = sorted(Eigen::EigenSolver<MatX>(a, false).eigenvalues());
+  ASSERT_EQ(ours.size(), eigen.size());
+  double radius = 0;
+  for (const auto& e : eigen) radius = std::max(radius, std::abs(e));
+  for (std::size_t i = 0; i < ours.size(); ++i)
+    EXPECT_LE(std::abs(ours[i] - eigen[i]), relative * radius) << a.rows() << "×" << a.cols();
+}
+
+// The double-shift QR iteration gives Eigen's EigenSolver's eigenvalues to rounding: on
+// matrices of every size up to 40 (random, with complex pairs), of low rank (the reduced
+// eigenproblem's zero eigenvalues), with known real eigenvalues (similar to a diagonal), a
+// rotation's pure imaginary pair, a triangular matrix, and the empty, 1×1 and zero ones.
+TEST(CriticalLoad, TheQrIterationFindsEigensEigenvalues) {
+  constexpr double kRounding = 1e-12;
+  std::srand(7);
+  for (Eigen::Index n = 1; n <= 40; n += (n < 8 ? 1 : 7)) {
+    const MatX random = MatX::Random(n, n);
+    expect_same_spectrum(random, kRounding);
+    const Eigen::Index rank = std::max<Eigen::Index>(1, n / 3);
+    expect_same_spectrum(MatX::Random(n, rank) * MatX::Random(rank, n), kRounding);
+    VecX diagonal(n);
+    for (Eigen::Index i = 0; i < n; ++i) diagonal(i) = 1.0 + static_cast<double>(i % 5);
+    const MatX basis = MatX::Random(n, n) + static_cast<double>(n) * MatX::Identity(n, n);
+    const MatX known = basis * diagonal.asDiagonal() * basis.inverse();
+    expect_same_spectrum(known, 1e-10);
+  }
+  MatX rotation(2, 2);
+  rotation << 0, -1, 1, 0;
+  const Eigen::VectorXcd pair = detail::eigenvalues_of(rotation);
+  EXPECT_EQ(std::abs(pair(0).imag()), 1.0);
+  EXPECT_EQ(pair(0).real(), 0.0);
+  MatX triangular = MatX::Identity(6, 6) * 2.0;  // split everywhere from the start
+  for (Eigen::Index i = 0; i + 1 < 6; ++i) triangular(i, i + 1) = 1e-3;
+  expect_same_spectrum(triangular, kRounding);
+  EXPECT_EQ(detail::eigenvalues_of(MatX(0, 0)).size(), 0);
+  EXPECT_EQ(detail::eigenvalues_of(MatX::Constant(1, 1, -3.5))(0), std::complex<double>(-3.5));
+  EXPECT_TRUE(detail::eigenvalues_of(MatX::Zero(5, 5)).isZero(0));
 }
 
 // ---- kernels ---------------------------------------------------------------------------------

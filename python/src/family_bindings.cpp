@@ -291,7 +291,8 @@ void bind_family(py::module_& m) {
       .def_readonly("warn_condition", &SolveOptions::warn_condition)
       .def_readonly("mode", &SolveOptions::mode,
                     "The analysis mode (AnalysisMode), or None for the model's own.")
-      .def_readonly("critical_load", &SolveOptions::critical_load);
+      .def_property_readonly("critical_load",
+                             [](const SolveOptions& o) { return o.critical_load.value_or(false); });
 
   py::class_<Parameter>(m, "Parameter",
                         "A family's parameter: its name, default value and unit (may be '').")

@@ -119,7 +119,8 @@ SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
                        ": expected \"linear\", \"loaded\" or None (the model's own)");
     options.mode = parsed;
   }
-  options.critical_load = critical_load;
+  // False keeps the contract's default (SolveOptions::critical_load unset), as before.
+  if (critical_load) options.critical_load = true;
   const auto kind = solver_kind_from_string(solver);
   if (!kind)
     throw UsageError("solver '" + solver + "': expected one of auto, sparse_lu, umfpack, klu");

@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <map>
 #include <span>
@@ -505,8 +506,8 @@ VecX eigenvector_by_inverse_iteration(const MatX& a, double value) {
 // serial robot's joints and beams, whatever the number of its link ends): an LU with complete
 // pivoting P·a·Q = L·U, stopped at pivots below kLoadTermRank of the first, gives
 // a = X·Y, X = P⁻¹·L_ρ, Y = U_ρ·Q⁻¹, whose nonzero eigenvalues are those of the ρ×ρ matrix
-// Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (Hessenberg and real
-// Schur forms, no vectors), then the one vector by inverse iteration.
+// Y·X (Y·X·y = μ·y gives a·X·y = μ·X·y). Every eigenvalue of the small matrix (eigenvalues_of:
+// Hessenberg form and the QR iteration, no vectors), then the one vector by inverse iteration.
 std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
   // Gaussian elimination with complete pivoting, stopped where the largest entry left is below
   // kLoadTermRank of the first pivot: then P·a·Q = L_ρ·U_ρ to that fraction.
@@ -555,14 +556,189 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
     for (Index k = 0; k <= std::min(i, rank - 1); ++k) y(k, column) = m(k, i);
   }
   const MatX small = y * x;
-  const Eigen::EigenSolver<MatX> eigen(small, false);
-  const std::optional<Index> best = rightmost_real(eigen.eigenvalues());
+  const Eigen::VectorXcd values = eigenvalues_of(small);
+  const std::optional<Index> best = rightmost_real(values);
   if (!best) return std::nullopt;
-  const double value = eigen.eigenvalues()(*best).real();
+  const double value = values(*best).real();
   return RightmostEigen{value, x * eigenvector_by_inverse_iteration(small, value), true};
 }
 
+// The eigenvalues of the 2×2 matrix [a b; c d]: d + x for the roots x of x² − 2p·x − b·c,
+// p = (a − d)/2; the larger real root first, the other from their product −b·c (no
+// cancellation).
+void eigenvalues_of_2x2(double a, double b, double c, double d, std::complex<double>& first,
+                        std::complex<double>& second) {
+  const double p = 0.5 * (a - d);
+  const double discriminant = p * p + b * c;
+  if (discriminant >= 0) {
+    const double root = std::sqrt(discriminant);
+    const double x = p >= 0 ? p + root : p - root;
+    first = d + x;
+    second = x != 0 ? d - b * c / x : d;
+  } else {
+    const double root = std::sqrt(-discriminant);
+    first = {d + p, root};
+    second = {d + p, -root};
+  }
+}
+
+// The Householder reflection P = I − τ·v·vᵀ, v = (1, v1[, v2]), with P·u = β·e₁ for the vector u
+// it was made from (β of the sign opposite to u's first entry, so that nothing cancels); the
+// identity (τ = 0) where u is zero.
+struct Reflection {
+  double tau = 0, v1 = 0, v2 = 0, beta = 0;
+  static Reflection of(double u0, double u1, double u2) {
+    Reflection r;
+    const double norm = std::sqrt(u0 * u0 + u1 * u1 + u2 * u2);
+    if (norm == 0) return r;
+    r.beta = u0 >= 0 ? -norm : norm;
+    r.tau = (r.beta - u0) / r.beta;
+    r.v1 = u1 / (u0 - r.beta);
+    r.v2 = u2 / (u0 - r.beta);
+    return r;
+  }
+};
+
+// h ← P·h·P on the window h[lo..hi, lo..hi] for the reflection P of rows and columns
+// k..k + kRows − 1 (kRows = 3 or 2); the columns left of k − 1 hold zeros in those rows, the rows
+// below k + 3 zeros in those columns.
+template <int kRows>
+void reflect_in_window(MatX& h, const Reflection& p, Index k, Index lo, Index hi) {
+  const Index stride = h.rows();
+  for (Index j = std::max(lo, k - 1); j <= hi; ++j) {
+    double* c = h.data() + j * stride + k;
+    double d = c[0] + p.v1 * c[1];
+    if constexpr (kRows == 3) d += p.v2 * c[2];
+    d *= p.tau;
+    c[0] -= d;
+    c[1] -= d * p.v1;
+    if constexpr (kRows == 3) c[2] -= d * p.v2;
+  }
+  if (k > lo) {  // the bulge's column, now (β, 0[, 0]) but for rounding
+    h(k, k - 1) = p.beta;
+    h(k + 1, k - 1) = 0;
+    if constexpr (kRows == 3) h(k + 2, k - 1) = 0;
+  }
+  double* c0 = h.data() + k * stride;
+  double* c1 = c0 + stride;
+  double* c2 = c1 + stride;
+  const Index last_row = std::min(k + 3, hi);
+  for (Index i = lo; i <= last_row; ++i) {
+    double d = c0[i] + p.v1 * c1[i];
+    if constexpr (kRows == 3) d += p.v2 * c2[i];
+    d *= p.tau;
+    c0[i] -= d;
+    c1[i] -= d * p.v1;
+    if constexpr (kRows == 3) c2[i] -= d * p.v2;
+  }
+}
+
+// One Francis double-shift sweep on the unreduced Hessenberg window h[lo..hi, lo..hi]
+// (hi − lo ≥ 2), the shifts being the roots of z² − s·z + t: a bulge made in the first column of
+// (H − z₁)(H − z₂) and chased down by 3-vector reflections, the last a 2-vector one. Only the
+// window changes: the entries beside it do not change its eigenvalues.
+void francis_sweep(MatX& h, Index lo, Index hi, double s, double t) {
+  double x = h(lo, lo) * h(lo, lo) + h(lo, lo + 1) * h(lo + 1, lo) - s * h(lo, lo) + t;
+  double y = h(lo + 1, lo) * (h(lo, lo) + h(lo + 1, lo + 1) - s);
+  double z = h(lo + 1, lo) * h(lo + 2, lo + 1);
+  for (Index k = lo; k + 1 < hi; ++k) {
+    const Reflection p = Reflection::of(x, y, z);
+    if (p.tau != 0) reflect_in_window<3>(h, p, k, lo, hi);
+    x = h(k + 1, k);
+    y = h(k + 2, k);
+    if (k + 3 <= hi) z = h(k + 3, k);
+  }
+  const Reflection p = Reflection::of(x, y, 0.0);  // rows hi − 1 and hi
+  if (p.tau != 0) reflect_in_window<2>(h, p, hi - 1, lo, hi);
+}
+
+// `a` (scaled to a largest entry of 1) to upper Hessenberg form in place, by a Householder
+// reflection per column from both sides; `v` and `w` are buffers.
+void to_hessenberg(MatX& a, VecX& v, VecX& w) {
+  const Index n = a.rows();
+  v.resize(n);
+  w.resize(n);
+  for (Index k = 0; k + 2 < n; ++k) {
+    const Index m = n - k - 1;  // the entries below the diagonal in column k
+    const double tail = a.col(k).segment(k + 2, m - 1).squaredNorm();
+    if (tail == 0) continue;
+    const double x0 = a(k + 1, k);
+    const double norm = std::sqrt(x0 * x0 + tail);
+    const double beta = x0 >= 0 ? -norm : norm;
+    const double tau = (beta - x0) / beta;
+    v.head(m) = a.col(k).segment(k + 1, m) / (x0 - beta);
+    v(0) = 1;
+    a(k + 1, k) = beta;
+    a.col(k).segment(k + 2, m - 1).setZero();
+    for (Index j = k + 1; j < n; ++j) {
+      auto column = a.col(j).segment(k + 1, m);
+      column -= (tau * v.head(m).dot(column)) * v.head(m);
+    }
+    // a ← a·P: w = τ·a·v by columns, then a's columns k + 1.. less w·vᵀ.
+    w.setZero();
+    for (Index c = 0; c < m; ++c) w += a.col(k + 1 + c) * v(c);
+    w *= tau;
+    for (Index c = 0; c < m; ++c) a.col(k + 1 + c) -= w * v(c);
+  }
+}
+
 }  // namespace
+
+Eigen::VectorXcd eigenvalues_of(MatX a) {
+  const Index n = a.rows();
+  Eigen::VectorXcd values = Eigen::VectorXcd::Zero(n);
+  const double scale = n > 0 ? a.cwiseAbs().maxCoeff() : 0.0;
+  if (!std::isfinite(scale)) return Eigen::EigenSolver<MatX>(a, false).eigenvalues();
+  if (scale == 0) return values;
+  a /= scale;
+  const MatX original = a;
+  VecX v, w;
+  to_hessenberg(a, v, w);
+  MatX& h = a;
+  const int most_sweeps = kMostQrSweepsPerEigenvalue * static_cast<int>(n);
+  int sweeps = 0, since_split = 0;
+  for (Index hi = n - 1; hi >= 0;) {
+    // The window: the rows up from hi whose subdiagonal entries are not (yet) negligible. The
+    // matrix's largest entry is 1: where both neighbours are zero, a subdiagonal entry is
+    // weighed against it.
+    Index lo = hi;
+    for (; lo > 0; --lo) {
+      const double beside = std::abs(h(lo - 1, lo - 1)) + std::abs(h(lo, lo));
+      if (std::abs(h(lo, lo - 1)) <= kQrSplit * (beside > 0 ? beside : 1.0)) {
+        h(lo, lo - 1) = 0;
+        break;
+      }
+    }
+    if (lo == hi) {
+      values(hi) = h(hi, hi) * scale;
+      hi -= 1;
+      since_split = 0;
+      continue;
+    }
+    if (lo + 1 == hi) {
+      eigenvalues_of_2x2(h(lo, lo), h(lo, hi), h(hi, lo), h(hi, hi), values(lo), values(hi));
+      values(lo) *= scale;
+      values(hi) *= scale;
+      hi -= 2;
+      since_split = 0;
+      continue;
+    }
+    if (++sweeps > most_sweeps)
+      return Eigen::EigenSolver<MatX>(original, false).eigenvalues() * scale;
+    // The shifts: the trailing 2×2 block's eigenvalues (their sum and product); every
+    // kQrExceptionalShiftEvery sweeps without a split, shifts of the subdiagonal's size instead,
+    // to leave a cycle.
+    double s = h(hi - 1, hi - 1) + h(hi, hi);
+    double t = h(hi - 1, hi - 1) * h(hi, hi) - h(hi - 1, hi) * h(hi, hi - 1);
+    if (++since_split % kQrExceptionalShiftEvery == 0) {
+      const double size = std::abs(h(hi, hi - 1)) + std::abs(h(hi - 1, hi - 2));
+      s = 1.5 * size;
+      t = size * size;
+    }
+    francis_sweep(h, lo, hi, s, t);
+  }
+  return values;
+}
 
 std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {
   std::vector<Vec6> external(static_cast<std::size_t>(topology.end_count()), Vec6::Zero());

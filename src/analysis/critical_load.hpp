@@ -60,6 +60,12 @@ void add_critical_loads(const Model& model, const Topology& topology,
                         const std::vector<CaseLoads>& cases, Result& result,
                         const CriticalLoadReuse& reuse = {});
 
+// Every eigenvalue of the small dense square matrix `a` (the critical load's reduced
+// eigenproblem, docs/theory.md §14.3), in no particular order: Householder reflections to
+// Hessenberg form, then Francis's double-shift QR iteration on the part not yet split off only
+// (no Schur vectors, nothing above the window). Where it does not converge, Eigen's EigenSolver.
+Eigen::VectorXcd eigenvalues_of(MatX a);
+
 // Makes the solves on `workspace` find no critical load factor, asked for or not: a sweep's
 // (sweep.hpp), whose PoseResult keeps none, so that the poses of a model whose results have the
 // factor unasked (always_finds_critical_load: the loaded mode, issue 22's loads) do not compute

@@ -1084,6 +1084,11 @@ bool always_finds_critical_load(const Model& model, const SolveOptions& options)
                      [](const Support& s) { return s.displacement.has_value(); });
 }
 
+// SolveOptions::critical_load where set, else the result file's contract.
+bool finds_critical_load(const Model& model, const SolveOptions& options) {
+  return options.critical_load.value_or(always_finds_critical_load(model, options));
+}
+
 // The critical load factors of the result's load cases (analysis/critical_load.hpp), where
 // asked, with the blocks the solve used (the rods' spins held where it held them): the very
 // blocks, where the workspace kept them (Problem's destructor), and its tree order.
@@ -1091,7 +1096,7 @@ void add_critical_load(Workspace& workspace, const Model& model, const SolveOpti
                        const std::vector<detail::CaseLoads>& cases, Result& result) {
   Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   if (ws.skip_critical_loads) return;
-  if (!options.critical_load && !always_finds_critical_load(model, options)) return;
+  if (!finds_critical_load(model, options)) return;
   const bool accept_idle = options.accept_idle_motions || model.options.accept_idle_motions;
   Workspace::Impl& used = accept_idle && options.solver == SolverKind::automatic && ws.spin_locked
                               ? *ws.spin_locked
@@ -1185,7 +1190,9 @@ Result detail::solve_sweep_row(Workspace& workspace, std::span<const double> val
   Workspace::Impl& ws = detail::WorkspaceAccess::impl(workspace);
   const Model& model = posed_member(ws, values);
   const detail::ModelIndex& index = ws.structure->impl().index;
-  if (options.critical_load || always_finds_critical_load(model, options))
+  // The whole solve where the model's results have more than a sweep row's (the loaded mode,
+  // issue 22's loads) or the factor is asked for; the workspace skips the factor itself.
+  if (options.critical_load == true || always_finds_critical_load(model, options))
     return solve_checked(workspace, model, index, options);
   CaseSolve solved = solve_validated(workspace, model, options, ResultScope::sweep_row, false);
   return results_of_cases(model, index, options, ResultScope::sweep_row, std::move(solved));
