@@ -454,6 +454,23 @@ void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrd
 
 }  // namespace
 
+double rcond_lower_bound(const MatX& a, const Eigen::PartialPivLU<MatX>& lu, VecX& scratch) {
+  const MatX& packed = lu.matrixLU();  // U on and above the diagonal, L (unit diagonal) below
+  const Index n = packed.rows();
+  if (n == 0) return 0;
+  const double l1_norm = a.cwiseAbs().colwise().sum().maxCoeff();  // as the estimate takes it
+  VecX& w = scratch;
+  w.resize(n);
+  // M(U)ᵀ·y = e, forward: |u_jj|·y_j = 1 + Σ_{i<j} |u_ij|·y_i.
+  for (Index j = 0; j < n; ++j)
+    w(j) = (1 + packed.col(j).head(j).cwiseAbs().dot(w.head(j))) / std::abs(packed(j, j));
+  // M(L)ᵀ·w = y, backward: w_j = y_j + Σ_{i>j} |l_ij|·w_i.
+  for (Index j = n - 1; j-- > 0;)
+    w(j) += packed.col(j).tail(n - 1 - j).cwiseAbs().dot(w.tail(n - 1 - j));
+  const double bound = 1 / (l1_norm * w.maxCoeff());
+  return std::isfinite(bound) ? bound : 0;
+}
+
 std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
                                 const TreeOrder& order, const EndWrenches& external,
                                 double least_rcond, TreeScratch& scratch, Index most_cut_unknowns,
@@ -509,7 +526,12 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
     column *= column_scale(j);
   }
   const Eigen::PartialPivLU<MatX>& lu = scratch.cut_lu.compute(a);
-  if (!(lu.rcond() >= least_rcond)) return std::nullopt;
+  // The estimate decides, but where the bound below it clears the threshold by far it cannot
+  // decide otherwise, and costs less than the LU (bench/README.md, "Session 5: sweep poses").
+  const double least_bound = least_rcond / kConditionBoundMargin;
+  if (!(rcond_lower_bound(a, lu, scratch.condition_bound) >= least_bound) &&
+      !(lu.rcond() >= least_rcond))
+    return std::nullopt;
   MatX& rhs = scratch.cut_load;
   rhs = t.leftCols(k);
   for (Index c = 0; c < k; ++c) rhs.col(c).array() *= -row_scale.array();
