@@ -407,6 +407,10 @@ TEST(TreeSolve, TheConditionBoundLiesBelowTheReciprocalCondition) {
   MatX singular = MatX::Random(6, 6);
   singular.col(3).setZero();
   EXPECT_EQ(detail::rcond_lower_bound(singular, Eigen::PartialPivLU<MatX>(singular), scratch), 0);
+  MatX not_finite = MatX::Random(6, 6);
+  not_finite(4, 2) = std::nan("");
+  EXPECT_EQ(detail::rcond_lower_bound(not_finite, Eigen::PartialPivLU<MatX>(not_finite), scratch),
+            0);
 }
 
 // The check is compiled for 7 load cases (one end effector) and for any count: both are
