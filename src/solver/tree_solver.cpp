@@ -515,8 +515,11 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   EndWrenches& widened = scratch.widened;
   external.widen_into(k + m, widened);
   RowMajorMatX& unit_values = scratch.unit_values;
-  unit_values.setZero(m, k + m);
-  unit_values.rightCols(m).setIdentity();
+  // Only this writes it, always the same for a size: the poses of a workspace keep it.
+  if (unit_values.rows() != m || unit_values.cols() != k + m) {
+    unit_values.setZero(m, k + m);
+    unit_values.rightCols(m).setIdentity();
+  }
   RowMajorMatX& x = scratch.first_run;
   passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, compensated, x,
          scratch.first_run_low, scratch.increment);
@@ -536,7 +539,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   row_scale.resize(m);
   column_scale.resize(m);
   for (Index i = 0; i < m; ++i) {
-    const double largest = a.row(i).cwiseAbs().maxCoeff();
+    // T's rows are adjacent in memory, a's are not: the same values, read in one run.
+    const double largest = t.row(i).tail(m).cwiseAbs().maxCoeff();
     if (!(largest > 0)) return std::nullopt;
     row_scale(i) = 1 / largest;
   }
@@ -586,7 +590,7 @@ std::optional<Index> tree_solve_with_cut_system_of(const TreeScratch& solved, co
 
   // First run: the columns with the cut unknowns at zero; the cut rows' residuals are T_load.
   const Index k = external.columns();
-  RowMajorMatX& zero_values = scratch.unit_values;
+  RowMajorMatX& zero_values = scratch.zero_values;
   zero_values.setZero(m, k);
   RowMajorMatX& x = scratch.first_run;
   passes(blocks, link_count, order, layout, &zero_values, external, unknowns, compensated, x,

@@ -86,7 +86,7 @@ struct TreeScratch {
   // The cut solve's: its load cases widened by the cut unknowns' columns, the cut unknowns'
   // values of each run, the cut rows' residuals and their small dense system.
   EndWrenches widened;
-  RowMajorMatX unit_values, cut_values, cut_residuals;
+  RowMajorMatX unit_values, zero_values, cut_values, cut_residuals;
   MatX cut_matrix, cut_load, cut_solution;
   VecX row_scale, column_scale, condition_bound;
   Eigen::PartialPivLU<MatX> cut_lu;
