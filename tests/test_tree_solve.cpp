@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <set>
 #include <string>
@@ -372,6 +373,44 @@ TEST(TreeSolve, ChoosingAFactorisingSolverSkipsTheTree) {
   SolveOptions options;
   options.solver = SolverKind::sparse_lu;
   EXPECT_EQ(solve(m, options).report.solver, stiffmsa::SolverUsed::sparse_lu);
+}
+
+// The cut solve skips the condition estimate where a cheaper bound below it clears the
+// threshold (tree_solve): the bound must lie below the true reciprocal condition, 1/(‖A‖₁·‖A⁻¹‖₁)
+// from the inverse, hence below the estimate, on matrices well and badly conditioned, and be 0
+// where a pivot is zero.
+TEST(TreeSolve, TheConditionBoundLiesBelowTheReciprocalCondition) {
+  std::srand(19);
+  VecX scratch;
+  const auto check = [&](const MatX& a, const std::string& what) {
+    const Eigen::PartialPivLU<MatX> lu(a);
+    const double bound = detail::rcond_lower_bound(a, lu, scratch);
+    const double exact = 1 / (a.cwiseAbs().colwise().sum().maxCoeff() *
+                              lu.inverse().cwiseAbs().colwise().sum().maxCoeff());
+    EXPECT_GT(bound, 0) << what;
+    EXPECT_LE(bound, exact * (1 + 1e-12)) << what;
+    EXPECT_LE(exact, lu.rcond() * (1 + 1e-12)) << what;
+  };
+  for (const Eigen::Index n : {1, 2, 5, 16, 21, 32}) {
+    const MatX random = MatX::Random(n, n);
+    check(random, "random " + std::to_string(n));
+    // Nearly singular: the last column a combination of the others but for 1e-9.
+    MatX nearly = random;
+    if (n > 1)
+      nearly.col(n - 1) = nearly.leftCols(n - 1) * VecX::Random(n - 1) + 1e-9 * VecX::Random(n);
+    check(nearly, "nearly singular " + std::to_string(n));
+    // Rows of very different sizes, as a cut system before it is equilibrated.
+    MatX graded = random;
+    for (Eigen::Index i = 0; i < n; ++i) graded.row(i) *= std::pow(10.0, 6.0 * i / n);
+    check(graded, "graded " + std::to_string(n));
+  }
+  MatX singular = MatX::Random(6, 6);
+  singular.col(3).setZero();
+  EXPECT_EQ(detail::rcond_lower_bound(singular, Eigen::PartialPivLU<MatX>(singular), scratch), 0);
+  MatX not_finite = MatX::Random(6, 6);
+  not_finite(4, 2) = std::nan("");
+  EXPECT_EQ(detail::rcond_lower_bound(not_finite, Eigen::PartialPivLU<MatX>(not_finite), scratch),
+            0);
 }
 
 // The check is compiled for 7 load cases (one end effector) and for any count: both are

@@ -98,22 +98,42 @@ ExpressionEvaluator::~ExpressionEvaluator() = default;
 
 void ExpressionEvaluator::set_values(std::span<const double> values) {
   for (std::size_t i = 0; i < parameter_count_ && i < values.size(); ++i) values_[i] = values[i];
+  next_asked_ = 0;
 }
 
 ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& text) {
-  if (const auto found = compiled_.find(text); found != compiled_.end()) return *found->second;
+  if (next_asked_ < asked_.size() && *asked_[next_asked_].text == text)
+    return *asked_[next_asked_++].compiled;
   // A compiled expression takes about 6 KB and 30 µs to set up. A real model has tens of
   // distinct expressions; a huge generated file can have millions, whose parsers are then not
   // kept (each evaluation parses again) rather than filling the memory.
   constexpr std::size_t max_kept = 20'000;
-  std::unique_ptr<Compiled>& slot = compiled_.size() < max_kept ? compiled_[text] : scratch_;
-  slot = std::make_unique<Compiled>();
-  Compiled& compiled = *slot;
+  const auto remember = [&](const std::string& key, Compiled& compiled) -> Compiled& {
+    if (next_asked_ < max_kept) {
+      asked_.resize(next_asked_);  // the order changed here: what followed is not known
+      asked_.push_back({&key, &compiled});
+      ++next_asked_;
+    }
+    return compiled;
+  };
+  if (const auto found = compiled_.find(text); found != compiled_.end())
+    return remember(found->first, *found->second);
+  if (compiled_.size() >= max_kept) {
+    scratch_ = std::make_unique<Compiled>();
+    set_up(*scratch_, text);
+    return *scratch_;
+  }
+  const auto added = compiled_.emplace(text, std::make_unique<Compiled>()).first;
+  set_up(*added->second, text);
+  return remember(added->first, *added->second);
+}
+
+void ExpressionEvaluator::set_up(Compiled& compiled, const std::string& text) {
   if (assigns(text)) {
     compiled.error =
         "the expression '" + text +
         "' assigns a value with '='; an expression only computes a number (compare with '==')";
-    return compiled;
+    return;
   }
   try {
     // muparser built by GCC rounds its _pi to 13 digits (a speed trade of its own); angles
@@ -136,7 +156,6 @@ ExpressionEvaluator::Compiled& ExpressionEvaluator::compile(const std::string& t
       compiled.error = "cannot read the expression '" + text + "': " + e.GetMsg();
     }
   }
-  return compiled;
 }
 
 // "x = 0.3, L = 0.2": the parameters an expression reads, with their current values.

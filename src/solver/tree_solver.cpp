@@ -76,57 +76,64 @@ Index width(Index runtime) {
   return Columns == Eigen::Dynamic ? runtime : Columns;
 }
 
-// The largest |entry| of each column over the rows added so far, +inf once any entry of the
-// column is not finite (a maximum alone would drop a NaN coefficient, residual or unknown, and
-// the check pass them): v·0 is 0 for a finite v and NaN for an infinite or NaN one, so a sum of
-// them marks the column without a branch, and the loops vectorise. Where k is known, rows are
-// taken two at a time, as one run of 2k values (whole vector registers even for an odd k), into
-// accumulators that are reduced only when a maximum is read: the check adds a few rows of every
-// block, and a reduction per call cost more than the rows.
+// The largest |entry| of each column over the rows added so far, and whether every entry was
+// finite (a maximum alone would drop a NaN coefficient, residual or unknown, and the check pass
+// them): v·0 is 0 for a finite v and NaN for an infinite or NaN one, so a sum of them marks a
+// value that is not without a branch, and the loops vectorise. One mark serves all columns: a
+// column that is not finite makes the check's largest residual infinite whichever it is. Where
+// k is known, rows are taken two at a time, as one run of 2k values (whole vector registers even
+// for an odd k), into accumulators that are reduced only when a maximum is read: the check adds
+// a few rows of every block, and a reduction per call cost more than the rows. The loops run on
+// local copies of them, which stay in registers (members would be stored and loaded again at
+// every row, as far as the compiler knows `values` could point into them).
 template <int Columns>
 class ColumnMaxima {
  public:
-  explicit ColumnMaxima(Index columns)
-      : largest_(Values::Zero(columns)), marks_(Values::Zero(columns)) {}
+  explicit ColumnMaxima(Index columns) : largest_(Values::Zero(columns)) {}
   // `rows` rows of the columns, stored by rows one after the other.
   void add(const double* values, Index rows) {
     if constexpr (Columns != Eigen::Dynamic) {
+      Pair largest = pair_largest_;
+      Lane marks = marks_;
       Index i = 0;
       for (; i + 1 < rows; i += 2, values += 2 * Columns) {
-        const Eigen::Map<const Pair> two_rows(values);
-        pair_largest_ = pair_largest_.max(two_rows.abs());
-        pair_marks_ += two_rows * 0.0;
+        largest = largest.max(Eigen::Map<const Pair>(values).abs());
+        for (int lane = 0; lane < Columns; ++lane)
+          marks += Eigen::Map<const Lane>(values + 2 * lane) * 0.0;
       }
+      pair_largest_ = largest;
       if (i < rows) {
         const Eigen::Map<const Values> last_row(values);
         largest_ = largest_.max(last_row.abs());
-        marks_ += last_row * 0.0;
+        marks(0) += (last_row * 0.0).sum();
       }
+      marks_ = marks;
     } else {
       const Index columns = largest_.size();
+      double marks = 0;
       for (Index i = 0; i < rows; ++i, values += columns)
         for (Index c = 0; c < columns; ++c) {
           largest_(c) = std::max(largest_(c), std::abs(values[c]));
-          marks_(c) += values[c] * 0.0;
+          marks += values[c] * 0.0;
         }
+      marks_(0) += marks;
     }
   }
+  bool finite() const { return marks_.sum() == 0; }
   double operator()(Index column) const {
-    double largest = largest_(column), marks = marks_(column);
-    if constexpr (Columns != Eigen::Dynamic) {
+    double largest = largest_(column);
+    if constexpr (Columns != Eigen::Dynamic)
       largest = std::max({largest, pair_largest_(column), pair_largest_(Columns + column)});
-      marks += pair_marks_(column) + pair_marks_(Columns + column);
-    }
-    return marks == 0 ? largest : INFINITY;
+    return largest;
   }
 
  private:
   using Values = Eigen::Array<double, Columns, 1>;  // on the stack where k is known
   using Pair = Eigen::Array<double, Columns == Eigen::Dynamic ? 1 : 2 * Columns, 1>;
+  using Lane = Eigen::Array2d;  // one vector register
   Values largest_;
-  Values marks_;
   Pair pair_largest_ = Pair::Zero();
-  Pair pair_marks_ = Pair::Zero();
+  Lane marks_ = Lane::Zero();
 };
 
 // FNV-1a over the written positions, a block of them at a time: (row, column, rows, columns)
@@ -321,12 +328,13 @@ BlockCheck check_blocks(const Blocks& blocks, const Topology& topology, const Ro
   check.nonzeros = block_residual.nonzeros;
   check.pattern = block_residual.hash;
   x_norm.add(x.data(), x.rows());
+  if (!(a_norm.finite() && x_norm.finite() && rhs_norm.finite() && residual_norm.finite())) {
+    check.relative_residual = INFINITY;
+    return check;
+  }
   for (Index c = 0; c < columns; ++c) {
-    const bool finite = std::isfinite(a_norm(0)) && std::isfinite(x_norm(c)) &&
-                        std::isfinite(rhs_norm(c)) && std::isfinite(residual_norm(c));
     const double error =
-        finite ? normwise_backward_error(residual_norm(c), a_norm(0), x_norm(c), rhs_norm(c))
-               : INFINITY;
+        normwise_backward_error(residual_norm(c), a_norm(0), x_norm(c), rhs_norm(c));
     if (!(error <= check.relative_residual)) check.relative_residual = error;
   }
   return check;
@@ -411,8 +419,9 @@ class CutRowResidual final : public CoefficientWriter<CutRowResidual> {
     const Index target = target_[static_cast<std::size_t>(row)];
     if (target < 0 || value == 0) return;
     const Index columns = x_.cols();
-    double* const out = out_.data() + target * columns;
-    const double* const in = x_.data() + column * columns;
+    // Separate buffers: saying so lets the loop run two columns at a time.
+    double* __restrict const out = out_.data() + target * columns;
+    const double* __restrict const in = x_.data() + column * columns;
     for (Index c = 0; c < columns; ++c) out[c] -= value * in[c];
   }
 
@@ -454,6 +463,37 @@ void cut_residuals(const Blocks& blocks, const Topology& topology, const TreeOrd
 
 }  // namespace
 
+double rcond_lower_bound(const MatX& a, const Eigen::PartialPivLU<MatX>& lu, VecX& scratch) {
+  const MatX& packed = lu.matrixLU();  // U on and above the diagonal, L (unit diagonal) below
+  const Index n = packed.rows();
+  if (n == 0) return 0;
+  const double l1_norm = a.cwiseAbs().colwise().sum().maxCoeff();  // as the estimate takes it
+  scratch.resize(n);
+  double* const w = scratch.data();
+  const double* const columns = packed.data();
+  // M(U)ᵀ·y = e, forward: |u_jj|·y_j = 1 + Σ_{i<j} |u_ij|·y_i.
+  for (Index j = 0; j < n; ++j) {
+    const double* const column = columns + j * n;
+    double sum = 1;
+    for (Index i = 0; i < j; ++i) sum += std::abs(column[i]) * w[i];
+    w[j] = sum / std::abs(column[j]);
+  }
+  // M(L)ᵀ·w = y, backward: w_j = y_j + Σ_{i>j} |l_ij|·w_i.
+  for (Index j = n - 1; j-- > 0;) {
+    const double* const column = columns + j * n;
+    double sum = 0;
+    for (Index i = j + 1; i < n; ++i) sum += std::abs(column[i]) * w[i];
+    w[j] += sum;
+  }
+  double largest = 0;
+  for (Index j = 0; j < n; ++j) {
+    if (!(w[j] < INFINITY)) return 0;  // a zero pivot, or a value that is not finite
+    largest = std::max(largest, w[j]);
+  }
+  const double bound = 1 / (l1_norm * largest);
+  return std::isfinite(bound) ? bound : 0;
+}
+
 std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
                                 const TreeOrder& order, const EndWrenches& external,
                                 double least_rcond, TreeScratch& scratch, Index most_cut_unknowns,
@@ -475,8 +515,11 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   EndWrenches& widened = scratch.widened;
   external.widen_into(k + m, widened);
   RowMajorMatX& unit_values = scratch.unit_values;
-  unit_values.setZero(m, k + m);
-  unit_values.rightCols(m).setIdentity();
+  // Only this writes it, always the same for a size: the poses of a workspace keep it.
+  if (unit_values.rows() != m || unit_values.cols() != k + m) {
+    unit_values.setZero(m, k + m);
+    unit_values.rightCols(m).setIdentity();
+  }
   RowMajorMatX& x = scratch.first_run;
   passes(blocks, link_count, order, layout, &unit_values, widened, unknowns, compensated, x,
          scratch.first_run_low, scratch.increment);
@@ -496,7 +539,8 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
   row_scale.resize(m);
   column_scale.resize(m);
   for (Index i = 0; i < m; ++i) {
-    const double largest = a.row(i).cwiseAbs().maxCoeff();
+    // T's rows are adjacent in memory, a's are not: the same values, read in one run.
+    const double largest = t.row(i).tail(m).cwiseAbs().maxCoeff();
     if (!(largest > 0)) return std::nullopt;
     row_scale(i) = 1 / largest;
   }
@@ -509,7 +553,12 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
     column *= column_scale(j);
   }
   const Eigen::PartialPivLU<MatX>& lu = scratch.cut_lu.compute(a);
-  if (!(lu.rcond() >= least_rcond)) return std::nullopt;
+  // The estimate decides, but where the bound below it clears the threshold by far it cannot
+  // decide otherwise, and costs less than the LU (bench/README.md, "Session 5: sweep poses").
+  const double least_bound = least_rcond / kConditionBoundMargin;
+  if (!(rcond_lower_bound(a, lu, scratch.condition_bound) >= least_bound) &&
+      !(lu.rcond() >= least_rcond))
+    return std::nullopt;
   MatX& rhs = scratch.cut_load;
   rhs = t.leftCols(k);
   for (Index c = 0; c < k; ++c) rhs.col(c).array() *= -row_scale.array();
@@ -541,7 +590,7 @@ std::optional<Index> tree_solve_with_cut_system_of(const TreeScratch& solved, co
 
   // First run: the columns with the cut unknowns at zero; the cut rows' residuals are T_load.
   const Index k = external.columns();
-  RowMajorMatX& zero_values = scratch.unit_values;
+  RowMajorMatX& zero_values = scratch.zero_values;
   zero_values.setZero(m, k);
   RowMajorMatX& x = scratch.first_run;
   passes(blocks, link_count, order, layout, &zero_values, external, unknowns, compensated, x,

@@ -86,9 +86,9 @@ struct TreeScratch {
   // The cut solve's: its load cases widened by the cut unknowns' columns, the cut unknowns'
   // values of each run, the cut rows' residuals and their small dense system.
   EndWrenches widened;
-  RowMajorMatX unit_values, cut_values, cut_residuals;
+  RowMajorMatX unit_values, zero_values, cut_values, cut_residuals;
   MatX cut_matrix, cut_load, cut_solution;
-  VecX row_scale, column_scale;
+  VecX row_scale, column_scale, condition_bound;
   Eigen::PartialPivLU<MatX> cut_lu;
   std::vector<Index> cut_first, cut_rows, cut_targets;
   // Frees each buffer above 1 MiB; smaller ones are kept for the next pose.
@@ -107,6 +107,21 @@ std::optional<Index> tree_solve(const Blocks& blocks, const Topology& topology,
                                 double least_rcond, TreeScratch& scratch,
                                 Index most_cut_unknowns = kMostCutUnknowns,
                                 int compensated_from_depth = kCompensatedFromDepth);
+
+// A lower bound on lu.rcond(), the reciprocal condition estimate of `a` from its LU, that costs
+// two triangular solves where the estimate (Hager's method with Higham's refinement) takes
+// about ten: |(LU)⁻¹| ≤ M(U)⁻¹·M(L)⁻¹ entry by entry, M(T) being T's comparison matrix
+// (|diagonal|, −|off-diagonal|), whose inverse is nonnegative, so ‖A⁻¹‖₁ = ‖(LU)⁻¹‖₁ ≤
+// ‖M(L)⁻ᵀ·M(U)⁻ᵀ·e‖∞ (e all ones; P only orders the columns); the estimate is at most ‖A⁻¹‖₁.
+// The bound's sums have nonnegative terms and round by a few ε; the estimate's solves round by
+// about n³·ε·growth·cond (≲ 1e-12·cond for n ≤ kMostCutUnknowns). 0 where a pivot is zero or
+// anything is not finite. `scratch` is a buffer of the caller's.
+double rcond_lower_bound(const MatX& a, const Eigen::PartialPivLU<MatX>& lu, VecX& scratch);
+
+// How far rcond_lower_bound must clear the least reciprocal condition for the estimate to be
+// skipped: the estimate's rounding is then a thousandth of its value at most, far from moving
+// it across the threshold, so that the decision is the estimate's in every case.
+inline constexpr double kConditionBoundMargin = 1e-3;
 
 // tree_solve of other columns on the very blocks (the same numbers) that the last tree_solve
 // into `solved` cut and solved: that solve's equilibrated, factorised cut system is taken as it
