@@ -39,6 +39,7 @@ class CorotationalLinkBlock final : public LoadedBlock {
   }
   Index equation_count() const override { return 12; }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kCorotationalLinkPattern; }
 
   // Rows W − ∂E/∂t: the gradient in closed form and, for the tangent, its exact derivative
   // (docs/theory.md §15.2).
@@ -51,7 +52,7 @@ class CorotationalLinkBlock final : public LoadedBlock {
     residual.tail<6>() = j.wrench - g.tail<6>();
     if (!tangent) return;
     // Columns: end i [δx, δθ, δW], end j [δx, δθ, δW].
-    tangent->setZero(12, 24);
+    size_tangent(*tangent, 12, 24);
     tangent->leftCols<6>() = -second.leftCols<6>();
     tangent->middleCols<6>(12) = -second.rightCols<6>();
     tangent->block<6, 6>(0, 6).setIdentity();

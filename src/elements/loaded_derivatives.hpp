@@ -106,6 +106,23 @@ inline void set_rows(Eigen::Ref<VecX> residual, Index row, const SixRows& rows, 
     residual.segment(row, rows.count) = all.segment(rows.first, rows.count);
 }
 
+// LoadedBlock::pattern of each kind of block, a joint's or support's plus its p (0…6).
+constexpr int kFreeEndPattern = 1;
+constexpr int kCorotationalLinkPattern = 2;
+constexpr int kRigidLinkPattern = 3;
+constexpr int kConstraintJointPattern = 10;
+constexpr int kElasticJointPattern = 20;
+constexpr int kSupportPattern = 30;
+constexpr int kLoadsAlongPattern = 100;  // plus the link's own
+
+// Readies a block's tangent (LoadedBlock::evaluate): sized rows × cols and zeroed where it is of
+// another size (true), else left as it is, zero outside the block's pattern (false).
+inline bool size_tangent(MatX& tangent, Index rows, Index cols) {
+  if (tangent.rows() == rows && tangent.cols() == cols) return false;
+  tangent.setZero(rows, cols);
+  return true;
+}
+
 // The column of end `slot`'s δx, δθ or δW in a block's tangent.
 inline Index position_column(Index slot) { return 12 * slot; }
 inline Index turn_column(Index slot) { return 12 * slot + 3; }
