@@ -86,12 +86,17 @@ inline Mat6 padded_spring(const FreeDirections& directions, const MatX& stiffnes
 template <class Derivative>
 void add_derivative(MatX& tangent, Index row, Index column, const SixRows& rows,
                     const Derivative& derivative) {
+  constexpr int kCols = Derivative::ColsAtCompileTime;
+  if (&rows.matrix == &kSixIdentity && rows.count == 6) {  // no product, all six rows
+    tangent.block<6, kCols>(row, column) += rows.sign * derivative;
+    return;
+  }
   if (&rows.matrix == &kSixIdentity) {  // no product to take
     tangent.block(row, column, rows.count, derivative.cols()) +=
         rows.sign * derivative.middleRows(rows.first, rows.count);
     return;
   }
-  const Eigen::Matrix<double, 6, Derivative::ColsAtCompileTime> all = rows.matrix * derivative;
+  const Eigen::Matrix<double, 6, kCols> all = rows.matrix * derivative;
   tangent.block(row, column, rows.count, all.cols()) +=
       rows.sign * all.middleRows(rows.first, rows.count);
 }

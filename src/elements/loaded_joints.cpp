@@ -110,8 +110,13 @@ class LoadedElasticJointBlock final : public LoadedBlock {
     set_rows(residual, 6 + r, free_rows, w.value, true);
     if (preload_) residual.segment(6 + r, p) -= in.load_factor * *preload_;
     if (!tangent) return;
-    tangent->block<6, 6>(6, position_column(0)) = motion_rows_ * q.of_first;
-    tangent->block<6, 6>(6, position_column(1)) = motion_rows_ * q.of_other;
+    // q's derivatives have zero blocks (relative_motion): the products over the others alone,
+    // the terms added in the same order.
+    const auto by_position = motion_rows_.leftCols<3>(), by_turn = motion_rows_.rightCols<3>();
+    tangent->block<6, 3>(6, position_column(0)) = by_position * q.of_first.topLeftCorner<3, 3>();
+    tangent->block<6, 3>(6, turn_column(0)) = motion_rows_ * q.of_first.rightCols<3>();
+    tangent->block<6, 3>(6, position_column(1)) = by_position * q.of_other.topLeftCorner<3, 3>();
+    tangent->block<6, 3>(6, turn_column(1)) = by_turn * q.of_other.bottomRightCorner<3, 3>();
     add_held_wrench(*tangent, 6 + r, free_rows, w, 0, true);
   }
 
