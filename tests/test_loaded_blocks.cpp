@@ -116,6 +116,19 @@ void append(std::vector<T>& rows, const Eigen::Matrix<T, Eigen::Dynamic, 1>& v) 
 Rows block_rows(const LoadedBlock& block, const LoadedInputs& in, double rounding_scale = 0) {
   Rows out{VecX(block.equation_count()), MatX()};
   block.evaluate(in, out.residual, &out.tangent);
+  // Into a tangent the block wrote before, at another state, it writes the same: a block
+  // writes only its pattern into a tangent of its size (LoadedBlock::evaluate).
+  std::vector<EndState> moved = in.ends;
+  for (EndState& e : moved) {
+    e.position += Vec3(1e-3, -2e-3, 3e-3);
+    e.rotation = Eigen::AngleAxisd(0.05, Vec3(0.6, 0.0, 0.8)) * e.rotation;
+    e.wrench += Vec6::Constant(7.0);
+  }
+  MatX reused;
+  VecX scratch(block.equation_count());
+  block.evaluate(LoadedInputs{moved, in.external, 0.5 * in.load_factor + 0.25}, scratch, &reused);
+  block.evaluate(in, scratch, &reused);
+  EXPECT_TRUE(reused == out.tangent) << "a reused tangent differs";
   VecX alone(block.equation_count());
   block.evaluate(in, alone, nullptr);
   // The residual alone is the residual that comes with the tangent, to rounding.

@@ -264,6 +264,9 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
   for (const auto& b : blocks) {
     layout.push_back(static_cast<int>(b->equation_count()));
     layout.push_back(static_cast<int>(b->ends().size()));
+    // Blocks of one pattern in each place keep the last pose's tangents, zero where they write
+    // nothing (LoadedBlock::evaluate).
+    layout.push_back(b->pattern());
     layout.insert(layout.end(), b->ends().begin(), b->ends().end());
   }
   if (layout != layout_) {

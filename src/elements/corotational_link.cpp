@@ -39,6 +39,7 @@ class CorotationalLinkBlock final : public LoadedBlock {
   }
   Index equation_count() const override { return 12; }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kCorotationalLinkPattern; }
 
   // Rows W − ∂E/∂t: the gradient in closed form and, for the tangent, its exact derivative
   // (docs/theory.md §15.2).
@@ -51,7 +52,7 @@ class CorotationalLinkBlock final : public LoadedBlock {
     residual.tail<6>() = j.wrench - g.tail<6>();
     if (!tangent) return;
     // Columns: end i [δx, δθ, δW], end j [δx, δθ, δW].
-    tangent->setZero(12, 24);
+    size_tangent(*tangent, 12, 24);
     tangent->leftCols<6>() = -second.leftCols<6>();
     tangent->middleCols<6>(12) = -second.rightCols<6>();
     tangent->block<6, 6>(0, 6).setIdentity();
@@ -135,16 +136,21 @@ class CorotationalLinkBlock final : public LoadedBlock {
     Row9 d_length = Row9::Zero();
     d_length.head<3>() = e1.transpose();
     const Mat3 chord_turn = (identity - e1 * e1.transpose()) / length;
+    // e1 sees δc only and q_k δθ_k only: the products with their derivatives are taken over
+    // those three columns alone (the others' terms are zeros).
     Jacobian d_e1 = Jacobian::Zero();
     d_e1.leftCols<3>() = chord_turn;
-    Jacobian d_qi = Jacobian::Zero(), d_qj = Jacobian::Zero();
-    d_qi.middleCols<3>(3) = -skew_of<double>(qi);
-    d_qj.rightCols<3>() = -skew_of<double>(qj);
-    const Jacobian d_q = 0.5 * (d_qi + d_qj);
-    const Jacobian d_w = skew_of<double>(e1) * d_q - skew_of<double>(q) * d_e1;
+    const Mat3 turn_qi = -skew_of<double>(qi), turn_qj = -skew_of<double>(qj);  // ∂q_k/∂δθ_k
+    const Mat3 half_turn_qi = 0.5 * turn_qi, half_turn_qj = 0.5 * turn_qj;      // ∂q/∂δθ_k
+    const Mat3 turn_e1 = skew_of<double>(e1);
+    Jacobian d_w;
+    d_w.leftCols<3>() = -(skew_of<double>(q) * chord_turn);
+    d_w.middleCols<3>(3) = turn_e1 * half_turn_qi;
+    d_w.rightCols<3>() = turn_e1 * half_turn_qj;
     const Row9 d_across = e3.transpose() * d_w;
     const Jacobian d_e3 = ((identity - e3 * e3.transpose()) / across) * d_w;
-    const Jacobian d_e2 = skew_of<double>(e3) * d_e1 - skew_of<double>(e1) * d_e3;
+    Jacobian d_e2 = -(turn_e1 * d_e3);
+    d_e2.leftCols<3>() = skew_of<double>(e3) * chord_turn + d_e2.leftCols<3>();
     Row9 gamma1, gamma2 = Row9::Zero(), gamma3 = Row9::Zero();
     gamma1 << -q_along / length * e3.transpose(), 0.5 * arm_i.transpose(), 0.5 * arm_j.transpose();
     gamma1 /= across;
@@ -175,18 +181,22 @@ class CorotationalLinkBlock final : public LoadedBlock {
         rigid * (inverse_j.transpose() * d_f.bottomRows<3>() + slope(phi_j, vj) * d_phi_j) -
         skew_of<double>(mu_j) * frame_turn;
     const Jacobian d_m = d_mu_i + d_mu_j;
-    const Row9 d_m1 = e1.transpose() * d_m + m.transpose() * d_e1;
+    Row9 d_m1 = e1.transpose() * d_m;
+    d_m1.head<3>() += m.transpose() * chord_turn;
     const Row9 d_m2 = e2.transpose() * d_m + m.transpose() * d_e2;
     const Row9 d_m3 = e3.transpose() * d_m + m.transpose() * d_e3;
     const Row9 d_spin = (d_m1 - spin * d_across) / across;
-    const Row9 d_q_along = e1.transpose() * d_q + q.transpose() * d_e1;
+    Row9 d_q_along;
+    d_q_along << q.transpose() * chord_turn, e1.transpose() * half_turn_qi,
+        e1.transpose() * half_turn_qj;
     const Row9 d_lift = (q_along * d_spin + spin * d_q_along - lift * d_length) / length;
     const Jacobian d_force =
         e1 * d_f.row(3) + f(3) * d_e1 + (e3 * d_m2 + m2 * d_e3 - e2 * d_m3 - m3 * d_e2) / length -
         ((m2 * e3 - m3 * e2) / (length * length)) * d_length + e3 * d_lift + lift * d_e3;
     const Mat3 turn_e3 = skew_of<double>(e3);
-    const Jacobian d_arm_i = skew_of<double>(qi) * d_e3 - turn_e3 * d_qi;
-    const Jacobian d_arm_j = skew_of<double>(qj) * d_e3 - turn_e3 * d_qj;
+    Jacobian d_arm_i = skew_of<double>(qi) * d_e3, d_arm_j = skew_of<double>(qj) * d_e3;
+    d_arm_i.middleCols<3>(3) -= turn_e3 * turn_qi;
+    d_arm_j.rightCols<3>() -= turn_e3 * turn_qj;
     Eigen::Matrix<double, 12, 9> d_g;
     d_g << -d_force, d_mu_i - 0.5 * (arm_i * d_spin + spin * d_arm_i), d_force,
         d_mu_j - 0.5 * (arm_j * d_spin + spin * d_arm_j);

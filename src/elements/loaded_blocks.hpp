@@ -37,8 +37,15 @@ class LoadedBlock {
   virtual Index equation_count() const = 0;
   // The link ends whose unknowns the rows involve, in the order of the tangent's columns.
   virtual const std::vector<int>& ends() const = 0;
+  // What else, besides equation_count() and ends(), decides where the block writes into its
+  // tangent (its kind, a joint's free directions): a tangent of one pose's block is handed to
+  // the next pose's block in its place where the two agree in all three (LoadedTangent).
+  virtual int pattern() const { return 0; }
   // The residual rows, and where `tangent` is given their derivatives (equation_count() ×
-  // 12·ends().size(), 12 columns per end: δx, δθ, δW).
+  // 12·ends().size(), 12 columns per end: δx, δθ, δW). A `tangent` of another size is sized and
+  // zeroed; one of that size must be zero wherever this block writes nothing (as it is after
+  // this block's own last evaluation): the block then writes only its pattern, not the whole
+  // matrix again.
   virtual void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const = 0;
 };
 

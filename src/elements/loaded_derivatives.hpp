@@ -86,12 +86,17 @@ inline Mat6 padded_spring(const FreeDirections& directions, const MatX& stiffnes
 template <class Derivative>
 void add_derivative(MatX& tangent, Index row, Index column, const SixRows& rows,
                     const Derivative& derivative) {
+  constexpr int kCols = Derivative::ColsAtCompileTime;
+  if (&rows.matrix == &kSixIdentity && rows.count == 6) {  // no product, all six rows
+    tangent.block<6, kCols>(row, column) += rows.sign * derivative;
+    return;
+  }
   if (&rows.matrix == &kSixIdentity) {  // no product to take
     tangent.block(row, column, rows.count, derivative.cols()) +=
         rows.sign * derivative.middleRows(rows.first, rows.count);
     return;
   }
-  const Eigen::Matrix<double, 6, Derivative::ColsAtCompileTime> all = rows.matrix * derivative;
+  const Eigen::Matrix<double, 6, kCols> all = rows.matrix * derivative;
   tangent.block(row, column, rows.count, all.cols()) +=
       rows.sign * all.middleRows(rows.first, rows.count);
 }
@@ -104,6 +109,23 @@ inline void set_rows(Eigen::Ref<VecX> residual, Index row, const SixRows& rows, 
     residual.segment(row, rows.count) += all.segment(rows.first, rows.count);
   else
     residual.segment(row, rows.count) = all.segment(rows.first, rows.count);
+}
+
+// LoadedBlock::pattern of each kind of block, a joint's or support's plus its p (0…6).
+constexpr int kFreeEndPattern = 1;
+constexpr int kCorotationalLinkPattern = 2;
+constexpr int kRigidLinkPattern = 3;
+constexpr int kConstraintJointPattern = 10;
+constexpr int kElasticJointPattern = 20;
+constexpr int kSupportPattern = 30;
+constexpr int kLoadsAlongPattern = 100;  // plus the link's own
+
+// Readies a block's tangent (LoadedBlock::evaluate): sized rows × cols and zeroed where it is of
+// another size (true), else left as it is, zero outside the block's pattern (false).
+inline bool size_tangent(MatX& tangent, Index rows, Index cols) {
+  if (tangent.rows() == rows && tangent.cols() == cols) return false;
+  tangent.setZero(rows, cols);
+  return true;
 }
 
 // The column of end `slot`'s δx, δθ or δW in a block's tangent.

@@ -18,6 +18,7 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
   }
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kConstraintJointPattern + static_cast<int>(directions_.p); }
 
   // Λ_r·(−q_k) = 0, k = 2..m; Λ_r·Σ w_k = 0; Λ_p·w_k = ±λ·G·w0 (ends 1, 2), with w_k the
   // wrench W_k − W_ext,k about x_1 in end 1's axes.
@@ -26,7 +27,15 @@ class LoadedConstraintJointBlock final : public LoadedBlock {
     const Index p = directions_.p, r = 6 - p;
     const SixRows held_rows{directions_.rows, p, r}, free_rows{directions_.rows, 0, p};
     const SixRows minus_held{directions_.rows, p, r, -1};
-    if (tangent) tangent->setZero(6 * m, 12 * m);
+    if (tangent && !size_tangent(*tangent, 6 * m, 12 * m)) {
+      // Cleared where the derivatives below are added: end 1's and end k's [δx, δθ] in the rows
+      // of q_k, every column in the wrenches' rows.
+      for (Index k = 1; k < m; ++k) {
+        tangent->block((k - 1) * r, position_column(0), r, 6).setZero();
+        tangent->block((k - 1) * r, position_column(k), r, 6).setZero();
+      }
+      tangent->bottomRows(r + m * p).setZero();
+    }
     const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
     Index row = 0;
     for (Index k = 1; k < m; ++k) {
@@ -78,13 +87,19 @@ class LoadedElasticJointBlock final : public LoadedBlock {
   }
   Index equation_count() const override { return 12; }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kElasticJointPattern + static_cast<int>(directions_.p); }
 
   // w_1 + w_2 = 0 (both about x_1, global axes); Λ_r·(−q_2) = 0;
   // Λ_p·w_1 − G·K·Λ_p·q_2 = λ·G·w0, w_1 in end 1's axes: the spring on the finite motion q_2.
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const Index p = directions_.p, r = 6 - p;
     const SixRows free_rows{directions_.rows, 0, p};
-    if (tangent) tangent->setZero(12, 24);
+    if (tangent && !size_tangent(*tangent, 12, 24)) {
+      // Cleared where the derivatives below are added: the balance's rows, and end 1's δW in
+      // the spring's.
+      tangent->topRows<6>().setZero();
+      tangent->block<6, 6>(6, wrench_column(0)).setZero();
+    }
     const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
     const EndState& second = in.ends[static_cast<std::size_t>(ends_[1])];
     add_wrench_sum(in, ends_, Mat3::Identity(), false, SixRows{kSixIdentity}, 0, residual, tangent);
@@ -95,8 +110,13 @@ class LoadedElasticJointBlock final : public LoadedBlock {
     set_rows(residual, 6 + r, free_rows, w.value, true);
     if (preload_) residual.segment(6 + r, p) -= in.load_factor * *preload_;
     if (!tangent) return;
-    tangent->block<6, 6>(6, position_column(0)) = motion_rows_ * q.of_first;
-    tangent->block<6, 6>(6, position_column(1)) = motion_rows_ * q.of_other;
+    // q's derivatives have zero blocks (relative_motion): the products over the others alone,
+    // the terms added in the same order.
+    const auto by_position = motion_rows_.leftCols<3>(), by_turn = motion_rows_.rightCols<3>();
+    tangent->block<6, 3>(6, position_column(0)) = by_position * q.of_first.topLeftCorner<3, 3>();
+    tangent->block<6, 3>(6, turn_column(0)) = motion_rows_ * q.of_first.rightCols<3>();
+    tangent->block<6, 3>(6, position_column(1)) = by_position * q.of_other.topLeftCorner<3, 3>();
+    tangent->block<6, 3>(6, turn_column(1)) = by_turn * q.of_other.bottomRightCorner<3, 3>();
     add_held_wrench(*tangent, 6 + r, free_rows, w, 0, true);
   }
 

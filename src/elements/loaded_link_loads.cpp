@@ -163,6 +163,7 @@ class LinkWithLoadsBlock final : public LoadedBlock {
 
   Index equation_count() const override { return link_->equation_count(); }
   const std::vector<int>& ends() const override { return link_->ends(); }
+  int pattern() const override { return kLoadsAlongPattern + link_->pattern(); }
 
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     link_->evaluate(in, residual, tangent);

@@ -11,6 +11,7 @@ class LoadedRigidLinkBlock final : public LoadedBlock {
   LoadedRigidLinkBlock(int end_i, int end_j, const Vec3& d0) : ends_{end_i, end_j}, d0_(d0) {}
   Index equation_count() const override { return 12; }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kRigidLinkPattern; }
 
   // x_i + R_i·d0 − x_j = 0, rotation_vector(R_i·R_jᵀ) = 0 (D·Δt_i − Δt_j = 0 to first order);
   // F_i + F_j = 0, M_i + M_j + (x_j − x_i) × F_j = 0 (W_i + Dᵀ·W_j = 0 at the current d).
@@ -26,23 +27,25 @@ class LoadedRigidLinkBlock final : public LoadedBlock {
     residual.segment<3>(6) = i.wrench.head<3>() + force_j;
     residual.segment<3>(9) = i.wrench.tail<3>() + j.wrench.tail<3>() + chord.cross(force_j);
     if (!tangent) return;
-    tangent->setZero(12, 24);
+    size_tangent(*tangent, 12, 24);
     const Mat3 identity = Mat3::Identity();
-    // R_i·d0 turns with δθ_i: −[(R_i·d0)×]·δθ_i.
     tangent->block<3, 3>(0, position_column(0)) = identity;
-    tangent->block<3, 3>(0, turn_column(0)) = -skew_of<double>(arm);
     tangent->block<3, 3>(0, position_column(1)) = -identity;
-    tangent->block<3, 3>(3, turn_column(0)) = turn.of_first;
-    tangent->block<3, 3>(3, turn_column(1)) = turn.of_second;
     tangent->block<3, 3>(6, wrench_column(0)) = identity;
     tangent->block<3, 3>(6, wrench_column(1)) = identity;
+    tangent->block<3, 3>(9, wrench_column(0) + 3) = identity;
+    tangent->block<3, 3>(9, wrench_column(1) + 3) = identity;
+    // R_i·d0 turns with δθ_i: −[(R_i·d0)×]·δθ_i.
+    tangent->block<3, 3>(0, turn_column(0)) = -skew_of<double>(arm);
+    tangent->block<3, 3>(3, turn_column(0)) = turn.of_first;
+    tangent->block<3, 3>(3, turn_column(1)) = turn.of_second;
+    // Loads along the link add to the balance's δθ_i (loaded_link_loads.cpp).
+    tangent->block<3, 3>(9, turn_column(0)).setZero();
     // The moment arm x_j − x_i carries F_j: ∂/∂δx_j = −[F_j×] = −∂/∂δx_i.
     const Mat3 carried = skew_of<double>(force_j);
     tangent->block<3, 3>(9, position_column(0)) = carried;
     tangent->block<3, 3>(9, position_column(1)) = -carried;
-    tangent->block<3, 3>(9, wrench_column(0) + 3) = identity;
     tangent->block<3, 3>(9, wrench_column(1)) = skew_of<double>(chord);
-    tangent->block<3, 3>(9, wrench_column(1) + 3) = identity;
   }
 
  private:

@@ -22,6 +22,7 @@ class LoadedSupportBlock final : public LoadedBlock {
   }
   Index equation_count() const override { return 6 * static_cast<Index>(ends_.size()); }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kSupportPattern + static_cast<int>(directions_.p); }
 
   // [x_1 − x_k; rotation_vector(R_1·R_kᵀ)] = 0, k = 2..m; Λ_r·g = 0 and, where p > 0,
   // Λ_p·Σ w_k + G·K·Λ_p·g = λ·G·w0, with g = [R_sᵀ·(x_1 − X_1 − λ·s_p); rotation_vector(R_sᵀ·R_1)]
@@ -32,7 +33,8 @@ class LoadedSupportBlock final : public LoadedBlock {
     const Index p = directions_.p, r = 6 - p;
     const Mat3 ground = rotation_matrix(in.load_factor * settlement_.tail<3>());
     const Vec3 ground_position = unloaded_position_ + in.load_factor * settlement_.head<3>();
-    if (tangent) tangent->setZero(6 * m, 12 * m);
+    // Cleared where derivatives are added: the rows of g and of the wrenches (the last six).
+    if (tangent && !size_tangent(*tangent, 6 * m, 12 * m)) tangent->bottomRows<6>().setZero();
     const EndState& first = in.ends[static_cast<std::size_t>(ends_[0])];
     Index row = 0;
     for (Index k = 1; k < m; ++k) {
@@ -85,11 +87,12 @@ class LoadedFreeEndBlock final : public LoadedBlock {
   explicit LoadedFreeEndBlock(int end) : ends_{end} {}
   Index equation_count() const override { return 6; }
   const std::vector<int>& ends() const override { return ends_; }
+  int pattern() const override { return kFreeEndPattern; }
   void evaluate(const LoadedInputs& in, Eigen::Ref<VecX> residual, MatX* tangent) const override {
     const EndState& s = in.ends[static_cast<std::size_t>(ends_[0])];
     residual = s.wrench - in.external[static_cast<std::size_t>(ends_[0])];
     if (!tangent) return;
-    tangent->setZero(6, 12);
+    size_tangent(*tangent, 6, 12);
     tangent->block<6, 6>(0, 6).setIdentity();
   }
 
