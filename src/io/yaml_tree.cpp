@@ -470,8 +470,222 @@ void require_utf8(std::string_view text, const std::string& file) {
 
 }  // namespace
 
+// parse_plain_yaml's reader: one pass over the lines, a function per kind of collection. Each
+// step that meets what the plain shape leaves out gives up (nullopt), and parse_yaml starts
+// again with libfyaml, which reads, places and reports everything else.
+class PlainYamlReader {
+ public:
+  PlainYamlReader(std::string_view text, int max_depth)
+      : text_(text), max_depth_(std::min(max_depth, kMaxDepth)) {}
+
+  std::optional<YamlTree> read() {
+    if (!split_lines() || lines_.empty() || lines_.front().indent != 0) return std::nullopt;
+    const YamlNode* root = block_mapping(0, 1);
+    if (root == nullptr || next_ != lines_.size()) return std::nullopt;
+    return std::move(tree_);
+  }
+
+ private:
+  // Recursion is bounded by this whatever the limit: deeper texts go to libfyaml's events.
+  static constexpr int kMaxDepth = 64;
+
+  struct Line {
+    std::string_view content;  // from the first character that is not a space
+    int indent;
+    int number;  // 1-based
+  };
+
+  static bool is_plain(char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+           c == '_' || c == '.' || c == '+' || c == '-' || c == '/';
+  }
+
+  // The lines that hold something, without comment lines and blank ones.
+  bool split_lines() {
+    int number = 0;
+    for (std::size_t start = 0; start < text_.size();) {
+      std::size_t end = text_.find('\n', start);
+      if (end == std::string_view::npos) end = text_.size();
+      const std::string_view line = text_.substr(start, end - start);
+      start = end + 1;
+      ++number;
+      if (line.find_first_of("\t\r") != std::string_view::npos) return false;
+      const std::size_t indent = line.find_first_not_of(' ');
+      if (indent == std::string_view::npos || line[indent] == '#') continue;
+      const std::string_view content = line.substr(indent);
+      if (indent == 0 && (content.starts_with("---") || content.starts_with("..."))) return false;
+      lines_.push_back({content, static_cast<int>(indent), number});
+    }
+    return true;
+  }
+
+  YamlNode& node(YamlNode::Kind kind, int line, int column) {
+    YamlNode& n = tree_.add_node();
+    n.kind_ = kind;
+    n.line_ = line;
+    n.column_ = column;
+    return n;
+  }
+
+  // A plain scalar at `at` in `line`; `at` moves past it. Null where there is none.
+  const YamlNode* scalar(std::string_view line, std::size_t& at, int number, int indent) {
+    const std::size_t start = at;
+    while (at < line.size() && is_plain(line[at])) ++at;
+    const std::string_view text = line.substr(start, at - start);
+    // `-` alone begins a list item.
+    if (text.empty() || text == "-") return nullptr;
+    const bool null = spells_null(text);
+    YamlNode& n = node(null ? YamlNode::Kind::null : YamlNode::Kind::scalar, number,
+                       indent + static_cast<int>(start) + 1);
+    if (!null) n.text_ = text;
+    return &n;
+  }
+
+  static void skip_spaces(std::string_view line, std::size_t& at) {
+    while (at < line.size() && line[at] == ' ') ++at;
+  }
+
+  // A value on one line at `at`: a flow list, a flow mapping or a plain scalar.
+  const YamlNode* inline_value(std::string_view line, std::size_t& at, int number, int indent,
+                               int depth) {
+    if (at < line.size() && (line[at] == '[' || line[at] == '{')) {
+      if (depth > max_depth_) return nullptr;
+      const bool is_mapping = line[at] == '{';
+      const char close = is_mapping ? '}' : ']';
+      YamlNode& collection =
+          node(is_mapping ? YamlNode::Kind::mapping : YamlNode::Kind::sequence, number,
+               indent + static_cast<int>(at) + 1);
+      ++at;
+      skip_spaces(line, at);
+      std::vector<const YamlNode*> items;
+      std::vector<YamlEntry> entries;
+      if (at < line.size() && line[at] == close) {
+        ++at;
+        return &collection;
+      }
+      for (;;) {
+        if (is_mapping) {
+          const YamlNode* key = scalar(line, at, number, indent);
+          if (key == nullptr || !key->is_scalar() || at + 1 >= line.size() || line[at] != ':' ||
+              line[at + 1] != ' ')
+            return nullptr;
+          at += 2;
+          skip_spaces(line, at);
+          const YamlNode* value = inline_value(line, at, number, indent, depth + 1);
+          if (value == nullptr) return nullptr;
+          entries.push_back({key, value});
+        } else {
+          const YamlNode* item = inline_value(line, at, number, indent, depth + 1);
+          if (item == nullptr) return nullptr;
+          items.push_back(item);
+        }
+        skip_spaces(line, at);
+        if (at >= line.size()) return nullptr;
+        if (line[at] == close) break;
+        if (line[at] != ',') return nullptr;
+        ++at;
+        skip_spaces(line, at);
+        if (at >= line.size() || line[at] == ',' || line[at] == close) return nullptr;
+      }
+      ++at;
+      collection.items_ = std::move(items);
+      collection.entries_ = std::move(entries);
+      return &collection;
+    }
+    return scalar(line, at, number, indent);
+  }
+
+  // A value that ends its line: nothing after it but spaces and a comment.
+  const YamlNode* last_value(const Line& line, std::size_t at, int depth) {
+    const YamlNode* value = inline_value(line.content, at, line.number, line.indent, depth);
+    if (value == nullptr) return nullptr;
+    const std::size_t end = at;
+    skip_spaces(line.content, at);
+    if (at < line.content.size() && (line.content[at] != '#' || at == end)) return nullptr;
+    ++next_;
+    // A deeper line after it would continue the value (a plain scalar on several lines).
+    if (next_ < lines_.size() && lines_[next_].indent > line.indent) return nullptr;
+    return value;
+  }
+
+  // The value of a key that ends its line: a block mapping or list on the lines below.
+  const YamlNode* block_value(int key_indent, int depth) {
+    if (next_ >= lines_.size()) return nullptr;
+    const Line& below = lines_[next_];
+    const bool item = below.content.starts_with("- ");
+    if (item && below.indent >= key_indent) return block_sequence(below.indent, depth);
+    if (below.indent > key_indent) return block_mapping(below.indent, depth);
+    return nullptr;  // an empty value
+  }
+
+  const YamlNode* block_mapping(int indent, int depth) {
+    if (depth > max_depth_) return nullptr;
+    const Line& first = lines_[next_];
+    YamlNode& mapping = node(YamlNode::Kind::mapping, first.number, first.indent + 1);
+    std::vector<YamlEntry> entries;
+    while (next_ < lines_.size() && lines_[next_].indent == indent) {
+      const Line& line = lines_[next_];
+      std::size_t at = 0;
+      const YamlNode* key = scalar(line.content, at, line.number, line.indent);
+      if (key == nullptr || !key->is_scalar() || at >= line.content.size() ||
+          line.content[at] != ':')
+        return nullptr;
+      ++at;
+      const YamlNode* value = nullptr;
+      std::size_t after = at;
+      skip_spaces(line.content, after);
+      if (after == line.content.size() || (after > at && line.content[after] == '#')) {
+        ++next_;
+        value = block_value(indent, depth + 1);
+      } else if (after > at) {
+        value = last_value(line, after, depth + 1);
+      }
+      if (value == nullptr) return nullptr;
+      entries.push_back({key, value});
+    }
+    if (next_ < lines_.size() && lines_[next_].indent > indent) return nullptr;
+    mapping.entries_ = std::move(entries);
+    return &mapping;
+  }
+
+  const YamlNode* block_sequence(int indent, int depth) {
+    if (depth > max_depth_) return nullptr;
+    const Line& first = lines_[next_];
+    YamlNode& sequence = node(YamlNode::Kind::sequence, first.number, first.indent + 1);
+    std::vector<const YamlNode*> items;
+    while (next_ < lines_.size() && lines_[next_].indent == indent &&
+           lines_[next_].content.starts_with("- ")) {
+      const Line& line = lines_[next_];
+      std::size_t at = 2;
+      skip_spaces(line.content, at);
+      const YamlNode* item = last_value(line, at, depth + 1);
+      if (item == nullptr) return nullptr;
+      items.push_back(item);
+    }
+    if (next_ < lines_.size() && lines_[next_].indent > indent) return nullptr;
+    sequence.items_ = std::move(items);
+    return &sequence;
+  }
+
+  std::string_view text_;
+  int max_depth_;
+  YamlTree tree_;
+  std::vector<Line> lines_;
+  std::size_t next_ = 0;  // the line being read
+};
+
+std::optional<YamlTree> parse_plain_yaml(std::string_view text, int max_depth) {
+  return PlainYamlReader(text, max_depth).read();
+}
+
+YamlTree parse_yaml_by_libfyaml(std::string_view text, const std::string& file, int max_depth) {
+  require_utf8(text, file);
+  return YamlTreeBuilder(text, file, max_depth).build();
+}
+
 YamlTree parse_yaml(std::string_view text, const std::string& file, int max_depth) {
   require_utf8(text, file);
+  if (auto plain = parse_plain_yaml(text, max_depth)) return std::move(*plain);
   return YamlTreeBuilder(text, file, max_depth).build();
 }
 
