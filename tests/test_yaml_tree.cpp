@@ -286,11 +286,12 @@ TEST(YamlTree, ThePlainReaderGivesLibfyamlsTree) {
 TEST(YamlTree, ThePlainReaderLeavesOtherTextsToLibfyaml) {
   for (const char* text :
        {"a: 'x'\n", "a: \"x\"\n", "a: &x 1\nb: *x\n", "a: !t 1\n", "a: |\n  x\n", "a:\nb: 1\n",
-        "a: [1,\n  2]\n", "a:\tb\n", "a: 1\r\n", "a: 1\n---\nb: 2\n", "- 1\n", "[1]\n",
-        "a: x y\n", "a: b: c\n", "a: 1\n  b\n", "a: [1, 2,]\n", "  a: 1\n", "a: ~\n", ""})
+        "a: [1,\n  2]\n", "a:\tb\n", "a: 1\r\n", "a: 1\n---\nb: 2\n", "- 1\n", "[1]\n", "a: x y\n",
+        "a: b: c\n", "a: 1\n  b\n", "a: [1, 2,]\n", "  a: 1\n", "a: ~\n", ""})
     EXPECT_FALSE(parse_plain_yaml(text, kDepth).has_value()) << text;
   std::string deep = "a:\n";
-  for (int i = 1; i <= kDepth; ++i) deep += std::string(2 * static_cast<std::size_t>(i), ' ') + "a:\n";
+  for (int i = 1; i <= kDepth; ++i)
+    deep += std::string(2 * static_cast<std::size_t>(i), ' ') + "a:\n";
   deep += std::string(2 * static_cast<std::size_t>(kDepth) + 2, ' ') + "a: 1\n";
   EXPECT_FALSE(parse_plain_yaml(deep, kDepth).has_value());
 }

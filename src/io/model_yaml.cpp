@@ -345,8 +345,7 @@ class Loader {
   void transformed_since(std::size_t first);
   std::optional<bool> boolean(const Value& v);
   std::optional<std::string> text(const Value& v);
-  std::optional<std::string> choice(const Value& v, const KeyList& choices,
-                                    std::string_view what);
+  std::optional<std::string> choice(const Value& v, const KeyList& choices, std::string_view what);
   std::optional<VecX> list(const Value& v);
   std::optional<MatX> matrix(const Value& v);
   std::optional<VecX> vector(const Value& v, int n, std::string_view shape);
@@ -524,8 +523,8 @@ std::vector<Entry> Loader::named_mapping(const Entry& top) {
 }
 
 template <class What>
-void Loader::check_keys(const std::vector<Entry>& entries, const Value& owner,
-                        const KeyList& valid, const KeyList& known, const What& what) {
+void Loader::check_keys(const std::vector<Entry>& entries, const Value& owner, const KeyList& valid,
+                        const KeyList& known, const What& what) {
   for (const auto& e : entries) {
     if (contains(valid, e.key)) continue;
     const std::string key_path = path_of(owner, e.key);
@@ -746,14 +745,12 @@ std::optional<MatX> Loader::matrix(const Value& v) {
 std::optional<VecX> Loader::vector(const Value& v, int n, std::string_view shape) {
   if (!v.node->is_sequence()) {
     fail(v, "expected a list of " + counted(static_cast<std::size_t>(n), "number") + " " +
-                std::string(shape) +
-                ", got " + describe(*v.node));
+                std::string(shape) + ", got " + describe(*v.node));
     return std::nullopt;
   }
   if (v.node->size() != static_cast<std::size_t>(n)) {
     fail(v, "expected " + counted(static_cast<std::size_t>(n), "number") + " " +
-                std::string(shape) + ", got " +
-                std::to_string(v.node->size()));
+                std::string(shape) + ", got " + std::to_string(v.node->size()));
     list(v);  // its entries may be wrong too
     return std::nullopt;
   }
@@ -1186,7 +1183,8 @@ std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, co
                                                  bool is_support, Origin& origin) {
   const Entry* links = is_support ? find(e, "links") : required(e, v, "links");
   const Entry* link = is_support ? find(e, "link") : nullptr;
-  if (link && links) fail(link->key_at, path_of(link->value), "give either link or links, not both");
+  if (link && links)
+    fail(link->key_at, path_of(link->value), "give either link or links, not both");
   if (links) return read_link_names(*links, origin);
   if (!link) return {};
   aliases_.emplace(path_of(v) + ".links[0]", path_of(link->value));
@@ -1418,8 +1416,7 @@ void Loader::read_link_load(const std::vector<Entry>& e, const Value& entry,
   record(load.origin, e, "");
   const Entry* distributed = find(e, "distributed");
   if (distributed)
-    check_keys(e, entry, kDistributedLoadKeys, kLinkLoadKeys,
-               "a distributed load along a link");
+    check_keys(e, entry, kDistributedLoadKeys, kLinkLoadKeys, "a distributed load along a link");
   else
     check_keys(e, entry, kPointLinkLoadKeys, kLinkLoadKeys, "a point load along a link");
   if (const Entry* l = required(e, entry, "link")) load.link = text(l->value).value_or("");

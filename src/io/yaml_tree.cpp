@@ -285,9 +285,9 @@ class YamlTreeBuilder {
     const bool null = plain && tag == nullptr && spells_null(text);
     // A plain scalar without properties, most of a model file, starts where libfyaml marks it.
     const bool bare = plain && tag == nullptr && event->scalar.anchor == nullptr;
-    YamlNode& node = new_node(null ? YamlNode::Kind::null : YamlNode::Kind::scalar,
-                              bare ? place_of(fy_token_start_mark(value))
-                                   : node_start(value, event->scalar.anchor, tag));
+    YamlNode& node = new_node(
+        null ? YamlNode::Kind::null : YamlNode::Kind::scalar,
+        bare ? place_of(fy_token_start_mark(value)) : node_start(value, event->scalar.anchor, tag));
     if (!null) node.text_ = text;
     node.quoted_ = quoted;
     return node;
@@ -321,7 +321,8 @@ class YamlTreeBuilder {
     // A `[` or `{` told by its token's type: libfyaml formats a token's text anew for each
     // call, 2 000 instructions for one character.
     const fy_token_type start_type = start != nullptr ? fy_token_get_type(start) : FYTT_NONE;
-    const bool bracket = start_type == FYTT_FLOW_SEQUENCE_START || start_type == FYTT_FLOW_MAPPING_START;
+    const bool bracket =
+        start_type == FYTT_FLOW_SEQUENCE_START || start_type == FYTT_FLOW_MAPPING_START;
     if (bracket) opened.bracket = place_of(fy_token_start_mark(start));
     // libfyaml marks such a pair at its `:`, or at its `?` where it has one, which is its start.
     opened.starts_at_first_key = is_mapping && !bracket && anchor == nullptr && tag == nullptr &&
@@ -432,11 +433,12 @@ std::size_t utf8_sequence_length(std::string_view text) {
 std::pair<int, int> line_and_column(std::string_view text, std::size_t at) {
   const std::string_view before = text.substr(0, at);
   const std::size_t line_start = before.rfind('\n') + 1;  // npos + 1 is 0
-  const auto is_character_start = [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; };
+  const auto is_character_start = [](char c) {
+    return (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  };
   const auto line = 1 + std::count(before.begin(), before.end(), '\n');
-  const auto column =
-      1 + std::count_if(before.begin() + static_cast<std::ptrdiff_t>(line_start), before.end(),
-                        is_character_start);
+  const auto column = 1 + std::count_if(before.begin() + static_cast<std::ptrdiff_t>(line_start),
+                                        before.end(), is_character_start);
   return {static_cast<int>(line), static_cast<int>(column)};
 }
 
@@ -496,8 +498,8 @@ class PlainYamlReader {
   };
 
   static bool is_plain(char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == '.' || c == '+' || c == '-' || c == '/';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '.' || c == '+' || c == '-' || c == '/';
   }
 
   // The lines that hold something, without comment lines and blank ones.
@@ -552,9 +554,8 @@ class PlainYamlReader {
       if (depth > max_depth_) return nullptr;
       const bool is_mapping = line[at] == '{';
       const char close = is_mapping ? '}' : ']';
-      YamlNode& collection =
-          node(is_mapping ? YamlNode::Kind::mapping : YamlNode::Kind::sequence, number,
-               indent + static_cast<int>(at) + 1);
+      YamlNode& collection = node(is_mapping ? YamlNode::Kind::mapping : YamlNode::Kind::sequence,
+                                  number, indent + static_cast<int>(at) + 1);
       ++at;
       skip_spaces(line, at);
       std::vector<const YamlNode*> items;
