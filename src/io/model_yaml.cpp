@@ -1936,6 +1936,17 @@ struct Nesting {
 // lines of block scalars (`|`, `>`) hold no collections. Where it cannot tell, as on the
 // continuation line of a plain scalar, the scan counts a level: a few levels too many cost
 // nothing under a limit far above real models, a level missed could let a file through.
+// Letters, digits and `_ . + - /`: characters that, outside quotes, change nothing the scan
+// below counts.
+constexpr std::array<bool, 256> kWordCharacters = [] {
+  std::array<bool, 256> word{};
+  for (int c = 0; c < 256; ++c)
+    word[static_cast<std::size_t>(c)] = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                                        (c >= '0' && c <= '9') || c == '_' || c == '.' ||
+                                        c == '+' || c == '-' || c == '/';
+  return word;
+}();
+
 Nesting measure_nesting(std::string_view text, int limit) {
   constexpr auto npos = std::string_view::npos;
   Nesting nesting;
@@ -1996,6 +2007,11 @@ Nesting measure_nesting(std::string_view text, int limit) {
     std::size_t code_end = line.size();
     for (; i < line.size(); ++i) {
       const char c = line[i];
+      // Most of a line, its names and numbers: no quote, comment or bracket, nor a token start.
+      if (quote == 0 && kWordCharacters[static_cast<unsigned char>(c)]) {
+        token_start = false;
+        continue;
+      }
       if (quote == '"') {
         if (c == '\\')
           ++i;

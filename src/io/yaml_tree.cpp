@@ -504,6 +504,8 @@ class PlainYamlReader {
 
   // The lines that hold something, without comment lines and blank ones.
   bool split_lines() {
+    if (text_.find('\t') != std::string_view::npos || text_.find('\r') != std::string_view::npos)
+      return false;
     int number = 0;
     for (std::size_t start = 0; start < text_.size();) {
       std::size_t end = text_.find('\n', start);
@@ -511,7 +513,6 @@ class PlainYamlReader {
       const std::string_view line = text_.substr(start, end - start);
       start = end + 1;
       ++number;
-      if (line.find_first_of("\t\r") != std::string_view::npos) return false;
       const std::size_t indent = line.find_first_not_of(' ');
       if (indent == std::string_view::npos || line[indent] == '#') continue;
       const std::string_view content = line.substr(indent);
@@ -543,6 +544,17 @@ class PlainYamlReader {
     return &n;
   }
 
+  // The children a collection gathered on the stacks since `first_item` and `first_entry`, moved
+  // into it at their size.
+  void take_children(YamlNode& collection, std::size_t first_item, std::size_t first_entry) {
+    collection.items_.assign(items_.begin() + static_cast<std::ptrdiff_t>(first_item),
+                             items_.end());
+    items_.resize(first_item);
+    collection.entries_.assign(entries_.begin() + static_cast<std::ptrdiff_t>(first_entry),
+                               entries_.end());
+    entries_.resize(first_entry);
+  }
+
   static void skip_spaces(std::string_view line, std::size_t& at) {
     while (at < line.size() && line[at] == ' ') ++at;
   }
@@ -558,8 +570,7 @@ class PlainYamlReader {
                                   number, indent + static_cast<int>(at) + 1);
       ++at;
       skip_spaces(line, at);
-      std::vector<const YamlNode*> items;
-      std::vector<YamlEntry> entries;
+      const std::size_t first_item = items_.size(), first_entry = entries_.size();
       if (at < line.size() && line[at] == close) {
         ++at;
         return &collection;
@@ -574,11 +585,11 @@ class PlainYamlReader {
           skip_spaces(line, at);
           const YamlNode* value = inline_value(line, at, number, indent, depth + 1);
           if (value == nullptr) return nullptr;
-          entries.push_back({key, value});
+          entries_.push_back({key, value});
         } else {
           const YamlNode* item = inline_value(line, at, number, indent, depth + 1);
           if (item == nullptr) return nullptr;
-          items.push_back(item);
+          items_.push_back(item);
         }
         skip_spaces(line, at);
         if (at >= line.size()) return nullptr;
@@ -589,8 +600,7 @@ class PlainYamlReader {
         if (at >= line.size() || line[at] == ',' || line[at] == close) return nullptr;
       }
       ++at;
-      collection.items_ = std::move(items);
-      collection.entries_ = std::move(entries);
+      take_children(collection, first_item, first_entry);
       return &collection;
     }
     return scalar(line, at, number, indent);
@@ -623,7 +633,7 @@ class PlainYamlReader {
     if (depth > max_depth_) return nullptr;
     const Line& first = lines_[next_];
     YamlNode& mapping = node(YamlNode::Kind::mapping, first.number, first.indent + 1);
-    std::vector<YamlEntry> entries;
+    const std::size_t first_entry = entries_.size();
     while (next_ < lines_.size() && lines_[next_].indent == indent) {
       const Line& line = lines_[next_];
       std::size_t at = 0;
@@ -642,10 +652,10 @@ class PlainYamlReader {
         value = last_value(line, after, depth + 1);
       }
       if (value == nullptr) return nullptr;
-      entries.push_back({key, value});
+      entries_.push_back({key, value});
     }
     if (next_ < lines_.size() && lines_[next_].indent > indent) return nullptr;
-    mapping.entries_ = std::move(entries);
+    take_children(mapping, items_.size(), first_entry);
     return &mapping;
   }
 
@@ -653,7 +663,7 @@ class PlainYamlReader {
     if (depth > max_depth_) return nullptr;
     const Line& first = lines_[next_];
     YamlNode& sequence = node(YamlNode::Kind::sequence, first.number, first.indent + 1);
-    std::vector<const YamlNode*> items;
+    const std::size_t first_item = items_.size();
     while (next_ < lines_.size() && lines_[next_].indent == indent &&
            lines_[next_].content.starts_with("- ")) {
       const Line& line = lines_[next_];
@@ -661,10 +671,10 @@ class PlainYamlReader {
       skip_spaces(line.content, at);
       const YamlNode* item = last_value(line, at, depth + 1);
       if (item == nullptr) return nullptr;
-      items.push_back(item);
+      items_.push_back(item);
     }
     if (next_ < lines_.size() && lines_[next_].indent > indent) return nullptr;
-    sequence.items_ = std::move(items);
+    take_children(sequence, first_item, entries_.size());
     return &sequence;
   }
 
@@ -672,7 +682,9 @@ class PlainYamlReader {
   int max_depth_;
   YamlTree tree_;
   std::vector<Line> lines_;
-  std::size_t next_ = 0;  // the line being read
+  std::size_t next_ = 0;                // the line being read
+  std::vector<const YamlNode*> items_;  // of the open lists, the innermost's last
+  std::vector<YamlEntry> entries_;      // of the open mappings, the innermost's last
 };
 
 std::optional<YamlTree> parse_plain_yaml(std::string_view text, int max_depth) {
