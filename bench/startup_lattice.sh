@@ -2,7 +2,7 @@
 # The command's fixed costs, two builds side by side in one run: `stiffmsa --version` (the start:
 # loading shared libraries), `stiffmsa solve --json` of the 1 015-beam lattice
 # (make_models.py lattice 6 6 7: 7×7×8 nodes, bottom clamped) and of the 6-axis example. CPU
-# (perf's task-clock: user + system) and wall time (perf's duration_time) of whole processes,
+# (perf's task-clock: user + system) and wall time (bash's clock around a run) of whole processes,
 # the two builds run in turn (before, after, before, ...) so that a shared machine's load falls
 # on both alike, least and median of RUNS each; and instructions from callgrind, which the
 # machine's load does not change. Needs perf and valgrind (no hyperfine).
@@ -19,10 +19,16 @@ echo "# before: $before"
 echo "# after:  $after"
 echo "# load before: $(uptime)"
 
-# "CPU-ms wall-ms" of one run of the command line after the program.
+# "CPU-ms wall-ms" of the command line: its CPU under perf, its wall time in a run of its own
+# (perf's duration_time reads 0 for a process of a millisecond; this one includes the shell's
+# fork and exec, the same for both builds).
 times_ms() {
-  perf stat -x, -e task-clock,duration_time "$@" 2>&1 >/dev/null |
-    awk -F, '/task-clock/ {cpu = $1} /duration_time/ {wall = $1 / 1e6} END {print cpu, wall}'
+  local cpu start end
+  cpu=$(perf stat -x, -e task-clock "$@" 2>&1 >/dev/null | awk -F, '/task-clock/ {print $1}')
+  start=$EPOCHREALTIME
+  "$@" >/dev/null
+  end=$EPOCHREALTIME
+  echo "$cpu $(awk -v s="$start" -v e="$end" 'BEGIN {printf "%.3f", (e - s) * 1000}')"
 }
 # Least and median of each column of a file of "CPU wall" lines.
 summarize() {
