@@ -3,11 +3,7 @@
 // nesting is refused without using up the stack.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include "io/yaml_tree.hpp"
 #include "stiffmsa/errors.hpp"
@@ -216,84 +212,6 @@ TEST(YamlTree, HostileNestingIsRefusedWithoutRecursion) {
     const Diagnostic d = refusal_of(text);
     EXPECT_NE(d.message.find("the limit of 64 levels"), std::string::npos) << d.message;
   }
-}
-
-// Every field the loader reads, node by node; `where` names the node in a failure.
-void expect_same_tree(const YamlNode& plain, const YamlNode& full, const std::string& where) {
-  ASSERT_EQ(plain.kind(), full.kind()) << where;
-  EXPECT_EQ(plain.text(), full.text()) << where;
-  EXPECT_EQ(plain.quoted(), full.quoted()) << where;
-  EXPECT_EQ(plain.line(), full.line()) << where;
-  EXPECT_EQ(plain.column(), full.column()) << where;
-  ASSERT_EQ(plain.size(), full.size()) << where;
-  for (std::size_t i = 0; i < plain.items().size(); ++i)
-    expect_same_tree(*plain.items()[i], *full.items()[i], where + "[" + std::to_string(i) + "]");
-  for (std::size_t i = 0; i < plain.entries().size(); ++i) {
-    const std::string key = where + "." + full.entries()[i].key->text();
-    expect_same_tree(*plain.entries()[i].key, *full.entries()[i].key, key + " (key)");
-    expect_same_tree(*plain.entries()[i].value, *full.entries()[i].value, key);
-  }
-}
-
-std::string text_of_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// The reader of the plain shape gives libfyaml's tree wherever it reads a text, on every model
-// file of the repository (examples, test data, the invalid corpus, the fuzzer's seeds) and on
-// texts at the edges of that shape; it reads the files that programs write (make_models.py's).
-TEST(YamlTree, ThePlainReaderGivesLibfyamlsTree) {
-  namespace fs = std::filesystem;
-  std::vector<std::pair<std::string, std::string>> texts = {
-      {"nested", "a:\n  b: 1\n  c: [1, [2, 3], {d: e}]\nf:\n- 1\n- {g: h}\n"},
-      {"indented list", "a:\n  - 1\n  - x\nb: 2 # note\n# line\n\nc: {}\nd: []\n"},
-      {"nulls", "a: null\nb: [Null, NULL]\nc: {k: null}\n"},
-      {"spaces", "a:   {  b: 1 ,  c: 2  }\nd: [ 1 ,2 ]   \n"},
-      {"deep", "a:\n    b:\n        c: -1.5e-3\n    d: +2\ne: x/y.z\n"},
-      // bench/make_models.py's shape (its chains, frames and lattices).
-      {"chain",
-       "format: stiffmsa/1\nname: chain-2\n\nmaterials:\n  steel: {E: 2.1e11, G: 8.0e10}\n"
-       "sections:\n  tube: {shape: tube, D: 0.1, t: 0.005}\n\npoints:\n  P0: [0.0, 0, 0]\n"
-       "  P1: [5.0, 0, 0]\nlinks:\n  L1: {type: beam, from: P0, to: P1, material: steel, "
-       "section: tube}\nsupports:\n  clamp: {type: rigid, at: P0}\nloads:\n"
-       "  - {at: P1, wrench: [0, -100, 0, 0, 0, 0]}\nend_effectors:\n  tip: {at: P1}\n"}};
-  const fs::path source(STIFFMSA_SOURCE_DIR);
-  for (const char* folder : {"examples", "tests", "fuzz/seeds"})
-    for (const auto& entry : fs::recursive_directory_iterator(source / folder)) {
-      const std::string extension = entry.path().extension().string();
-      if (extension == ".yaml" || extension == ".yml" || extension == ".json")
-        texts.emplace_back(entry.path().string(), text_of_file(entry.path()));
-    }
-  int read_plainly = 0;
-  for (const auto& [name, text] : texts) {
-    std::optional<YamlTree> plain;
-    try {
-      plain = parse_plain_yaml(text, kDepth);
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << name << ": the plain reader threw " << e.what();
-    }
-    if (!plain) continue;
-    ++read_plainly;
-    const YamlTree full = parse_yaml_by_libfyaml(text, "t.yaml", kDepth);
-    expect_same_tree(plain->root(), full.root(), name);
-  }
-  EXPECT_GT(read_plainly, 20);
-}
-
-TEST(YamlTree, ThePlainReaderLeavesOtherTextsToLibfyaml) {
-  for (const char* text :
-       {"a: 'x'\n", "a: \"x\"\n", "a: &x 1\nb: *x\n", "a: !t 1\n", "a: |\n  x\n", "a:\nb: 1\n",
-        "a: [1,\n  2]\n", "a:\tb\n", "a: 1\r\n", "a: 1\n---\nb: 2\n", "- 1\n", "[1]\n", "a: x y\n",
-        "a: b: c\n", "a: 1\n  b\n", "a: [1, 2,]\n", "  a: 1\n", "a: ~\n", ""})
-    EXPECT_FALSE(parse_plain_yaml(text, kDepth).has_value()) << text;
-  std::string deep = "a:\n";
-  for (int i = 1; i <= kDepth; ++i)
-    deep += std::string(2 * static_cast<std::size_t>(i), ' ') + "a:\n";
-  deep += std::string(2 * static_cast<std::size_t>(kDepth) + 2, ' ') + "a: 1\n";
-  EXPECT_FALSE(parse_plain_yaml(deep, kDepth).has_value());
 }
 
 }  // namespace

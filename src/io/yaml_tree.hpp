@@ -4,7 +4,6 @@
 // key as written), so the loader does not depend on the parser's own node types.
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -49,7 +48,6 @@ class YamlNode {
 
  private:
   friend class YamlTreeBuilder;
-  friend class PlainYamlReader;
   Kind kind_ = Kind::null;
   bool quoted_ = false;
   // Values in the node with every alias in it spelt out (itself included), up to the budget.
@@ -76,7 +74,6 @@ class YamlTree {
 
  private:
   friend class YamlTreeBuilder;
-  friend class PlainYamlReader;
   // Nodes are made in blocks of this many, each reserved once, so that nodes stay where they
   // are (a deque's blocks hold four).
   static constexpr std::size_t kNodesPerBlock = 256;
@@ -88,19 +85,6 @@ class YamlTree {
   }
   std::vector<std::vector<YamlNode>> nodes_;  // the root first
 };
-
-// The tree of a text in the plain shape that programs and most people write model files in,
-// read without libfyaml: block mappings of plain keys; values that are plain scalars of
-// letters, digits and `_ . + - /`, or flow lists and mappings of them on one line; block lists
-// of such values; whole-line and trailing comments. Nullopt for any other text (quotes,
-// anchors, tags, block scalars, empty values, multi-line flow collections, tabs, several
-// documents, nesting beyond `max_depth` or 64 levels, ...), which parse_yaml leaves to
-// libfyaml. Where it gives a tree, the tree is libfyaml's (tests/test_yaml_tree.cpp compares the
-// two on every model file of the repository).
-std::optional<YamlTree> parse_plain_yaml(std::string_view text, int max_depth);
-
-// The tree by libfyaml whatever the text (parse_yaml takes parse_plain_yaml's first).
-YamlTree parse_yaml_by_libfyaml(std::string_view text, const std::string& file, int max_depth);
 
 // Parses `text` (its name `file` goes into messages). Throws InputError for a syntax error
 // ("YAML syntax error: ..." at the parser's line:column), and for mappings and lists nested
