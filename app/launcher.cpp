@@ -59,6 +59,11 @@ void* load_command_module() {
     // module loads it as before.
     dlopen(STIFFMSA_CLI_BLAS, RTLD_LAZY | RTLD_GLOBAL);
 #endif
+#ifdef STIFFMSA_CLI_CXX_RUNTIME
+    // The C++ library next, for the same reason: its own 1 800 symbol lookups, and those of every
+    // library after it that calls it, then stop at the start of the search list.
+    dlopen(STIFFMSA_CLI_CXX_RUNTIME, RTLD_LAZY | RTLD_GLOBAL);
+#endif
     // Lazy, as the dynamic loader binds an executable's libraries: RTLD_NOW would bind every
     // function the libraries it brings could call (10 000 more symbol lookups for a solve).
     // Global: the plot and HDF5 modules the command module loads in turn take their library

@@ -91,12 +91,15 @@ bool contains(const KeyList& list, const std::string& key) {
   return std::find(list.begin(), list.end(), key) != list.end();
 }
 
-KeyList link_keys(const std::string& type) {
-  const KeyList common{"type", "from", "to"};
-  if (type == "beam") return common + KeyList{"material", "section", "shear", "zref"};
-  if (type == "matrix") return common + KeyList{"K", "frame", "zref"};
-  if (type == "compliance") return common + KeyList{"C", "frame", "zref"};
-  return common;
+const KeyList& link_keys(const std::string& type) {
+  static const KeyList rigid{"type", "from", "to"};
+  static const KeyList beam = rigid + KeyList{"material", "section", "shear", "zref"};
+  static const KeyList matrix = rigid + KeyList{"K", "frame", "zref"};
+  static const KeyList compliance = rigid + KeyList{"C", "frame", "zref"};
+  if (type == "beam") return beam;
+  if (type == "matrix") return matrix;
+  if (type == "compliance") return compliance;
+  return rigid;
 }
 
 // The keys that give a joint type its free directions.
@@ -151,10 +154,22 @@ std::string describe(const YamlNode& node) {
   return "nothing";
 }
 
+// A key path in the loader's table of them (Loader::paths_): a value's key or index under the
+// value it lies in. Made into text ("links.L1.K[2]") only where a message, a binding or a
+// check of validation's findings needs it: a large model has a million keys and reads few.
+using PathId = std::uint32_t;
+constexpr PathId kWholeFile = 0;  // "", the key path of the file's root
+
+struct PathPart {
+  PathId parent = kWholeFile;
+  std::uint32_t index = 0;  // within a list, where `key` is empty
+  std::string_view key;     // within a mapping: the text of the key's node in the tree
+};
+
 // A value in the file with what a message about it needs: its key path and where it is.
 struct Value {
   const YamlNode* node;
-  std::string path;
+  PathId path;
   Position at;
 };
 
@@ -165,7 +180,7 @@ struct Entry {
   Value value;
 };
 
-const Entry* find(const std::vector<Entry>& entries, const std::string& key) {
+const Entry* find(const std::vector<Entry>& entries, std::string_view key) {
   for (const auto& e : entries)
     if (e.key == key) return &e;
   return nullptr;
@@ -273,20 +288,36 @@ class Loader {
   }
   // A value that could not be read: the model holds a default in its place.
   void fail(const Value& v, std::string message) {
-    fail(v.at, v.path, std::move(message));
-    spoil(v.path);
+    fail(v.at, path_of(v), std::move(message));
+    spoil(v);
   }
 
   // Marks a part of the model that holds defaults in place of what the file could not give,
   // so validation's findings about those defaults are not reported.
   void spoil(const std::string& path) { spoiled_.insert(path); }
+  // The same for a value of the file, whose path is made only if validation finds anything.
+  void spoil(const Value& v) { spoiled_values_.push_back(v.path); }
 
   Position where(const YamlNode& node) const { return position_of(node); }
   SourceLocation located(const Position& at) const { return {file_, at.line, at.column}; }
 
-  Value item(const Value& list, std::size_t i) const {
+  PathId add_path(PathPart part) {
+    paths_.push_back(part);
+    return static_cast<PathId>(paths_.size() - 1);
+  }
+  std::string path_of(PathId id) const;
+  std::string path_of(const Value& v) const { return path_of(v.path); }
+  // `key` under the value's path, as text.
+  std::string path_of(const Value& v, std::string_view key) const {
+    std::string path = path_of(v);
+    if (!path.empty()) path += '.';
+    path += key;
+    return path;
+  }
+
+  Value item(const Value& list, std::size_t i) {
     const YamlNode* node = list.node->items()[i];
-    return {node, list.path + "[" + std::to_string(i) + "]", where(*node)};
+    return {node, add_path({list.path, static_cast<std::uint32_t>(i), {}}), where(*node)};
   }
 
   // ---- mappings and keys -----------------------------------------------------------------
@@ -294,10 +325,12 @@ class Loader {
   std::optional<std::vector<Entry>> mapping(const Value& v, bool notes_allowed);
   std::vector<Entry> fixed_mapping(const Value& v);
   std::vector<Entry> named_mapping(const Entry& top);
-  void check_keys(const std::vector<Entry>& entries, const std::string& path, const KeyList& valid,
-                  const KeyList& known, const std::string& what);
+  // `what` names the owner in a message: text, or a function that makes it (made only for one).
+  template <class What>
+  void check_keys(const std::vector<Entry>& entries, const Value& owner, const KeyList& valid,
+                  const KeyList& known, const What& what);
   const Entry* required(const std::vector<Entry>& entries, const Value& owner,
-                        const std::string& key);
+                        std::string_view key);
   void record(Origin& origin, const std::vector<Entry>& entries, const std::string& prefix) const;
   void record_items(Origin& origin, const std::string& key, const Value& list) const;
 
@@ -312,17 +345,16 @@ class Loader {
   void transformed_since(std::size_t first);
   std::optional<bool> boolean(const Value& v);
   std::optional<std::string> text(const Value& v);
-  std::optional<std::string> choice(const Value& v, const KeyList& choices,
-                                    const std::string& what);
+  std::optional<std::string> choice(const Value& v, const KeyList& choices, std::string_view what);
   std::optional<VecX> list(const Value& v);
   std::optional<MatX> matrix(const Value& v);
-  std::optional<VecX> vector(const Value& v, int n, const std::string& shape);
+  std::optional<VecX> vector(const Value& v, int n, std::string_view shape);
   template <int N>
-  std::optional<Eigen::Matrix<double, N, 1>> fixed_vector(const Value& v, const std::string& shape);
+  std::optional<Eigen::Matrix<double, N, 1>> fixed_vector(const Value& v, std::string_view shape);
   template <int N>
   std::optional<std::vector<Eigen::Matrix<double, N, 1>>> vector_list(const Entry& entry,
                                                                       Origin& origin,
-                                                                      const std::string& shape);
+                                                                      std::string_view shape);
   template <int N>
   std::optional<Eigen::Matrix<double, N, N>> square_matrix(const Value& v);
 
@@ -416,7 +448,9 @@ class Loader {
   std::vector<std::string> unknown_settings_;
   Model model_;
   std::vector<Diagnostic> diagnostics_;
+  std::vector<PathPart> paths_{PathPart{}};  // kWholeFile first
   std::set<std::string> spoiled_;
+  std::vector<PathId> spoiled_values_;  // joins spoiled_ when validation's findings are merged
   std::map<std::string, Definition<Material>> materials_;
   std::map<std::string, Definition<Section>> sections_;
   // Key paths that validation sees but the file spells differently: a support's single `link`
@@ -450,12 +484,11 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
   for (const auto& [key, value] : v.node->entries()) {
     const Position key_at = where(*key);
     if (!key->is_scalar() || key->text().empty()) {
-      fail(key_at, v.path, "a key must be a non-empty name, got " + describe(*key));
+      fail(key_at, path_of(v), "a key must be a non-empty name, got " + describe(*key));
       continue;
     }
     const std::string& name = key->text();
     if (notes_allowed && name.rfind("x-", 0) == 0) continue;
-    const std::string path = v.path.empty() ? name : v.path + "." + name;
     std::optional<int> first_line;  // where the key is a duplicate
     if (scanned) {
       const auto first = std::find_if(entries.begin(), entries.end(),
@@ -465,13 +498,14 @@ std::optional<std::vector<Entry>> Loader::mapping(const Value& v, bool notes_all
       first_line = first->second;
     }
     if (first_line) {
-      fail(key_at, path,
+      fail(key_at, path_of(v, name),
            "duplicate key '" + name + "' (first given at line " + std::to_string(*first_line) +
                "); give each key once");
       continue;
     }
     // A key with nothing after it has a value placed on the following line; the key is where
     // the user looks.
+    const PathId path = add_path({v.path, 0, name});
     entries.push_back({name, key_at, {value, path, value->is_null() ? key_at : where(*value)}});
   }
   return entries;
@@ -488,14 +522,20 @@ std::vector<Entry> Loader::named_mapping(const Entry& top) {
   return mapping(top.value, false).value_or(std::vector<Entry>{});
 }
 
-void Loader::check_keys(const std::vector<Entry>& entries, const std::string& path,
-                        const KeyList& valid, const KeyList& known, const std::string& what) {
+template <class What>
+void Loader::check_keys(const std::vector<Entry>& entries, const Value& owner, const KeyList& valid,
+                        const KeyList& known, const What& what) {
   for (const auto& e : entries) {
     if (contains(valid, e.key)) continue;
-    const std::string key_path = path.empty() ? e.key : path + "." + e.key;
+    const std::string key_path = path_of(owner, e.key);
+    std::string owner_name;
+    if constexpr (std::is_invocable_v<What>)
+      owner_name = what();
+    else
+      owner_name = what;
     if (contains(known, e.key))
       fail(e.key_at, key_path,
-           "key '" + e.key + "' does not apply to " + what +
+           "key '" + e.key + "' does not apply to " + owner_name +
                "; valid keys are: " + detail::comma_list(valid));
     else
       fail(e.key_at, key_path,
@@ -504,12 +544,30 @@ void Loader::check_keys(const std::vector<Entry>& entries, const std::string& pa
 }
 
 const Entry* Loader::required(const std::vector<Entry>& entries, const Value& owner,
-                              const std::string& key) {
+                              std::string_view key) {
   if (const Entry* e = find(entries, key)) return e;
-  const std::string path = owner.path.empty() ? key : owner.path + "." + key;
-  fail(owner.at, path, "missing key '" + key + "'");
+  const std::string path = path_of(owner, key);
+  fail(owner.at, path, "missing key '" + std::string(key) + "'");
   spoil(path);
   return nullptr;
+}
+
+std::string Loader::path_of(PathId id) const {
+  std::vector<PathId> chain;  // from the value up to the whole file, which has no text
+  for (; id != kWholeFile; id = paths_[id].parent) chain.push_back(id);
+  std::string path;
+  for (auto part = chain.rbegin(); part != chain.rend(); ++part) {
+    const PathPart& p = paths_[*part];
+    if (p.key.empty()) {
+      path += '[';
+      path += std::to_string(p.index);
+      path += ']';
+    } else {
+      if (!path.empty()) path += '.';
+      path += p.key;
+    }
+  }
+  return path;
 }
 
 void Loader::record(Origin& origin, const std::vector<Entry>& entries,
@@ -520,7 +578,8 @@ void Loader::record(Origin& origin, const std::vector<Entry>& entries,
 void Loader::record_items(Origin& origin, const std::string& key, const Value& list) const {
   if (!list.node->is_sequence()) return;
   for (std::size_t i = 0; i < list.node->size(); ++i)
-    origin.key_locations[key + "[" + std::to_string(i) + "]"] = located(item(list, i).at);
+    origin.key_locations[key + "[" + std::to_string(i) + "]"] =
+        located(where(*list.node->items()[i]));
 }
 
 // ---- scalars, vectors and matrices -------------------------------------------------------
@@ -572,11 +631,11 @@ std::optional<double> Loader::expression(const Value& v) {
   if (const auto value = detail::plain_number(text)) return value;
   // The key path is the name of the slot the number fills; where the reader puts it elsewhere
   // or in several slots (a named material, a load, a scalar spring), it rebinds it.
-  bindings_.push_back({v.path, sites_.size()});
-  sites_.push_back({text, v.path, located(v.at)});
+  bindings_.push_back({path_of(v), sites_.size()});
+  sites_.push_back({text, path_of(v), located(v.at)});
   const auto outcome = expressions_->evaluate(text);
   if (outcome.follows_earlier_error) {
-    spoil(v.path);  // the derived value it uses is reported where it is defined
+    spoil(v);  // the derived value it uses is reported where it is defined
     return std::nullopt;
   }
   if (!outcome.error.empty()) {
@@ -624,11 +683,11 @@ std::optional<std::string> Loader::text(const Value& v) {
 }
 
 std::optional<std::string> Loader::choice(const Value& v, const KeyList& choices,
-                                          const std::string& what) {
+                                          std::string_view what) {
   const auto chosen = text(v);
   if (!chosen) return std::nullopt;
   if (contains(choices, *chosen)) return chosen;
-  fail(v, "unknown " + what + " '" + *chosen + "'" +
+  fail(v, "unknown " + std::string(what) + " '" + *chosen + "'" +
               detail::suggestion(*chosen, choices, "valid values are"));
   return std::nullopt;
 }
@@ -647,7 +706,7 @@ std::optional<VecX> Loader::list(const Value& v) {
     all_read = all_read && x.has_value();
   }
   if (!all_read) {
-    spoil(v.path);
+    spoil(v);
     return std::nullopt;
   }
   return values;
@@ -676,22 +735,22 @@ std::optional<MatX> Loader::matrix(const Value& v) {
     all_read = all_read && row.has_value();
   }
   if (!all_read) {
-    spoil(v.path);
+    spoil(v);
     return std::nullopt;
   }
   return m;
 }
 
 // `shape` says in a message what the n values are, e.g. "[x, y, z]".
-std::optional<VecX> Loader::vector(const Value& v, int n, const std::string& shape) {
+std::optional<VecX> Loader::vector(const Value& v, int n, std::string_view shape) {
   if (!v.node->is_sequence()) {
-    fail(v, "expected a list of " + counted(static_cast<std::size_t>(n), "number") + " " + shape +
-                ", got " + describe(*v.node));
+    fail(v, "expected a list of " + counted(static_cast<std::size_t>(n), "number") + " " +
+                std::string(shape) + ", got " + describe(*v.node));
     return std::nullopt;
   }
   if (v.node->size() != static_cast<std::size_t>(n)) {
-    fail(v, "expected " + counted(static_cast<std::size_t>(n), "number") + " " + shape + ", got " +
-                std::to_string(v.node->size()));
+    fail(v, "expected " + counted(static_cast<std::size_t>(n), "number") + " " +
+                std::string(shape) + ", got " + std::to_string(v.node->size()));
     list(v);  // its entries may be wrong too
     return std::nullopt;
   }
@@ -700,7 +759,7 @@ std::optional<VecX> Loader::vector(const Value& v, int n, const std::string& sha
 
 template <int N>
 std::optional<Eigen::Matrix<double, N, 1>> Loader::fixed_vector(const Value& v,
-                                                                const std::string& shape) {
+                                                                std::string_view shape) {
   if (auto values = vector(v, N, shape)) return Eigen::Matrix<double, N, 1>(*values);
   return std::nullopt;
 }
@@ -709,10 +768,10 @@ std::optional<Eigen::Matrix<double, N, 1>> Loader::fixed_vector(const Value& v,
 // under the list's key.
 template <int N>
 std::optional<std::vector<Eigen::Matrix<double, N, 1>>> Loader::vector_list(
-    const Entry& entry, Origin& origin, const std::string& shape) {
+    const Entry& entry, Origin& origin, std::string_view shape) {
   const Value& v = entry.value;
   if (!v.node->is_sequence()) {
-    fail(v, "expected a list of vectors " + shape + ", got " + describe(*v.node));
+    fail(v, "expected a list of vectors " + std::string(shape) + ", got " + describe(*v.node));
     return std::nullopt;
   }
   record_items(origin, entry.key, v);
@@ -739,7 +798,7 @@ std::optional<Eigen::Matrix<double, N, N>> Loader::square_matrix(const Value& v)
 
 Model Loader::read(const YamlNode& root) {
   model_.source_file = file_;
-  const Value whole{&root, "", where(root)};
+  const Value whole{&root, kWholeFile, where(root)};
   if (!root.is_mapping()) {
     const std::string start =
         std::string("a model file is a mapping that starts with `format: ") + kFormat + "`";
@@ -751,7 +810,7 @@ Model Loader::read(const YamlNode& root) {
     return std::move(model_);
   }
   const auto top = fixed_mapping(whole);
-  check_keys(top, "", kTopKeys, {}, "a model");
+  check_keys(top, whole, kTopKeys, {}, "a model");
   read_format(top, whole);
   read_name(top);
   const Entry* parameters = find(top, "parameters");
@@ -826,12 +885,12 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   for (const auto& named : parameter_entries) {
     Parameter parameter{named.key, 0, {}, located(named.key_at)};
     if (auto problem = detail::parameter_name_problem(named.key)) {
-      fail(named.key_at, named.value.path, *problem);
+      fail(named.key_at, path_of(named.value), *problem);
       continue;
     }
     if (named.value.node->is_mapping()) {
       const auto e = fixed_mapping(named.value);
-      check_keys(e, named.value.path, kParameterKeys, {}, "a parameter");
+      check_keys(e, named.value, kParameterKeys, {}, "a parameter");
       if (const Entry* d = required(e, named.value, "default"))
         parameter.default_value = parameter_default(d->value);
       if (const Entry* unit = find(e, "unit")) parameter.unit = text(unit->value).value_or("");
@@ -864,9 +923,9 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   std::vector<Entry> derived_entries;
   for (auto& named : derived ? named_mapping(*derived) : std::vector<Entry>{}) {
     if (auto problem = detail::parameter_name_problem(named.key)) {
-      fail(named.key_at, named.value.path, *problem);
+      fail(named.key_at, path_of(named.value), *problem);
     } else if (std::find(names.begin(), names.end(), named.key) != names.end()) {
-      fail(named.key_at, named.value.path,
+      fail(named.key_at, path_of(named.value),
            "'" + named.key + "' is a parameter already; give the derived value another name");
     } else if (!named.value.node->is_scalar()) {
       fail(named.value,
@@ -874,7 +933,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
     } else {
       derived_names_.push_back(named.key);
       derived_sites_.push_back(
-          {named.value.node->text(), named.value.path, located(named.value.at)});
+          {named.value.node->text(), path_of(named.value), located(named.value.at)});
       derived_entries.push_back(std::move(named));
     }
   }
@@ -886,7 +945,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
   for (std::size_t i = 0; i < derived_entries.size(); ++i) {
     const auto outcome = expressions_->evaluate_derived(i, derived_entries[i].value.node->text());
     if (outcome.follows_earlier_error)
-      spoil(derived_entries[i].value.path);
+      spoil(derived_entries[i].value);
     else if (!outcome.error.empty())
       fail(derived_entries[i].value, outcome.error);
   }
@@ -895,7 +954,7 @@ void Loader::read_parameters(const Entry* parameters, const Entry* derived) {
 void Loader::read_options(const Entry& section) {
   if (section.value.node->is_null()) return;  // `options:` alone sets nothing
   const auto e = fixed_mapping(section.value);
-  check_keys(e, section.value.path, kOptionKeys, {}, "options");
+  check_keys(e, section.value, kOptionKeys, {}, "options");
   if (const Entry* idle = find(e, "accept_idle_motions"))
     model_.options.accept_idle_motions = boolean(idle->value).value_or(false);
 }
@@ -905,7 +964,7 @@ void Loader::read_options(const Entry& section) {
 Material Loader::read_material(const Value& v, Origin& origin, const std::string& prefix) {
   Material m;
   const auto e = fixed_mapping(v);
-  check_keys(e, v.path, kMaterialKeys, {}, "a material");
+  check_keys(e, v, kMaterialKeys, {}, "a material");
   record(origin, e, prefix);
   if (const Entry* E = required(e, v, "E")) m.E = given_number(E->value);
   if (const Entry* nu = find(e, "nu")) m.nu = given_number(nu->value);
@@ -922,8 +981,8 @@ Section Loader::read_section(const Value& v, Origin& origin, const std::string& 
     const auto name = choice(shape->value, section_shape_names(), "section shape");
     if (!name) {
       // Which dimensions belong here is unknown, so only unknown keys can be told.
-      check_keys(e, v.path, kSectionKeys, {}, "a section");
-      spoil(v.path);
+      check_keys(e, v, kSectionKeys, {}, "a section");
+      spoil(v);
       return s;
     }
     s.shape = *section_shape_from_string(*name);
@@ -931,7 +990,7 @@ Section Loader::read_section(const Value& v, Origin& origin, const std::string& 
   KeyList valid{"shape"};
   for (const auto& dimension : detail::section_dimensions(s.shape)) valid.push_back(dimension.key);
   valid = valid + KeyList{"Asy", "Asz"};
-  check_keys(e, v.path, valid, kSectionKeys, std::string("a ") + to_string(s.shape) + " section");
+  check_keys(e, v, valid, kSectionKeys, std::string("a ") + to_string(s.shape) + " section");
   for (const auto& dimension : detail::section_dimensions(s.shape))
     if (const Entry* d = required(e, v, dimension.key)) s.*dimension.value = given_number(d->value);
   if (const Entry* a = find(e, "Asy")) s.Asy = given_number(a->value);
@@ -991,8 +1050,8 @@ Link Loader::read_link(const Entry& named) {
   if (!v.node->is_mapping()) return link;
   std::optional<std::string> type;
   if (const Entry* t = required(e, v, "type")) type = choice(t->value, kLinkTypes, "link type");
-  check_keys(e, v.path, type ? link_keys(*type) : kLinkKeys, kLinkKeys,
-             type ? "a " + *type + " link" : "a link");
+  check_keys(e, v, type ? link_keys(*type) : kLinkKeys, kLinkKeys,
+             [&] { return type ? "a " + *type + " link" : std::string("a link"); });
   if (const Entry* from = required(e, v, "from")) link.from = text(from->value).value_or("");
   if (const Entry* to = required(e, v, "to")) link.to = text(to->value).value_or("");
   if (type) link.kind = read_link_kind(*type, e, v, link);
@@ -1025,7 +1084,7 @@ void Loader::read_frame(const std::vector<Entry>& e, Kind& kind) {
       kind.frame = *frame == "local" ? LinkFrame::local : LinkFrame::global;
   if (const Entry* z = find(e, "zref")) {
     if (kind.frame != LinkFrame::local)
-      fail(z->key_at, z->value.path,
+      fail(z->key_at, path_of(z->value),
            "zref applies only with frame: local (it fixes the local axes)");
     else
       kind.zref = fixed_vector<3>(z->value, "[x, y, z]");
@@ -1063,10 +1122,10 @@ T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Defini
   for (const auto& [key, at] : found->second.origin.key_locations)
     link.origin.key_locations[entry.key + "." + key] = at;
   if (!found->second.bindings.empty()) {
-    const auto bound = moved(found->second.bindings, plural + "." + *name, {entry.value.path});
+    const auto bound = moved(found->second.bindings, plural + "." + *name, {path_of(entry.value)});
     bindings_.insert(bindings_.end(), bound.begin(), bound.end());
   }
-  spoil(entry.value.path);  // checked at its definition
+  spoil(entry.value);  // checked at its definition
   return found->second.value;
 }
 
@@ -1109,12 +1168,12 @@ std::optional<JointType> Loader::read_site_type(const std::vector<Entry>& e, con
     if (auto name = choice(t->value, joint_type_names(), noun + " type"))
       type = joint_type_from_string(*name);
   if (!type) {
-    check_keys(e, v.path, known, {}, "a " + noun);
+    check_keys(e, v, known, {}, "a " + noun);
     return std::nullopt;
   }
   // A rigid joint has no free directions to spring, preload or actuate.
   const KeyList springs = *type == JointType::rigid ? KeyList{} : kSpringKeys;
-  check_keys(e, v.path, common + parameter_keys(*type) + springs, known,
+  check_keys(e, v, common + parameter_keys(*type) + springs, known,
              std::string("a ") + to_string(*type) + " " + noun);
   return type;
 }
@@ -1124,10 +1183,11 @@ std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, co
                                                  bool is_support, Origin& origin) {
   const Entry* links = is_support ? find(e, "links") : required(e, v, "links");
   const Entry* link = is_support ? find(e, "link") : nullptr;
-  if (link && links) fail(link->key_at, link->value.path, "give either link or links, not both");
+  if (link && links)
+    fail(link->key_at, path_of(link->value), "give either link or links, not both");
   if (links) return read_link_names(*links, origin);
   if (!link) return {};
-  aliases_.emplace(v.path + ".links[0]", link->value.path);
+  aliases_.emplace(path_of(v) + ".links[0]", path_of(link->value));
   origin.key_locations["links[0]"] = located(link->key_at);
   return {text(link->value).value_or("")};
 }
@@ -1199,8 +1259,8 @@ std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::str
     const auto k = number(v);
     if (!k) return std::nullopt;
     std::vector<std::string> diagonal;
-    for (int i = 0; i < p; ++i) diagonal.push_back(matrix_entry(v.path, i, i));
-    rebind(first, v.path, diagonal);
+    for (int i = 0; i < p; ++i) diagonal.push_back(matrix_entry(path_of(v), i, i));
+    rebind(first, path_of(v), diagonal);
     return MatX(*k * MatX::Identity(p, p));
   }
   const bool rows_given =
@@ -1209,7 +1269,7 @@ std::optional<MatX> Loader::read_stiffness(const Value& v, int p, const std::str
     const auto diagonal = vector(v, p, "(the diagonal; " + sized + ")");
     if (!diagonal) return std::nullopt;
     for (int i = 0; i < p; ++i)
-      rebind(first, v.path + "[" + std::to_string(i) + "]", {matrix_entry(v.path, i, i)});
+      rebind(first, path_of(v) + "[" + std::to_string(i) + "]", {matrix_entry(path_of(v), i, i)});
     return MatX(diagonal->asDiagonal());
   }
   const auto k = matrix(v);
@@ -1228,7 +1288,7 @@ std::optional<VecX> Loader::read_preload(const Value& v, int p, const std::strin
     const std::size_t first = bindings_.size();
     const auto f = number(v);
     if (!f) return std::nullopt;
-    rebind(first, v.path, {v.path + "[0]"});
+    rebind(first, path_of(v), {path_of(v) + "[0]"});
     return VecX::Constant(1, *f);
   }
   return vector(v, p, "(one per free direction; " + sized + ")");
@@ -1291,8 +1351,8 @@ void Loader::read_load_list(const Value& v, const LoadTarget& target) {
       const std::string model_path =
           target.model_path + "link_loads[" + std::to_string(index) + "]";
       if (target.link_loads.size() > index) {
-        aliases_.emplace(model_path, entry.path);
-        rebind(first, entry.path, {model_path});
+        aliases_.emplace(model_path, path_of(entry));
+        rebind(first, path_of(entry), {model_path});
       }
       continue;
     }
@@ -1301,8 +1361,8 @@ void Loader::read_load_list(const Value& v, const LoadTarget& target) {
     // A robot block's weights come first among the model's loads.
     const std::string model_path = target.model_path + "loads[" + std::to_string(index) + "]";
     if (target.loads.size() > index) {
-      if (model_path != entry.path) aliases_.emplace(model_path, entry.path);
-      rebind(first, entry.path, {model_path});
+      if (model_path != path_of(entry)) aliases_.emplace(model_path, path_of(entry));
+      rebind(first, path_of(entry), {model_path});
     }
   }
 }
@@ -1313,9 +1373,9 @@ void Loader::read_point_load(const std::vector<Entry>& e, const Value& entry,
   load.origin.location = located(entry.at);
   record(load.origin, e, "");
   if (const Entry* frame = find(e, "frame")) {
-    check_keys(e, entry.path, kFrameLoadKeys, kLoadKeys, "a load on a robot frame");
+    check_keys(e, entry, kFrameLoadKeys, kLoadKeys, "a load on a robot frame");
     if (!target.robot_frames) {
-      fail(frame->key_at, frame->value.path,
+      fail(frame->key_at, path_of(frame->value),
            "a load on a robot frame stands in the top-level `loads:` only; give the load in a "
            "case at a point of the model");
       return;
@@ -1336,7 +1396,7 @@ void Loader::read_point_load(const std::vector<Entry>& e, const Value& entry,
         fail(frame->value, *problem);
     return;
   }
-  check_keys(e, entry.path, kLoadKeys, kFrameLoadKeys, "a load");
+  check_keys(e, entry, kLoadKeys, kFrameLoadKeys, "a load");
   if (entry.node->is_mapping()) {
     read_link_end(e, entry, load.at, load.link);
     if (const Entry* w = required(e, entry, "wrench"))
@@ -1356,10 +1416,9 @@ void Loader::read_link_load(const std::vector<Entry>& e, const Value& entry,
   record(load.origin, e, "");
   const Entry* distributed = find(e, "distributed");
   if (distributed)
-    check_keys(e, entry.path, kDistributedLoadKeys, kLinkLoadKeys,
-               "a distributed load along a link");
+    check_keys(e, entry, kDistributedLoadKeys, kLinkLoadKeys, "a distributed load along a link");
   else
-    check_keys(e, entry.path, kPointLinkLoadKeys, kLinkLoadKeys, "a point load along a link");
+    check_keys(e, entry, kPointLinkLoadKeys, kLinkLoadKeys, "a point load along a link");
   if (const Entry* l = required(e, entry, "link")) load.link = text(l->value).value_or("");
   if (distributed) {
     load.load = read_distributed(*distributed, load.origin).value_or(DistributedLinkLoad{});
@@ -1382,7 +1441,7 @@ std::optional<DistributedLinkLoad> Loader::read_distributed(const Entry& entry, 
     const std::size_t first = bindings_.size();
     const auto q = fixed_vector<3>(v, "[qx, qy, qz]");
     if (!q) return std::nullopt;
-    rebind(first, v.path, {v.path + ".from", v.path + ".to"});
+    rebind(first, path_of(v), {path_of(v) + ".from", path_of(v) + ".to"});
     return DistributedLinkLoad{*q, *q};
   }
   if (!v.node->is_mapping()) {
@@ -1393,7 +1452,7 @@ std::optional<DistributedLinkLoad> Loader::read_distributed(const Entry& entry, 
     return std::nullopt;
   }
   const auto e = fixed_mapping(v);
-  check_keys(e, v.path, kDistributedEndKeys, {}, "a distributed load");
+  check_keys(e, v, kDistributedEndKeys, {}, "a distributed load");
   record(origin, e, entry.key + ".");
   DistributedLinkLoad load;
   bool read = true;
@@ -1429,7 +1488,7 @@ void Loader::read_load_cases(const Entry& section) {
       read_load_list(v, target);
     } else if (v.node->is_mapping()) {
       const auto e = fixed_mapping(v);
-      check_keys(e, v.path, kLoadCaseKeys, {}, "a load case");
+      check_keys(e, v, kLoadCaseKeys, {}, "a load case");
       record(load_case.origin, e, "");
       if (const Entry* loads = find(e, "loads")) read_load_list(loads->value, target);
       if (const Entry* g = find(e, "gravity"))
@@ -1446,7 +1505,7 @@ void Loader::read_load_cases(const Entry& section) {
 void Loader::read_analysis(const Entry& section) {
   if (section.value.node->is_null()) return;
   const auto e = fixed_mapping(section.value);
-  check_keys(e, section.value.path, kAnalysisKeys, {}, "the analysis");
+  check_keys(e, section.value, kAnalysisKeys, {}, "the analysis");
   if (const Entry* mode = find(e, "mode"))
     if (const auto name = choice(mode->value, kAnalysisModes, "analysis mode"))
       model_.options.mode = *analysis_mode_from_string(*name);
@@ -1475,7 +1534,7 @@ void Loader::read_end_effectors(const Entry& section) {
     const auto e = fixed_mapping(named.value);
     record(ee.origin, e, "");
     if (const Entry* frame = find(e, "frame")) {
-      check_keys(e, named.value.path, kFrameEndEffectorKeys, kEndEffectorKeys,
+      check_keys(e, named.value, kFrameEndEffectorKeys, kEndEffectorKeys,
                  "an end effector on a robot frame");
       const auto link = robot_frame(*frame);
       std::optional<Vec3> offset;
@@ -1491,7 +1550,7 @@ void Loader::read_end_effectors(const Entry& section) {
           fail(frame->value, *problem);
       continue;
     }
-    check_keys(e, named.value.path, kEndEffectorKeys, kFrameEndEffectorKeys, "an end effector");
+    check_keys(e, named.value, kEndEffectorKeys, kFrameEndEffectorKeys, "an end effector");
     if (named.value.node->is_mapping()) read_link_end(e, named.value, ee.at, ee.link);
     model_.end_effectors.push_back(std::move(ee));
   }
@@ -1503,7 +1562,7 @@ void Loader::read_robot(const Entry& section) {
   robot_at_ = section.key_at;
   const Value& v = section.value;
   const auto e = fixed_mapping(v);
-  check_keys(e, v.path, kRobotKeys, {}, "the robot block");
+  check_keys(e, v, kRobotKeys, {}, "the robot block");
   if (!v.node->is_mapping()) return;
   const Entry* urdf = required(e, v, "urdf");
   const auto file = urdf ? text(urdf->value) : std::nullopt;
@@ -1516,7 +1575,7 @@ void Loader::read_robot(const Entry& section) {
   detail::RobotBlock block;
   try {
     block.tree = std::make_shared<const detail::UrdfTree>(
-        detail::read_urdf(path, located(urdf->value.at), urdf->value.path));
+        detail::read_urdf(path, located(urdf->value.at), path_of(urdf->value)));
   } catch (const InputError& error) {
     diagnostics_.insert(diagnostics_.end(), error.diagnostics().begin(), error.diagnostics().end());
     spoil("");  // what refers to the robot cannot be checked
@@ -1527,14 +1586,14 @@ void Loader::read_robot(const Entry& section) {
   const auto joint_named = [&](const Entry& named) -> std::optional<std::size_t> {
     const auto j = tree.find_joint(named.key);
     if (!j) {
-      fail(named.key_at, named.value.path,
+      fail(named.key_at, path_of(named.value),
            "no joint named '" + named.key + "' in " + urdf_name +
                detail::suggestion(named.key, tree.joint_names(), "its joints are"));
       return std::nullopt;
     }
     const detail::UrdfJoint& joint = tree.joints[static_cast<std::size_t>(*j)];
     if (!detail::is_movable(joint.type)) {
-      fail(named.key_at, named.value.path,
+      fail(named.key_at, path_of(named.value),
            "joint '" + named.key + "' is fixed in " + urdf_name + " (line " +
                std::to_string(joint.location.line) +
                "): it has no position and gives way through nothing but its links");
@@ -1576,7 +1635,7 @@ void Loader::read_robot(const Entry& section) {
     default_bindings.assign(bindings_.begin() + static_cast<std::ptrdiff_t>(first),
                             bindings_.end());
     bindings_.resize(first);
-    default_stiffness = d->value.path + ".stiffness";
+    default_stiffness = path_of(d->value) + ".stiffness";
   }
   const auto spring_slot = [](const std::string& joint) {
     return matrix_entry("joints." + joint + ".stiffness", 0, 0);
@@ -1591,7 +1650,7 @@ void Loader::read_robot(const Entry& section) {
       const auto j = joint_named(named);
       const std::size_t first = bindings_.size();
       const auto spring = read_joint_spring(named.value);
-      rebind(first, named.value.path + ".stiffness", {spring_slot(named.key)});
+      rebind(first, path_of(named.value) + ".stiffness", {spring_slot(named.key)});
       if (!j || !spring) {
         if (j) sprung[*j] = true;  // reported already
         if (j) spoil("joints." + named.key);
@@ -1600,7 +1659,7 @@ void Loader::read_robot(const Entry& section) {
       block.springs[*j] = *spring;
       sprung[*j] = true;
       const std::string key = spring->compliance ? ".compliance" : ".stiffness";
-      aliases_.emplace("joints." + named.key + ".stiffness", named.value.path + key);
+      aliases_.emplace("joints." + named.key + ".stiffness", path_of(named.value) + key);
     }
   for (std::size_t j = 0; j < tree.joints.size(); ++j) {
     const detail::UrdfJoint& joint = tree.joints[j];
@@ -1613,7 +1672,7 @@ void Loader::read_robot(const Entry& section) {
       continue;
     }
     spoil("joints." + joint.name);  // its zero spring is this defect
-    fail(joints ? joints->key_at : section.key_at, joints ? joints->value.path : v.path,
+    fail(joints ? joints->key_at : section.key_at, joints ? path_of(joints->value) : path_of(v),
          "the " + std::string(detail::to_string(joint.type)) + " joint '" + joint.name + "' of " +
              urdf_name + " (line " + std::to_string(joint.location.line) +
              ") has no stiffness; list it under robot.joints, or give robot.default_joint for "
@@ -1629,13 +1688,13 @@ void Loader::read_robot(const Entry& section) {
     for (const auto& named : named_mapping(*links)) {
       const auto l = tree.find_link(named.key);
       if (!l) {
-        fail(named.key_at, named.value.path,
+        fail(named.key_at, path_of(named.value),
              "no link named '" + named.key + "' in " + urdf_name +
                  detail::suggestion(named.key, tree.link_names(), "its links are"));
         continue;
       }
       const auto le = fixed_mapping(named.value);
-      check_keys(le, named.value.path, kRobotLinkKeys, {}, "a flexible robot link");
+      check_keys(le, named.value, kRobotLinkKeys, {}, "a flexible robot link");
       Link holder;  // collects the key locations of the material and section
       holder.origin.location = located(named.key_at);
       record(holder.origin, le, "");
@@ -1649,8 +1708,8 @@ void Loader::read_robot(const Entry& section) {
         beam.shear = boolean(shear->value).value_or(false);
       block.flexible[static_cast<std::size_t>(*l)] = detail::FlexibleLink{beam, holder.origin};
       flexible_names.push_back(named.key);
-      aliases_.emplace("links." + named.key, named.value.path);
-      aliases_.emplace("links." + named.key + ".distal", named.value.path);
+      aliases_.emplace("links." + named.key, path_of(named.value));
+      aliases_.emplace("links." + named.key + ".distal", path_of(named.value));
     }
 
   if (const Entry* g = find(e, "gravity")) {
@@ -1678,7 +1737,7 @@ void Loader::read_robot(const Entry& section) {
 // A joint's spring: `stiffness` about (along) its axis, or a 6×6 `compliance` in its frame.
 std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
   const auto e = fixed_mapping(v);
-  check_keys(e, v.path, kRobotJointKeys, {}, "a robot joint");
+  check_keys(e, v, kRobotJointKeys, {}, "a robot joint");
   if (!v.node->is_mapping()) return std::nullopt;
   detail::JointSpring spring;
   spring.origin.location = located(v.at);
@@ -1686,11 +1745,11 @@ std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
   const Entry* k = find(e, "stiffness");
   const Entry* c = find(e, "compliance");
   if (k && c) {
-    fail(c->key_at, c->value.path, "give either stiffness or compliance, not both");
+    fail(c->key_at, path_of(c->value), "give either stiffness or compliance, not both");
     return std::nullopt;
   }
   if (!k && !c) {
-    fail(v.at, v.path,
+    fail(v.at, path_of(v),
          "give the joint's stiffness (about or along its axis) or its 6×6 compliance");
     return std::nullopt;
   }
@@ -1748,14 +1807,14 @@ std::optional<double> Loader::robot_position(const Value& v, ExpressionSite& sit
   const std::string& expression = v.node->text();
   const auto outcome = expressions_->evaluate(expression);
   if (outcome.follows_earlier_error) {
-    spoil(v.path);
+    spoil(v);
     return std::nullopt;
   }
   if (!outcome.error.empty()) {
     fail(v, outcome.error);
     return std::nullopt;
   }
-  site = {expression, v.path, located(v.at)};
+  site = {expression, path_of(v), located(v.at)};
   return outcome.value;
 }
 
@@ -1796,6 +1855,10 @@ void Loader::check_definitions() {
 std::vector<Diagnostic> Loader::merge(std::vector<Diagnostic> defects) {
   defects.insert(defects.begin(), definition_defects_.begin(), definition_defects_.end());
   std::vector<Diagnostic> all = diagnostics_;
+  if (!defects.empty()) {
+    for (const PathId id : spoiled_values_) spoiled_.insert(path_of(id));
+    spoiled_values_.clear();
+  }
   // Aliases and spoiled parts are looked up by the paths enclosing a defect's, not scanned:
   // a model of 100 000 supports has as many of them.
   for (auto& d : defects) {
@@ -1873,6 +1936,17 @@ struct Nesting {
 // lines of block scalars (`|`, `>`) hold no collections. Where it cannot tell, as on the
 // continuation line of a plain scalar, the scan counts a level: a few levels too many cost
 // nothing under a limit far above real models, a level missed could let a file through.
+// Letters, digits and `_ . + - /`: characters that, outside quotes, change nothing the scan
+// below counts.
+constexpr std::array<bool, 256> kWordCharacters = [] {
+  std::array<bool, 256> word{};
+  for (int c = 0; c < 256; ++c)
+    word[static_cast<std::size_t>(c)] = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                                        (c >= '0' && c <= '9') || c == '_' || c == '.' ||
+                                        c == '+' || c == '-' || c == '/';
+  return word;
+}();
+
 Nesting measure_nesting(std::string_view text, int limit) {
   constexpr auto npos = std::string_view::npos;
   Nesting nesting;
@@ -1933,6 +2007,11 @@ Nesting measure_nesting(std::string_view text, int limit) {
     std::size_t code_end = line.size();
     for (; i < line.size(); ++i) {
       const char c = line[i];
+      // Most of a line, its names and numbers: no quote, comment or bracket, nor a token start.
+      if (quote == 0 && kWordCharacters[static_cast<unsigned char>(c)]) {
+        token_start = false;
+        continue;
+      }
       if (quote == '"') {
         if (c == '\\')
           ++i;

@@ -7,6 +7,7 @@
 #include <libfyaml.h>
 
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <optional>
@@ -93,7 +94,7 @@ class YamlTreeBuilder {
       }
       document_ended = take(event.get());
     }
-    if (tree_.nodes_.empty()) tree_.nodes_.emplace_back();  // no document: a null root
+    if (tree_.nodes_.empty()) tree_.add_node();  // no document: a null root
     return std::move(tree_);
   }
 
@@ -238,7 +239,7 @@ class YamlTreeBuilder {
 
   YamlNode& new_node(YamlNode::Kind kind, Place at) {
     ++expanded_;
-    YamlNode& node = tree_.nodes_.emplace_back();
+    YamlNode& node = tree_.add_node();
     node.kind_ = kind;
     node.line_ = at.line;
     node.column_ = at.column;
@@ -282,8 +283,11 @@ class YamlTreeBuilder {
     const char* tag_text = tag != nullptr ? fy_token_get_text0(tag) : nullptr;
     const bool quoted = tag_text != nullptr ? std::string_view(tag_text) == "!" : !plain;
     const bool null = plain && tag == nullptr && spells_null(text);
-    YamlNode& node = new_node(null ? YamlNode::Kind::null : YamlNode::Kind::scalar,
-                              node_start(value, event->scalar.anchor, tag));
+    // A plain scalar without properties, most of a model file, starts where libfyaml marks it.
+    const bool bare = plain && tag == nullptr && event->scalar.anchor == nullptr;
+    YamlNode& node = new_node(
+        null ? YamlNode::Kind::null : YamlNode::Kind::scalar,
+        bare ? place_of(fy_token_start_mark(value)) : node_start(value, event->scalar.anchor, tag));
     if (!null) node.text_ = text;
     node.quoted_ = quoted;
     return node;
@@ -314,11 +318,16 @@ class YamlTreeBuilder {
       throw InputError(located(at), "", nesting_too_deep_message(max_depth_));
     remember_anchor(anchor, node);
     Open opened{&node, nullptr, std::nullopt, is_mapping ? entries_.size() : items_.size(), false};
-    const std::string_view indicator = text_of(start);
-    if (indicator == "[" || indicator == "{") opened.bracket = place_of(fy_token_start_mark(start));
+    // A `[` or `{` told by its token's type: libfyaml formats a token's text anew for each
+    // call, 2 000 instructions for one character.
+    const fy_token_type start_type = start != nullptr ? fy_token_get_type(start) : FYTT_NONE;
+    const bool bracket =
+        start_type == FYTT_FLOW_SEQUENCE_START || start_type == FYTT_FLOW_MAPPING_START;
+    if (bracket) opened.bracket = place_of(fy_token_start_mark(start));
     // libfyaml marks such a pair at its `:`, or at its `?` where it has one, which is its start.
-    opened.starts_at_first_key = is_mapping && indicator.empty() && anchor == nullptr &&
-                                 tag == nullptr && fy_event_get_node_style(event) == FYNS_FLOW;
+    opened.starts_at_first_key = is_mapping && !bracket && anchor == nullptr && tag == nullptr &&
+                                 fy_event_get_node_style(event) == FYNS_FLOW &&
+                                 text_of(start).empty();
     open_.push_back(opened);
   }
 
@@ -419,25 +428,43 @@ std::size_t utf8_sequence_length(std::string_view text) {
   return length;
 }
 
+// Where the byte at `at` is, 1-based, its column counted in characters: the text before it is
+// valid UTF-8, so each byte that is not a continuation byte (10xxxxxx) starts one character.
+std::pair<int, int> line_and_column(std::string_view text, std::size_t at) {
+  const std::string_view before = text.substr(0, at);
+  const std::size_t line_start = before.rfind('\n') + 1;  // npos + 1 is 0
+  const auto is_character_start = [](char c) {
+    return (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  };
+  const auto line = 1 + std::count(before.begin(), before.end(), '\n');
+  const auto column = 1 + std::count_if(before.begin() + static_cast<std::ptrdiff_t>(line_start),
+                                        before.end(), is_character_start);
+  return {static_cast<int>(line), static_cast<int>(column)};
+}
+
 // Model files are UTF-8. Checked before parsing: libfyaml (0.7.12) loops without end on some
 // malformed bytes (one in a directive line, found by the fuzz target), and reads others at the
 // start of a plain value as an empty value.
 void require_utf8(std::string_view text, const std::string& file) {
-  int line = 1, column = 1;
+  constexpr std::uint64_t kHighBits = 0x8080808080808080u;
   for (std::size_t at = 0; at < text.size();) {
+    // ASCII, the bulk of a model file, eight bytes at a time.
+    std::uint64_t eight = 0;
+    if (text.size() - at >= sizeof eight) {
+      std::memcpy(&eight, text.data() + at, sizeof eight);
+      if ((eight & kHighBits) == 0) {
+        at += sizeof eight;
+        continue;
+      }
+    }
     const std::size_t length = utf8_sequence_length(text.substr(at));
     if (length == 0) {
       char hex[8];
       std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned char>(text[at]));
+      const auto [line, column] = line_and_column(text, at);
       throw InputError(SourceLocation{file, line, column}, "",
                        std::string("the file is not UTF-8 text: the byte ") + hex +
                            " here begins no UTF-8 character; save the model as UTF-8");
-    }
-    if (text[at] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
     }
     at += length;
   }

@@ -4,7 +4,6 @@
 // key as written), so the loader does not depend on the parser's own node types.
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <span>
 #include <string>
 #include <string_view>
@@ -71,11 +70,20 @@ class YamlTree {
   YamlTree(YamlTree&&) = default;
   YamlTree& operator=(YamlTree&&) = default;
 
-  const YamlNode& root() const { return nodes_.front(); }
+  const YamlNode& root() const { return nodes_.front().front(); }
 
  private:
   friend class YamlTreeBuilder;
-  std::deque<YamlNode> nodes_;  // the root first; a deque, so that nodes stay where they are
+  // Nodes are made in blocks of this many, each reserved once, so that nodes stay where they
+  // are (a deque's blocks hold four).
+  static constexpr std::size_t kNodesPerBlock = 256;
+  YamlNode& add_node() {
+    if (nodes_.empty() || nodes_.back().size() == kNodesPerBlock) {
+      nodes_.emplace_back().reserve(kNodesPerBlock);
+    }
+    return nodes_.back().emplace_back();
+  }
+  std::vector<std::vector<YamlNode>> nodes_;  // the root first
 };
 
 // Parses `text` (its name `file` goes into messages). Throws InputError for a syntax error
