@@ -10,6 +10,7 @@
 #include <complex>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -662,6 +663,11 @@ TEST(CriticalLoad, TheQrIterationFindsEigensEigenvalues) {
   EXPECT_EQ(detail::eigenvalues_of(MatX(0, 0)).size(), 0);
   EXPECT_EQ(detail::eigenvalues_of(MatX::Constant(1, 1, -3.5))(0), std::complex<double>(-3.5));
   EXPECT_TRUE(detail::eigenvalues_of(MatX::Zero(5, 5)).isZero(0));
+  MatX poisoned = MatX::Identity(4, 4);
+  poisoned(2, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(detail::eigenvalues_of(poisoned).size(), 0);
+  poisoned(2, 1) = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(detail::eigenvalues_of(poisoned).size(), 0);
 }
 
 // ---- kernels ---------------------------------------------------------------------------------

@@ -687,8 +687,10 @@ void to_hessenberg(MatX& a, VecX& v, VecX& w) {
 Eigen::VectorXcd eigenvalues_of(MatX a) {
   const Index n = a.rows();
   Eigen::VectorXcd values = Eigen::VectorXcd::Zero(n);
+  // A NaN would slip past the largest-entry test below and cost every sweep: none are found
+  // (no eigenvalue, so no factor), as where Eigen's own iteration fails.
+  if (!a.allFinite()) return Eigen::VectorXcd();
   const double scale = n > 0 ? a.cwiseAbs().maxCoeff() : 0.0;
-  if (!std::isfinite(scale)) return Eigen::EigenSolver<MatX>(a, false).eigenvalues();
   if (scale == 0) return values;
   a /= scale;
   const MatX original = a;
@@ -723,8 +725,11 @@ Eigen::VectorXcd eigenvalues_of(MatX a) {
       since_split = 0;
       continue;
     }
-    if (++sweeps > most_sweeps)
-      return Eigen::EigenSolver<MatX>(original, false).eigenvalues() * scale;
+    if (++sweeps > most_sweeps) {
+      const Eigen::EigenSolver<MatX> fallback(original, false);
+      if (fallback.info() != Eigen::Success) return Eigen::VectorXcd();
+      return fallback.eigenvalues() * scale;
+    }
     // The shifts: the trailing 2×2 block's eigenvalues (their sum and product); every
     // kQrExceptionalShiftEvery sweeps without a split, shifts of the subdiagonal's size instead,
     // to leave a cycle.
@@ -732,7 +737,7 @@ Eigen::VectorXcd eigenvalues_of(MatX a) {
     double t = h(hi - 1, hi - 1) * h(hi, hi) - h(hi - 1, hi) * h(hi, hi - 1);
     if (++since_split % kQrExceptionalShiftEvery == 0) {
       const double size = std::abs(h(hi, hi - 1)) + std::abs(h(hi - 1, hi - 2));
-      s = 1.5 * size;
+      s = kQrExceptionalShiftSum * size;
       t = size * size;
     }
     francis_sweep(h, lo, hi, s, t);

@@ -64,6 +64,7 @@ void add_critical_loads(const Model& model, const Topology& topology,
 // eigenproblem, docs/theory.md §14.3), in no particular order: Householder reflections to
 // Hessenberg form, then Francis's double-shift QR iteration on the part not yet split off only
 // (no Schur vectors, nothing above the window). Where it does not converge, Eigen's EigenSolver.
+// None (an empty vector) for a matrix with a non-finite entry or where Eigen's iteration fails too.
 Eigen::VectorXcd eigenvalues_of(MatX a);
 
 // Makes the solves on `workspace` find no critical load factor, asked for or not: a sweep's

@@ -407,7 +407,7 @@ void LoadedTangent::solve(MatX& b) const {
 }
 
 double LoadedTangent::norm_inf() const {
-  VecX row_sum(n_);
+  VecX row_sum = VecX::Zero(n_);
   for (std::size_t k = 0; k < tangents_.size(); ++k) {
     const MatX& t = tangents_[k];
     double* const sum = row_sum.data() + first_row_[k];
