@@ -9,7 +9,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 build="build-asan"
 
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh sanitize
 
 # Every report goes to a file named after the process, so that none is lost when a test reads
 # the output or the exit code of a command it runs; exit code 86 keeps a sanitizer failure apart
@@ -24,11 +24,14 @@ export UBSAN_OPTIONS="$common"
 export LSAN_OPTIONS="$common:suppressions=$root/scripts/lsan-suppressions.txt:print_suppressions=0"
 
 # Debug with -O1: sanitizers at a bearable speed, with assert(), Eigen's index checks and
-# libstdc++'s container checks switched on.
+# libstdc++'s container checks switched on. Linked by lld (install-deps.sh, `sanitize`): the
+# default linker took ~15 s for each of the ~35 programs, lld ~4.5 s.
 source scripts/build-cache.sh
 cmake -S . -B "$build" -G Ninja "${compiler_launcher[@]}" -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_COMPILER=g++ \
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g -D_GLIBCXX_ASSERTIONS" \
+  -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCMAKE_SHARED_LINKER_FLAGS=-fuse-ld=lld \
+  -DCMAKE_MODULE_LINKER_FLAGS=-fuse-ld=lld \
   -DSTIFFMSA_SANITIZE=address,undefined \
   -DSTIFFMSA_BUILD_TESTS=ON -DSTIFFMSA_BUILD_EXAMPLES=ON
 cmake --build "$build" -j2
