@@ -12,6 +12,7 @@
 #include "elements/beam_element.hpp"
 #include "elements/cad_link.hpp"
 #include "elements/finite_rotation.hpp"
+#include "stiffmsa/errors.hpp"
 
 namespace stiffmsa::detail {
 
@@ -289,6 +290,7 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
     solver_.reset();
     unloaded_solver_.reset();
     unloaded_scaling_.reset();
+    unloaded_reference_ = false;
     if (uses_block_lu())
       block_lu_.analyze(block_layout);
     else
@@ -298,6 +300,8 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
   if (solver_) solver_->renew_reference();
   scaling_.reset();
   newton_by_block_lu_ = false;
+  newton_factorised_ = false;
+  newton_reference_ = false;
 }
 
 void LoadedTangent::record_pattern() {
@@ -367,15 +371,31 @@ void LoadedTangent::scale(const Equilibration& scaling) {
 bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
   assemble(in, residual, factorise);
   if (!factorise) return true;
-  newton_by_block_lu_ =
-      uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised;
-  if (newton_by_block_lu_) return true;
+  newton_factorised_ = false;
+  newton_by_block_lu_ = false;
+  if (uses_block_lu()) {
+    // The case's first tangent is scaled afresh and is the reference; the later ones, which
+    // differ from it by the change of the state, take its scaling. Where that does not
+    // factorise, the kept scaling may have gone stale: the tangent is scaled afresh (and
+    // becomes the reference), so that it goes to the sparse path only as it would have.
+    using Outcome = BlockLU::Outcome;
+    Outcome outcome = Outcome::singular;
+    if (newton_reference_) outcome = block_lu_.factorise(tangents_, &newton_scaling_);
+    if (outcome != Outcome::factorised) {
+      outcome = block_lu_.factorise(tangents_);
+      newton_reference_ = outcome == Outcome::factorised;
+      if (newton_reference_) newton_scaling_ = block_lu_.scaling();
+    }
+    newton_by_block_lu_ = newton_factorised_ = outcome == Outcome::factorised;
+    if (newton_by_block_lu_) return true;
+  }
   // The tangents of a case's Newton iterations differ little: the first one's scaling serves
   // them all, as its pivot order does.
   scatter();
   if (!scaling_) scaling_ = equilibrate(matrix_);
   scale(*scaling_);
-  return solver_->factorize(scaled_);
+  newton_factorised_ = solver_->factorize(scaled_);
+  return newton_factorised_;
 }
 
 double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
@@ -384,8 +404,21 @@ double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
   // The block LU's factors are the Newton tangent's from here on no more: the next evaluate
   // factorises again before any solve.
   newton_by_block_lu_ = false;
-  if (uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised)
-    return block_lu_.determinant_sign();
+  newton_factorised_ = false;
+  if (uses_block_lu()) {
+    // The sign does not depend on the scaling (nor on the pivots): the last pose's unloaded
+    // scaling serves, afresh where it does not factorise, so that the tangent goes to the
+    // sparse path only as it would have.
+    using Outcome = BlockLU::Outcome;
+    Outcome outcome = Outcome::singular;
+    if (unloaded_reference_) outcome = block_lu_.factorise(tangents_, &unloaded_block_scaling_);
+    if (outcome != Outcome::factorised) {
+      outcome = block_lu_.factorise(tangents_);
+      unloaded_reference_ = outcome == Outcome::factorised;
+      if (unloaded_reference_) unloaded_block_scaling_ = block_lu_.scaling();
+    }
+    if (outcome == Outcome::factorised) return block_lu_.determinant_sign();
+  }
   scatter();
   unloaded_scaling_ = equilibrate(matrix_, unloaded_scaling_ ? &*unloaded_scaling_ : nullptr);
   scale(*unloaded_scaling_);
@@ -500,6 +533,10 @@ MatX LoadedTangent::solve_checked(const MatX& b, int refinement_steps,
 }
 
 double LoadedTangent::determinant_sign() const {
+  if (!newton_factorised_)
+    throw UsageError(
+        "the loaded tangent's determinant sign was asked for before a Newton tangent was "
+        "factorised (LoadedTangent::evaluate with factorisation)");
   return newton_by_block_lu_ ? block_lu_.determinant_sign() : solver_->determinant_sign();
 }
 

@@ -76,6 +76,13 @@ inline void scale_rows(double* __restrict target, const double* __restrict row_s
   for (int i = 0; i < rows; ++i) target[i] = row_scale[i] * scaled[i];
 }
 
+// target[i] = row_scale[i]·(value[i]·column_scale) for i < rows: the two scalings in the order
+// the fresh path applies them.
+inline void scale_both(double* __restrict target, const double* __restrict row_scale,
+                       const double* __restrict value, double column_scale, int rows) {
+  for (int i = 0; i < rows; ++i) target[i] = row_scale[i] * (value[i] * column_scale);
+}
+
 // z[0 … 12) −= U·x for a 12 × 12 block U of leading dimension `stride`, each row's sum formed
 // from its first term on (as the dense product did).
 inline void subtract_group_product(double* __restrict z, const double* __restrict u, Index stride,
@@ -188,8 +195,8 @@ void BlockLU::analyze(const BlockLayout& layout) {
   for (const Step& s : steps_)
     for (int c = 0; c < kBlockColumns; ++c) column_order.push_back(kBlockColumns * s.group + c);
   column_parity_ = structurally_singular_ ? 1 : permutation_parity(column_order);
-  row_scale_.resize(n_);
-  column_scale_.resize(n_);
+  scaling_.row.resize(n_);
+  scaling_.column.resize(n_);
   rhs_.assign(steps_.size(), MatX());
   column_scaled_.resize(layout.rows.size());
   for (std::size_t b = 0; b < layout.rows.size(); ++b)
@@ -201,16 +208,27 @@ void BlockLU::analyze(const BlockLayout& layout) {
   block_scratch_.resize(kBlockColumns * static_cast<Index>(widest));
 }
 
-BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values) {
+BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values, const BlockScaling* kept) {
   sign_ = 0;
   smallest_pivot_ = 0;
   if (structurally_singular_) return Outcome::singular;
-  if (!equilibrate(values)) return Outcome::singular;
+  if (kept && kept->row.size() == n_ && kept->column.size() == n_) {
+    // Zero, unless some entry is infinite or NaN (0·∞ is NaN): a NaN would pass the pivot
+    // tests, as it compares false.
+    double probe = 0;
+    for (const MatX& v : values)
+      probe += (Eigen::Map<const VecX>(v.data(), v.size()).array() * 0.0).sum();
+    if (!(probe == 0)) return Outcome::singular;
+    if (kept != &scaling_) scaling_ = *kept;
+  } else {
+    kept = nullptr;
+    if (!equilibrate(values)) return Outcome::singular;
+  }
   double sign = column_parity_;
   smallest_pivot_ = std::numeric_limits<double>::infinity();
   row_order_.clear();
   for (Step& s : steps_) {
-    assemble_front(s);
+    assemble_front(s, kept ? &values : nullptr);
     if (!eliminate(s, sign)) return Outcome::singular;
     row_order_.insert(row_order_.end(), s.row_ids.begin(), s.row_ids.begin() + kBlockColumns);
   }
@@ -244,7 +262,7 @@ void scale_columns(const double* values, Index rows, Index columns, const double
 // some entry is not finite (a NaN would pass the pivot tests, as it compares false).
 bool BlockLU::equilibrate(const std::vector<MatX>& values) {
   const std::size_t blocks = layout_.rows.size();
-  column_scale_.setZero();
+  scaling_.column.setZero();
   // Zero, unless some entry is infinite or NaN (0·∞ is NaN).
   double probe = 0;
   double* const block_columns = block_scratch_.data();
@@ -261,18 +279,18 @@ bool BlockLU::equilibrate(const std::vector<MatX>& values) {
     const double* largest = block_columns;
     for (int group : layout_.groups[b])
       for (int c = 0; c < kBlockColumns; ++c, ++largest) {
-        double& column = column_scale_[kBlockColumns * group + c];
+        double& column = scaling_.column[kBlockColumns * group + c];
         column = std::max(column, *largest);
       }
   }
   if (!(probe == 0)) return false;
-  for (Index j = 0; j < n_; ++j) column_scale_[j] = power_of_two_scale(column_scale_[j]);
+  for (Index j = 0; j < n_; ++j) scaling_.column[j] = power_of_two_scale(scaling_.column[j]);
   for (std::size_t b = 0; b < blocks; ++b) {
     const MatX& v = values[b];
     double* scale = block_columns;
     for (int group : layout_.groups[b])
-      scale = std::copy_n(column_scale_.data() + kBlockColumns * group, kBlockColumns, scale);
-    double* const row_largest = row_scale_.data() + first_row_[b];
+      scale = std::copy_n(scaling_.column.data() + kBlockColumns * group, kBlockColumns, scale);
+    double* const row_largest = scaling_.row.data() + first_row_[b];
     double* const scaled = column_scaled_[b].data();
     switch (v.rows()) {
       case 12:
@@ -291,8 +309,10 @@ bool BlockLU::equilibrate(const std::vector<MatX>& values) {
 }
 
 // The front of step `s` from the scaled original blocks and the rows earlier steps left; every
-// entry written once (the zeros where a part's rows meet none of its columns).
-void BlockLU::assemble_front(Step& s) {
+// entry written once (the zeros where a part's rows meet none of its columns). From `unscaled`,
+// an entry is (value·column scale)·row scale, as column_scaled_ and the row scales make it: the
+// same bits.
+void BlockLU::assemble_front(Step& s, const std::vector<MatX>* unscaled) {
   const Index m = s.rows;
   double* const front = s.front.data();
   for (const Part& part : s.parts) {
@@ -301,10 +321,23 @@ void BlockLU::assemble_front(Step& s) {
       double* target = front + m * kBlockColumns * group + part.first_row;
       for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
     }
-    if (part.source < 0) {
+    if (part.source < 0 && unscaled) {
+      const std::size_t b = static_cast<std::size_t>(-part.source - 1);
+      const double* value = (*unscaled)[b].data();
+      const double* const row_scale = scaling_.row.data() + first_row_[b];
+      for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+        double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+        const double* const column_scale =
+            scaling_.column.data() + kBlockColumns * static_cast<Index>(layout_.groups[b][k]);
+        for (int c = 0; c < kBlockColumns; ++c, value += rows, target += m)
+          scale_both(target, row_scale, value, column_scale[c], rows);
+      }
+      for (int i = 0; i < rows; ++i)
+        s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
+    } else if (part.source < 0) {
       const std::size_t b = static_cast<std::size_t>(-part.source - 1);
       const double* scaled = column_scaled_[b].data();
-      const double* const row_scale = row_scale_.data() + first_row_[b];
+      const double* const row_scale = scaling_.row.data() + first_row_[b];
       for (int group : part.column_groups) {
         double* target = front + m * kBlockColumns * group + part.first_row;
         for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
@@ -372,7 +405,7 @@ bool BlockLU::eliminate(Step& s, double& sign) {
 
 void BlockLU::solve(MatX& b) const {
   const Index columns = b.cols(), n = b.rows();
-  b.array().colwise() *= row_scale_.array();
+  b.array().colwise() *= scaling_.row.array();
   for (std::size_t index = 0; index < steps_.size(); ++index) {
     const Step& s = steps_[index];
     const Index m = s.rows;
@@ -412,7 +445,7 @@ void BlockLU::solve(MatX& b) const {
       std::copy(z, z + kBlockColumns, b.data() + n * c + kBlockColumns * s.group);
     }
   }
-  b.array().colwise() *= column_scale_.array();
+  b.array().colwise() *= scaling_.column.array();
 }
 
 }  // namespace stiffmsa::detail
