@@ -301,7 +301,6 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
   scaling_.reset();
   newton_by_block_lu_ = false;
   newton_factorised_ = false;
-  newton_reference_ = false;
 }
 
 void LoadedTangent::record_pattern() {
@@ -371,24 +370,12 @@ void LoadedTangent::scale(const Equilibration& scaling) {
 bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
   assemble(in, residual, factorise);
   if (!factorise) return true;
-  newton_factorised_ = false;
-  newton_by_block_lu_ = false;
-  if (uses_block_lu()) {
-    // The case's first tangent is scaled afresh and is the reference; the later ones, which
-    // differ from it by the change of the state, take its scaling. Where that does not
-    // factorise, the kept scaling may have gone stale: the tangent is scaled afresh (and
-    // becomes the reference), so that it goes to the sparse path only as it would have.
-    using Outcome = BlockLU::Outcome;
-    Outcome outcome = Outcome::singular;
-    if (newton_reference_) outcome = block_lu_.factorise(tangents_, &newton_scaling_);
-    if (outcome != Outcome::factorised) {
-      outcome = block_lu_.factorise(tangents_);
-      newton_reference_ = outcome == Outcome::factorised;
-      if (newton_reference_) newton_scaling_ = block_lu_.scaling();
-    }
-    newton_by_block_lu_ = newton_factorised_ = outcome == Outcome::factorised;
-    if (newton_by_block_lu_) return true;
-  }
+  // Every Newton tangent is scaled afresh: a kept scaling would change the pivots, and so the
+  // results' rounding, wherever a row's largest entry crosses a power of two between them.
+  newton_by_block_lu_ =
+      uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised;
+  newton_factorised_ = newton_by_block_lu_;
+  if (newton_by_block_lu_) return true;
   // The tangents of a case's Newton iterations differ little: the first one's scaling serves
   // them all, as its pivot order does.
   scatter();

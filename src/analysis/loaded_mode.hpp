@@ -19,11 +19,10 @@ namespace stiffmsa::detail {
 // (docs/theory.md §15.7, §15.10): the layout of its blocks, their tangents, and the
 // factorisations of the last tangent.
 // - With the automatic solver, a block LU (solver/block_lu.hpp) whose elimination order is
-//   kept per layout; the first Newton tangent after `begin` is equilibrated afresh and later
-//   ones take its scaling (again afresh where that does not factorise); every tangent is
-//   pivoted afresh, so a case's results depend on its pose alone. The unloaded tangent, whose
-//   determinant's sign alone is used, takes the last unloaded tangent's scaling. Where a fresh
-//   scaling meets a tiny pivot, the tangent goes to the sparse path.
+//   kept per layout; every Newton tangent is equilibrated and pivoted afresh, so a case's
+//   results depend on its pose alone. The unloaded tangent, whose determinant's sign alone is
+//   used, takes the last unloaded tangent's scaling (afresh where that does not factorise).
+//   Where a fresh scaling meets a tiny pivot, the tangent goes to the sparse path.
 // - The sparse path (a solver the options name, or the block LU's fallback: KLU where built
 //   in): the Newton tangents of a load case: the first after `begin` is the reference,
 //   equilibrated from scratch and pivoted afresh; later ones take its scaling as it is and keep
@@ -95,11 +94,10 @@ class LoadedTangent {
   // Whether the last evaluate factorised its tangent (by either path): what determinant_sign
   // and the solves read.
   bool newton_factorised_ = false;
-  // The case's reference scaling for the block LU, its first Newton tangent's (or the last
-  // one scaled afresh), which the case's later tangents take; and the last unloaded tangent's
-  // scaled afresh, which the next unloaded tangents take (kept per layout).
-  BlockScaling newton_scaling_, unloaded_block_scaling_;
-  bool newton_reference_ = false, unloaded_reference_ = false;
+  // The block LU's scaling of the last unloaded tangent scaled afresh, which the next
+  // unloaded tangents take (kept per layout).
+  BlockScaling unloaded_block_scaling_;
+  bool unloaded_reference_ = false;
   // The sparse path. Where each entry of every block's tangent (in the order of the blocks,
   // each column-major) goes in the compressed matrix's values; empty until the path is taken.
   std::vector<int> positions_;

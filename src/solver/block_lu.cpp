@@ -50,8 +50,11 @@ inline void subtract_multiple(double* __restrict y, const double* __restrict x, 
 
 // One column of a front after its row swaps: L⁻¹ on its 12 pivot rows, then the Schur update
 // of the rows below, each entry updated by the multipliers in their order (as column by column
-// with subtract_multiple). The 12 pivot rows' triangle has compile-time bounds, unrolled.
+// with subtract_multiple). The 12 pivot rows' triangle has compile-time bounds, unrolled; so
+// have the rows below where the front's `Rows` are known at compile time (0: `m` at run time).
+template <int Rows = 0>
 inline void update_column(double* __restrict column, const double* __restrict l, Index m) {
+  if constexpr (Rows > 0) m = Rows;
   int nonzero[kBlockColumns];
   int count = 0;
 #pragma GCC unroll 12
@@ -68,6 +71,49 @@ inline void update_column(double* __restrict column, const double* __restrict l,
     const double* const pivot_column = l + m * nonzero[t];
     for (Index i = kBlockColumns; i < m; ++i) column[i] -= multiplier * pivot_column[i];
   }
+}
+
+// Gaussian elimination with partial pivoting of a front's first 12 columns (`m` rows, `width`
+// columns, column-major), then the other columns one by one: the row swaps, L⁻¹ and the Schur
+// update, in the order of a right-looking elimination of the whole front (every entry sees the
+// same operations in the same order). `Rows` > 0: m = Rows at compile time, the loops' bounds
+// constant (the pivot steps unrolled), the same operations. `pivots` gets the row swaps
+// (LAPACK style), `row_ids` is swapped alike, `sign` takes the pivots' signs and `smallest` the
+// smallest pivot size. False on a zero pivot.
+template <int Rows>
+bool eliminate_front(double* __restrict front, Index m, Index width, int* __restrict pivots,
+                     int* __restrict row_ids, double& sign, double& smallest) {
+  if constexpr (Rows > 0) m = Rows;
+#pragma GCC unroll 12
+  for (Index k = 0; k < kBlockColumns; ++k) {
+    double* const pivot_column = front + m * k;
+    Index p = k;
+    double size = std::abs(pivot_column[k]);
+    for (Index i = k + 1; i < m; ++i)
+      if (std::abs(pivot_column[i]) > size) {
+        size = std::abs(pivot_column[i]);
+        p = i;
+      }
+    if (!(size > 0)) return false;
+    smallest = std::min(smallest, size);
+    pivots[k] = static_cast<int>(p);
+    if (p != k) {
+      for (Index j = 0; j < kBlockColumns; ++j) std::swap(front[m * j + k], front[m * j + p]);
+      std::swap(row_ids[k], row_ids[p]);
+    }
+    const double pivot = pivot_column[k];
+    if (pivot < 0) sign = -sign;
+    for (Index i = k + 1; i < m; ++i) pivot_column[i] /= pivot;
+    for (Index j = k + 1; j < kBlockColumns; ++j)
+      subtract_multiple(front + m * j, pivot_column, k + 1, m);
+  }
+  for (Index j = kBlockColumns; j < width; ++j) {
+    double* const column = front + m * j;
+    for (Index k = 0; k < kBlockColumns; ++k)
+      if (const Index p = pivots[k]; p != k) std::swap(column[k], column[p]);
+    update_column<Rows>(column, front, m);
+  }
+  return true;
 }
 
 // target[i] = row_scale[i]·scaled[i] for i < rows.
@@ -364,43 +410,23 @@ void BlockLU::assemble_front(Step& s, const std::vector<MatX>* unscaled) {
   }
 }
 
-// Gaussian elimination with partial pivoting of the front's first 12 columns, then the other
-// columns one by one: the row swaps, L⁻¹ and the Schur update, in the order of a right-looking
-// elimination of the whole front (every entry sees the same operations in the same order). False
-// on a zero pivot.
+// The front's elimination (eliminate_front), with its rows fixed at compile time where they
+// are one of the usual counts.
 bool BlockLU::eliminate(Step& s, double& sign) {
   const Index m = s.rows, width = s.front.cols();
   double* const front = s.front.data();
-  for (Index k = 0; k < kBlockColumns; ++k) {
-    double* const pivot_column = front + m * k;
-    Index p = k;
-    double size = std::abs(pivot_column[k]);
-    for (Index i = k + 1; i < m; ++i)
-      if (std::abs(pivot_column[i]) > size) {
-        size = std::abs(pivot_column[i]);
-        p = i;
-      }
-    if (!(size > 0)) return false;
-    smallest_pivot_ = std::min(smallest_pivot_, size);
-    s.pivots[static_cast<std::size_t>(k)] = static_cast<int>(p);
-    if (p != k) {
-      for (Index j = 0; j < kBlockColumns; ++j) std::swap(front[m * j + k], front[m * j + p]);
-      std::swap(s.row_ids[static_cast<std::size_t>(k)], s.row_ids[static_cast<std::size_t>(p)]);
-    }
-    const double pivot = pivot_column[k];
-    if (pivot < 0) sign = -sign;
-    for (Index i = k + 1; i < m; ++i) pivot_column[i] /= pivot;
-    for (Index j = k + 1; j < kBlockColumns; ++j)
-      subtract_multiple(front + m * j, pivot_column, k + 1, m);
+  int* const pivots = s.pivots.data();
+  int* const row_ids = s.row_ids.data();
+  // The fronts of trees and of the robots' loops: a group's 12 or 18 rows (its link's or
+  // joint's block and the 6 rows left below), 24 or 30 or 36 where loops merge.
+  switch (m) {
+    case 12: return eliminate_front<12>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 18: return eliminate_front<18>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 24: return eliminate_front<24>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 30: return eliminate_front<30>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 36: return eliminate_front<36>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    default: return eliminate_front<0>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
   }
-  for (Index j = kBlockColumns; j < width; ++j) {
-    double* const column = front + m * j;
-    for (Index k = 0; k < kBlockColumns; ++k)
-      if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
-        std::swap(column[k], column[p]);
-    update_column(column, front, m);
-  }
-  return true;
 }
 
 void BlockLU::solve(MatX& b) const {
