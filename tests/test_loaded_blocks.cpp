@@ -652,8 +652,8 @@ TEST(LoadedRigidLinkBlock, WithLoadsAlongItMatchesDualsAndKeepsItsTangent) {
     const PointLinkLoad force_only{60 * random.direction(), Vec3::Zero(), random.uniform(0, 1)};
     const std::vector<LoadAlongLink> loads{DistributedLinkLoad{q_from, q_to}, point, force_only};
     const Link link{"rigid", "a", "b", RigidLink{}, {}};
-    const auto block =
-        with_loads_along(make_loaded_rigid_link(ends[0], ends[1], d0), link, from, from + d0, loads);
+    const auto block = with_loads_along(make_loaded_rigid_link(ends[0], ends[1], d0), link, from,
+                                        from + d0, loads);
     const double lambda = c.load_factor;
     const double length = d0.norm();
     const Rows expected = reference_rows(c.states, ends, [&](const std::vector<End<Dyn>>& e) {
@@ -664,11 +664,10 @@ TEST(LoadedRigidLinkBlock, WithLoadsAlongItMatchesDualsAndKeepsItsTangent) {
       // about x_i ∫ ξ·arm × q(ξ)·L dξ = L·arm × (q_from/6 + q_to/3).
       const V3<Dyn> resultant =
           (length * (q_from + q_to) / 2 + point.force + force_only.force).cast<Dyn>();
-      const V3<Dyn> moment =
-          arm.cross((length * (q_from / 6 + q_to / 3)).cast<Dyn>()) +
-          (point.position * arm).cross(point.force.cast<Dyn>()) +
-          (force_only.position * arm).cross(force_only.force.cast<Dyn>()) +
-          point.moment.cast<Dyn>();
+      const V3<Dyn> moment = arm.cross((length * (q_from / 6 + q_to / 3)).cast<Dyn>()) +
+                             (point.position * arm).cross(point.force.cast<Dyn>()) +
+                             (force_only.position * arm).cross(force_only.force.cast<Dyn>()) +
+                             point.moment.cast<Dyn>();
       std::vector<Dyn> rows;
       append<Dyn>(rows, DynVec(i.x + arm - j.x));
       append<Dyn>(rows, DynVec(log_of<Dyn>(i.rotation * j.rotation.transpose())));

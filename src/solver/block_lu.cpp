@@ -116,6 +116,21 @@ bool eliminate_front(double* __restrict front, Index m, Index width, int* __rest
   return true;
 }
 
+// z[0 … 12) = U⁻¹·z for the 12 × 12 upper triangle U of a front of `m` rows (`Rows` > 0: m at
+// compile time, the loops unrolled), column by column from the last, a zero skipping its column.
+template <int Rows>
+inline void back_substitute(double* __restrict z, const double* __restrict u, Index m) {
+  if constexpr (Rows > 0) m = Rows;
+#pragma GCC unroll 12
+  for (int k = kBlockColumns - 1; k >= 0; --k) {
+    const double v = z[k] / u[m * k + k];
+    z[k] = v;
+    if (v != 0)
+#pragma GCC unroll 12
+      for (int i = 0; i < k; ++i) z[i] -= v * u[m * k + i];
+  }
+}
+
 // target[i] = row_scale[i]·scaled[i] for i < rows.
 inline void scale_rows(double* __restrict target, const double* __restrict row_scale,
                        const double* __restrict scaled, int rows) {
@@ -450,7 +465,12 @@ void BlockLU::solve(MatX& b) const {
       for (Index k = 0; k < kBlockColumns; ++k)
         if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
           std::swap(target[k], target[p]);
-      update_column(target, s.front.data(), m);
+      switch (m) {
+        case 12: update_column<12>(target, s.front.data(), m); break;
+        case 18: update_column<18>(target, s.front.data(), m); break;
+        case 24: update_column<24>(target, s.front.data(), m); break;
+        default: update_column(target, s.front.data(), m);
+      }
     }
   }
   for (std::size_t index = steps_.size(); index-- > 0;) {
@@ -462,11 +482,11 @@ void BlockLU::solve(MatX& b) const {
       for (std::size_t k = 1; k < s.groups.size(); ++k)
         subtract_group_product(z, u + m * kBlockColumns * static_cast<Index>(k), m,
                                b.data() + n * c + kBlockColumns * s.groups[k]);
-      for (Index k = kBlockColumns; k-- > 0;) {
-        const double v = z[k] / u[m * k + k];
-        z[k] = v;
-        if (v != 0)
-          for (Index i = 0; i < k; ++i) z[i] -= v * u[m * k + i];
+      switch (m) {
+        case 12: back_substitute<12>(z, u, m); break;
+        case 18: back_substitute<18>(z, u, m); break;
+        case 24: back_substitute<24>(z, u, m); break;
+        default: back_substitute<0>(z, u, m);
       }
       std::copy(z, z + kBlockColumns, b.data() + n * c + kBlockColumns * s.group);
     }
