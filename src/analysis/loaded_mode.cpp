@@ -442,21 +442,41 @@ double LoadedTangent::norm_inf() const {
 namespace {
 
 // residual −= T·x over one block's rows: T (`Rows` × 12 per end, column-major, as the block
-// writes its tangent) times x's rows of each end, column by column of x, the block's rows of
-// the residual held in a local array. Fixed row counts (a link's or a two-end joint's 12, a
-// one-end connection's 6) unroll the rows; other blocks take `rows` at run time.
+// writes its tangent) times x's rows of each end, two columns of x at a time (each entry of T
+// read once for both), the block's rows of the residual held in local arrays; each column's
+// sums in the same order as alone. Fixed row counts (a link's or a two-end joint's 12, a
+// one-end connection's 6) unroll the rows.
 template <int Rows>
 void subtract_block_product(const MatX& t, const std::vector<int>& ends, const MatX& x,
                             Index first_row, MatX& residual) {
-  const Index rows = Rows > 0 ? Rows : t.rows();
-  std::array<double, Rows> sum;
-  for (Index c = 0; c < x.cols(); ++c) {
+  Index c = 0;
+  for (; c + 1 < x.cols(); c += 2) {
+    double* const r0 = residual.col(c).data() + first_row;
+    double* const r1 = residual.col(c + 1).data() + first_row;
+    std::array<double, Rows> sum0, sum1;
+    std::copy_n(r0, Rows, sum0.begin());
+    std::copy_n(r1, Rows, sum1.begin());
+    const double* entry = t.data();
+    for (int end : ends) {
+      const double* const u0 = x.col(c).data() + 12 * static_cast<Index>(end);
+      const double* const u1 = x.col(c + 1).data() + 12 * static_cast<Index>(end);
+      for (int p = 0; p < 12; ++p, entry += Rows)
+        for (int i = 0; i < Rows; ++i) {
+          sum0[i] -= entry[i] * u0[p];
+          sum1[i] -= entry[i] * u1[p];
+        }
+    }
+    std::copy_n(sum0.begin(), Rows, r0);
+    std::copy_n(sum1.begin(), Rows, r1);
+  }
+  for (; c < x.cols(); ++c) {
     double* const r = residual.col(c).data() + first_row;
+    std::array<double, Rows> sum;
     std::copy_n(r, Rows, sum.begin());
     const double* entry = t.data();
     for (int end : ends) {
       const double* const unknowns = x.col(c).data() + 12 * static_cast<Index>(end);
-      for (int p = 0; p < 12; ++p, entry += rows)
+      for (int p = 0; p < 12; ++p, entry += Rows)
         for (int i = 0; i < Rows; ++i) sum[i] -= entry[i] * unknowns[p];
     }
     std::copy_n(sum.begin(), Rows, r);

@@ -374,54 +374,61 @@ bool BlockLU::equilibrate(const std::vector<MatX>& values) {
 // an entry is (value·column scale)·row scale, as column_scaled_ and the row scales make it: the
 // same bits.
 void BlockLU::assemble_front(Step& s, const std::vector<MatX>* unscaled) {
+  // The usual parts: a block of 12 or 6 rows, or the 6 rows an earlier step left.
+  for (const Part& part : s.parts) switch (part.rows) {
+      case 6: assemble_part<6>(s, part, unscaled); break;
+      case 12: assemble_part<12>(s, part, unscaled); break;
+      default: assemble_part<0>(s, part, unscaled);
+    }
+}
+
+template <int PartRows>
+void BlockLU::assemble_part(Step& s, const Part& part, const std::vector<MatX>* unscaled) {
   const Index m = s.rows;
   double* const front = s.front.data();
-  for (const Part& part : s.parts) {
-    const int rows = part.rows;
-    for (int group : part.zero_groups) {
+  const int rows = PartRows > 0 ? PartRows : part.rows;
+  for (int group : part.zero_groups) {
+    double* target = front + m * kBlockColumns * group + part.first_row;
+    for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
+  }
+  if (part.source < 0 && unscaled) {
+    const std::size_t b = static_cast<std::size_t>(-part.source - 1);
+    const double* value = (*unscaled)[b].data();
+    const double* const row_scale = scaling_.row.data() + first_row_[b];
+    for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+      double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+      const double* const column_scale =
+          scaling_.column.data() + kBlockColumns * static_cast<Index>(layout_.groups[b][k]);
+      for (int c = 0; c < kBlockColumns; ++c, value += rows, target += m)
+        scale_both(target, row_scale, value, column_scale[c], rows);
+    }
+    for (int i = 0; i < rows; ++i)
+      s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
+  } else if (part.source < 0) {
+    const std::size_t b = static_cast<std::size_t>(-part.source - 1);
+    const double* scaled = column_scaled_[b].data();
+    const double* const row_scale = scaling_.row.data() + first_row_[b];
+    for (int group : part.column_groups) {
       double* target = front + m * kBlockColumns * group + part.first_row;
-      for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
+      for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
+        scale_rows(target, row_scale, scaled, rows);
     }
-    if (part.source < 0 && unscaled) {
-      const std::size_t b = static_cast<std::size_t>(-part.source - 1);
-      const double* value = (*unscaled)[b].data();
-      const double* const row_scale = scaling_.row.data() + first_row_[b];
-      for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
-        double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
-        const double* const column_scale =
-            scaling_.column.data() + kBlockColumns * static_cast<Index>(layout_.groups[b][k]);
-        for (int c = 0; c < kBlockColumns; ++c, value += rows, target += m)
-          scale_both(target, row_scale, value, column_scale[c], rows);
-      }
-      for (int i = 0; i < rows; ++i)
-        s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
-    } else if (part.source < 0) {
-      const std::size_t b = static_cast<std::size_t>(-part.source - 1);
-      const double* scaled = column_scaled_[b].data();
-      const double* const row_scale = scaling_.row.data() + first_row_[b];
-      for (int group : part.column_groups) {
-        double* target = front + m * kBlockColumns * group + part.first_row;
-        for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
-          scale_rows(target, row_scale, scaled, rows);
-      }
-      for (int i = 0; i < rows; ++i)
-        s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
-    } else {
-      const Step& earlier = steps_[static_cast<std::size_t>(part.source)];
-      const Index earlier_rows = earlier.rows;
-      for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
-        // The rows left below the earlier front's 12 pivot rows, in its group k + 1.
-        const double* left = earlier.front.data() +
-                             earlier_rows * kBlockColumns * static_cast<Index>(k + 1) +
-                             kBlockColumns;
-        double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
-        for (int c = 0; c < kBlockColumns; ++c, left += earlier_rows, target += m)
-          std::copy_n(left, rows, target);
-      }
-      for (int i = 0; i < rows; ++i)
-        s.row_ids[static_cast<std::size_t>(part.first_row + i)] =
-            earlier.row_ids[static_cast<std::size_t>(kBlockColumns + i)];
+    for (int i = 0; i < rows; ++i)
+      s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
+  } else {
+    const Step& earlier = steps_[static_cast<std::size_t>(part.source)];
+    const Index earlier_rows = earlier.rows;
+    for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+      // The rows left below the earlier front's 12 pivot rows, in its group k + 1.
+      const double* left = earlier.front.data() +
+                           earlier_rows * kBlockColumns * static_cast<Index>(k + 1) + kBlockColumns;
+      double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+      for (int c = 0; c < kBlockColumns; ++c, left += earlier_rows, target += m)
+        std::copy_n(left, rows, target);
     }
+    for (int i = 0; i < rows; ++i)
+      s.row_ids[static_cast<std::size_t>(part.first_row + i)] =
+          earlier.row_ids[static_cast<std::size_t>(kBlockColumns + i)];
   }
 }
 

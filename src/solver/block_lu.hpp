@@ -106,6 +106,9 @@ class BlockLU {
   // The front of step `s`: from column_scaled_ (`unscaled` null) or from the blocks' values
   // `unscaled` times the kept column scales, then times the row scales.
   void assemble_front(Step& s, const std::vector<MatX>* unscaled);
+  // One part of it (`PartRows` > 0: its rows, at compile time).
+  template <int PartRows>
+  void assemble_part(Step& s, const Part& part, const std::vector<MatX>* unscaled);
   // Factorises the front's first 12 columns and updates the rest; `sign` takes the pivots'
   // signs. False on a zero pivot.
   bool eliminate(Step& s, double& sign);
