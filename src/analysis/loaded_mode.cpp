@@ -426,15 +426,30 @@ void LoadedTangent::solve(MatX& b) const {
   b.array().colwise() *= scaling_->column.array();
 }
 
+namespace {
+
+// sum[i] += Σ_j |t(i, j)| over a block's tangent of `Rows` rows (0: t.rows() at run time).
+template <int Rows>
+void add_row_sizes(const MatX& t, double* __restrict sum) {
+  const Index rows = Rows > 0 ? Rows : t.rows();
+  const double* entry = t.data();
+  for (Index j = 0; j < t.cols(); ++j, entry += rows)
+    for (Index i = 0; i < rows; ++i) sum[i] += std::abs(entry[i]);
+}
+
+}  // namespace
+
 double LoadedTangent::norm_inf() const {
   VecX row_sum = VecX::Zero(n_);
   for (std::size_t k = 0; k < tangents_.size(); ++k) {
     const MatX& t = tangents_[k];
     double* const sum = row_sum.data() + first_row_[k];
     std::fill(sum, sum + t.rows(), 0.0);
-    const double* entry = t.data();
-    for (Index j = 0; j < t.cols(); ++j, entry += t.rows())
-      for (Index i = 0; i < t.rows(); ++i) sum[i] += std::abs(entry[i]);
+    switch (t.rows()) {
+      case 12: add_row_sizes<12>(t, sum); break;
+      case 6: add_row_sizes<6>(t, sum); break;
+      default: add_row_sizes<0>(t, sum);
+    }
   }
   return n_ > 0 ? row_sum.maxCoeff() : 0.0;
 }
