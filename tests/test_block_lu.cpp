@@ -296,6 +296,85 @@ TEST(BlockLU, SwappedAndSparseFrontsAsDenseLU) {
   }
 }
 
+// A kept scaling (another matrix's, a Newton tangent's reference) on a matrix whose entries
+// differ from that one's: solved as the dense LU solves it, backward stable, with its own
+// determinant's sign. And the kept scaling of the same matrix gives the fresh factors' bits.
+TEST(BlockLU, KeptScalingSolvesANeighbouringMatrix) {
+  std::mt19937 random(19);
+  std::uniform_real_distribution<double> change(-1e-2, 1e-2);
+  for (const BlockLayout& layout : {chain(4), three_legs()}) {
+    BlockLU lu;
+    lu.analyze(layout);
+    const std::vector<MatX> reference = random_values(layout, random);
+    ASSERT_EQ(lu.factorise(reference), BlockLU::Outcome::factorised);
+    const Index n = 12 * layout.group_count;
+    const MatX b = MatX::Random(n, 2);
+    MatX fresh_x = b;
+    lu.solve(fresh_x);
+    const double sign = lu.determinant_sign(), smallest = lu.smallest_pivot();
+    const BlockScaling kept = lu.scaling();
+    ASSERT_EQ(lu.factorise(reference, &kept), BlockLU::Outcome::factorised);
+    MatX kept_x = b;
+    lu.solve(kept_x);
+    EXPECT_EQ(kept_x, fresh_x);
+    EXPECT_EQ(lu.determinant_sign(), sign);
+    EXPECT_EQ(lu.smallest_pivot(), smallest);
+
+    for (int trial = 0; trial < 5; ++trial) {
+      std::vector<MatX> neighbour = reference;
+      for (MatX& v : neighbour)
+        for (Index k = 0; k < v.size(); ++k) v.data()[k] *= 1 + change(random);
+      // Some entries change sign: the determinant's sign is the neighbour's own.
+      if (trial % 2 == 1) neighbour[1] *= -1;
+      const MatX a = dense(layout, neighbour);
+      ASSERT_EQ(lu.factorise(neighbour, &kept), BlockLU::Outcome::factorised);
+      MatX x = b;
+      lu.solve(x);
+      const Eigen::PartialPivLU<MatX> dense_lu(a);
+      const MatX dense_solution = dense_lu.solve(b);
+      MatX exact = dense_solution;
+      for (int step = 0; step < 3; ++step) exact += dense_lu.solve(residual_extended(a, exact, b));
+      EXPECT_LE(relative_difference(x, exact),
+                std::max(kAgreement, kSameDigits * relative_difference(dense_solution, exact)));
+      EXPECT_LT(backward_error(a, x, b), kBackwardStable);
+      EXPECT_EQ(lu.determinant_sign(), dense_lu.determinant() > 0 ? 1.0 : -1.0);
+    }
+  }
+}
+
+// A kept scaling of another layout's size is not taken (the matrix is scaled afresh); a
+// non-finite entry is singular under a kept scaling too; a column shrunk far below what the
+// kept scaling was made for reads as a tiny pivot (the caller then scales afresh), which its own
+// scaling factorises.
+TEST(BlockLU, KeptScalingOfAnotherSizeOrStale) {
+  std::mt19937 random(23);
+  const BlockLayout layout = chain(3);
+  BlockLU lu;
+  lu.analyze(layout);
+  const std::vector<MatX> values = random_values(layout, random);
+  const MatX b = MatX::Random(12 * layout.group_count, 1);
+  ASSERT_EQ(lu.factorise(values), BlockLU::Outcome::factorised);
+  MatX fresh_x = b;
+  lu.solve(fresh_x);
+  const BlockScaling kept = lu.scaling();
+  const BlockScaling other_size{VecX::Ones(12), VecX::Ones(12)};
+  ASSERT_EQ(lu.factorise(values, &other_size), BlockLU::Outcome::factorised);
+  MatX x = b;
+  lu.solve(x);
+  EXPECT_EQ(x, fresh_x);
+
+  std::vector<MatX> not_finite = values;
+  not_finite[2](3, 5) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(lu.factorise(not_finite, &kept), BlockLU::Outcome::singular);
+
+  std::vector<MatX> shrunk = values;
+  for (std::size_t k = 0; k < layout.rows.size(); ++k)
+    for (std::size_t g = 0; g < layout.groups[k].size(); ++g)
+      if (layout.groups[k][g] == 2) shrunk[k].col(12 * static_cast<Index>(g) + 7) *= 1e-12;
+  EXPECT_EQ(lu.factorise(shrunk, &kept), BlockLU::Outcome::tiny_pivot);
+  EXPECT_EQ(lu.factorise(shrunk), BlockLU::Outcome::factorised);
+}
+
 std::vector<std::string> model_files() {
   std::vector<std::string> files;
   for (const char* folder : {"/examples", "/examples/robots", "/tests/data/frame3dd"}) {
@@ -398,6 +477,34 @@ TEST(BlockLU, UnloadedDeterminantSignAsKlu) {
     if (sign != 0) ++checked;
   }
   EXPECT_GE(checked, 10);
+}
+
+// The loaded tangent's determinant sign is the last Newton tangent's: asked for before one is
+// factorised (after `begin`, or after the unloaded tangent's, whose factors it does not keep),
+// it is a usage error, not a read of factors that are not there.
+TEST(LoadedTangent, DeterminantSignBeforeAFactorisationIsAUsageError) {
+  const std::string file = std::string(STIFFMSA_SOURCE_DIR) + "/examples/industrial-6axis.yaml";
+  const Model model = load_model(file);
+  const Topology topology = build_topology(model);
+  const auto blocks = make_loaded_blocks(
+      model, topology, std::vector<std::vector<LoadAlongLink>>(model.links.size()));
+  const std::vector<EndState> ends = unloaded_ends(model, topology);
+  const std::vector<Vec6> none(ends.size(), Vec6::Zero());
+  std::vector<SolverKind> kinds{SolverKind::automatic};
+  if (solver_available(SolverKind::klu)) kinds.push_back(SolverKind::klu);
+  for (SolverKind kind : kinds) {
+    LoadedTangent tangent(kind);
+    EXPECT_THROW(tangent.determinant_sign(), UsageError);
+    tangent.begin(blocks, topology.unknowns());
+    EXPECT_THROW(tangent.determinant_sign(), UsageError);
+    const double unloaded = tangent.unloaded_determinant_sign(LoadedInputs{ends, none, 0.0});
+    ASSERT_NE(unloaded, 0);
+    EXPECT_THROW(tangent.determinant_sign(), UsageError);
+    VecX residual;
+    ASSERT_TRUE(tangent.evaluate(LoadedInputs{ends, none, 0.0}, residual, true));
+    EXPECT_EQ(tangent.determinant_sign(), unloaded);
+    tangent.end();
+  }
 }
 
 }  // namespace

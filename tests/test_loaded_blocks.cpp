@@ -634,6 +634,54 @@ TEST(LoadedRigidLinkBlock, MatchesDualsOnRandomStates) {
   }
 }
 
+// A rigid link carrying loads along it (a load varying linearly along it, point forces and a
+// point moment), at points x_i + ξ·R_i·d0 that ride with it: the resultant enters the force
+// balance, its moment about x_i the moment balance. The loads add to the δθ_i columns of the
+// moment balance, which the rigid link zeroes at every evaluation: block_rows checks that a
+// tangent kept from another state comes out the same.
+TEST(LoadedRigidLinkBlock, WithLoadsAlongItMatchesDualsAndKeepsItsTangent) {
+  RandomStates random(26);
+  for (int trial = 0; trial < 4; ++trial) {
+    const Case c = random_case(random);
+    const Vec3 from = random.direction() * random.uniform(0.0, 2.0);
+    const Vec3 d0 = random.direction() * random.uniform(0.2, 1.5);
+    const std::vector<int> ends{trial % 5, (trial + 3) % 5};
+    const Vec3 q_from = 300 * random.direction(), q_to = 500 * random.direction();
+    const PointLinkLoad point{80 * random.direction(), 25 * random.direction(),
+                              random.uniform(0.0, 1.0)};
+    const PointLinkLoad force_only{60 * random.direction(), Vec3::Zero(), random.uniform(0, 1)};
+    const std::vector<LoadAlongLink> loads{DistributedLinkLoad{q_from, q_to}, point, force_only};
+    const Link link{"rigid", "a", "b", RigidLink{}, {}};
+    const auto block = with_loads_along(make_loaded_rigid_link(ends[0], ends[1], d0), link, from,
+                                        from + d0, loads);
+    const double lambda = c.load_factor;
+    const double length = d0.norm();
+    const Rows expected = reference_rows(c.states, ends, [&](const std::vector<End<Dyn>>& e) {
+      const End<Dyn>& i = e[0];
+      const End<Dyn>& j = e[1];
+      const V3<Dyn> arm = i.rotation * d0.cast<Dyn>();
+      // q(ξ) = (1 − ξ)·q_from + ξ·q_to per unit length: resultant L·(q_from + q_to)/2, moment
+      // about x_i ∫ ξ·arm × q(ξ)·L dξ = L·arm × (q_from/6 + q_to/3).
+      const V3<Dyn> resultant =
+          (length * (q_from + q_to) / 2 + point.force + force_only.force).cast<Dyn>();
+      const V3<Dyn> moment = arm.cross((length * (q_from / 6 + q_to / 3)).cast<Dyn>()) +
+                             (point.position * arm).cross(point.force.cast<Dyn>()) +
+                             (force_only.position * arm).cross(force_only.force.cast<Dyn>()) +
+                             point.moment.cast<Dyn>();
+      std::vector<Dyn> rows;
+      append<Dyn>(rows, DynVec(i.x + arm - j.x));
+      append<Dyn>(rows, DynVec(log_of<Dyn>(i.rotation * j.rotation.transpose())));
+      const V3<Dyn> force_j = j.wrench.head<3>();
+      append<Dyn>(rows, DynVec(i.wrench.head<3>() + force_j + Dyn(lambda) * resultant));
+      append<Dyn>(rows, DynVec(i.wrench.tail<3>() + j.wrench.tail<3>() +
+                               (j.x - i.x).cross(force_j) + Dyn(lambda) * moment));
+      return rows;
+    });
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    expect_agree(block_rows(*block, LoadedInputs{c.states, c.external, lambda}), expected);
+  }
+}
+
 TEST(LoadedFreeEndBlock, IsTheWrenchLessTheLoad) {
   RandomStates random(25);
   const Case c = random_case(random);

@@ -12,6 +12,7 @@
 #include "elements/beam_element.hpp"
 #include "elements/cad_link.hpp"
 #include "elements/finite_rotation.hpp"
+#include "stiffmsa/errors.hpp"
 
 namespace stiffmsa::detail {
 
@@ -289,6 +290,7 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
     solver_.reset();
     unloaded_solver_.reset();
     unloaded_scaling_.reset();
+    unloaded_reference_ = false;
     if (uses_block_lu())
       block_lu_.analyze(block_layout);
     else
@@ -298,6 +300,7 @@ void LoadedTangent::begin(const std::vector<std::unique_ptr<LoadedBlock>>& block
   if (solver_) solver_->renew_reference();
   scaling_.reset();
   newton_by_block_lu_ = false;
+  newton_factorised_ = false;
 }
 
 void LoadedTangent::record_pattern() {
@@ -367,15 +370,19 @@ void LoadedTangent::scale(const Equilibration& scaling) {
 bool LoadedTangent::evaluate(const LoadedInputs& in, VecX& residual, bool factorise) {
   assemble(in, residual, factorise);
   if (!factorise) return true;
+  // Every Newton tangent is scaled afresh: a kept scaling would change the pivots, and so the
+  // results' rounding, wherever a row's largest entry crosses a power of two between them.
   newton_by_block_lu_ =
       uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised;
+  newton_factorised_ = newton_by_block_lu_;
   if (newton_by_block_lu_) return true;
   // The tangents of a case's Newton iterations differ little: the first one's scaling serves
   // them all, as its pivot order does.
   scatter();
   if (!scaling_) scaling_ = equilibrate(matrix_);
   scale(*scaling_);
-  return solver_->factorize(scaled_);
+  newton_factorised_ = solver_->factorize(scaled_);
+  return newton_factorised_;
 }
 
 double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
@@ -384,8 +391,21 @@ double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
   // The block LU's factors are the Newton tangent's from here on no more: the next evaluate
   // factorises again before any solve.
   newton_by_block_lu_ = false;
-  if (uses_block_lu() && block_lu_.factorise(tangents_) == BlockLU::Outcome::factorised)
-    return block_lu_.determinant_sign();
+  newton_factorised_ = false;
+  if (uses_block_lu()) {
+    // The sign does not depend on the scaling (nor on the pivots): the last pose's unloaded
+    // scaling serves, afresh where it does not factorise, so that the tangent goes to the
+    // sparse path only as it would have.
+    using Outcome = BlockLU::Outcome;
+    Outcome outcome = Outcome::singular;
+    if (unloaded_reference_) outcome = block_lu_.factorise(tangents_, &unloaded_block_scaling_);
+    if (outcome != Outcome::factorised) {
+      outcome = block_lu_.factorise(tangents_);
+      unloaded_reference_ = outcome == Outcome::factorised;
+      if (unloaded_reference_) unloaded_block_scaling_ = block_lu_.scaling();
+    }
+    if (outcome == Outcome::factorised) return block_lu_.determinant_sign();
+  }
   scatter();
   unloaded_scaling_ = equilibrate(matrix_, unloaded_scaling_ ? &*unloaded_scaling_ : nullptr);
   scale(*unloaded_scaling_);
@@ -406,15 +426,30 @@ void LoadedTangent::solve(MatX& b) const {
   b.array().colwise() *= scaling_->column.array();
 }
 
+namespace {
+
+// sum[i] += Σ_j |t(i, j)| over a block's tangent of `Rows` rows (0: t.rows() at run time).
+template <int Rows>
+void add_row_sizes(const MatX& t, double* __restrict sum) {
+  const Index rows = Rows > 0 ? Rows : t.rows();
+  const double* entry = t.data();
+  for (Index j = 0; j < t.cols(); ++j, entry += rows)
+    for (Index i = 0; i < rows; ++i) sum[i] += std::abs(entry[i]);
+}
+
+}  // namespace
+
 double LoadedTangent::norm_inf() const {
   VecX row_sum = VecX::Zero(n_);
   for (std::size_t k = 0; k < tangents_.size(); ++k) {
     const MatX& t = tangents_[k];
     double* const sum = row_sum.data() + first_row_[k];
     std::fill(sum, sum + t.rows(), 0.0);
-    const double* entry = t.data();
-    for (Index j = 0; j < t.cols(); ++j, entry += t.rows())
-      for (Index i = 0; i < t.rows(); ++i) sum[i] += std::abs(entry[i]);
+    switch (t.rows()) {
+      case 12: add_row_sizes<12>(t, sum); break;
+      case 6: add_row_sizes<6>(t, sum); break;
+      default: add_row_sizes<0>(t, sum);
+    }
   }
   return n_ > 0 ? row_sum.maxCoeff() : 0.0;
 }
@@ -422,21 +457,41 @@ double LoadedTangent::norm_inf() const {
 namespace {
 
 // residual −= T·x over one block's rows: T (`Rows` × 12 per end, column-major, as the block
-// writes its tangent) times x's rows of each end, column by column of x, the block's rows of
-// the residual held in a local array. Fixed row counts (a link's or a two-end joint's 12, a
-// one-end connection's 6) unroll the rows; other blocks take `rows` at run time.
+// writes its tangent) times x's rows of each end, two columns of x at a time (each entry of T
+// read once for both), the block's rows of the residual held in local arrays; each column's
+// sums in the same order as alone. Fixed row counts (a link's or a two-end joint's 12, a
+// one-end connection's 6) unroll the rows.
 template <int Rows>
 void subtract_block_product(const MatX& t, const std::vector<int>& ends, const MatX& x,
                             Index first_row, MatX& residual) {
-  const Index rows = Rows > 0 ? Rows : t.rows();
-  std::array<double, Rows> sum;
-  for (Index c = 0; c < x.cols(); ++c) {
+  Index c = 0;
+  for (; c + 1 < x.cols(); c += 2) {
+    double* const r0 = residual.col(c).data() + first_row;
+    double* const r1 = residual.col(c + 1).data() + first_row;
+    std::array<double, Rows> sum0, sum1;
+    std::copy_n(r0, Rows, sum0.begin());
+    std::copy_n(r1, Rows, sum1.begin());
+    const double* entry = t.data();
+    for (int end : ends) {
+      const double* const u0 = x.col(c).data() + 12 * static_cast<Index>(end);
+      const double* const u1 = x.col(c + 1).data() + 12 * static_cast<Index>(end);
+      for (int p = 0; p < 12; ++p, entry += Rows)
+        for (int i = 0; i < Rows; ++i) {
+          sum0[i] -= entry[i] * u0[p];
+          sum1[i] -= entry[i] * u1[p];
+        }
+    }
+    std::copy_n(sum0.begin(), Rows, r0);
+    std::copy_n(sum1.begin(), Rows, r1);
+  }
+  for (; c < x.cols(); ++c) {
     double* const r = residual.col(c).data() + first_row;
+    std::array<double, Rows> sum;
     std::copy_n(r, Rows, sum.begin());
     const double* entry = t.data();
     for (int end : ends) {
       const double* const unknowns = x.col(c).data() + 12 * static_cast<Index>(end);
-      for (int p = 0; p < 12; ++p, entry += rows)
+      for (int p = 0; p < 12; ++p, entry += Rows)
         for (int i = 0; i < Rows; ++i) sum[i] -= entry[i] * unknowns[p];
     }
     std::copy_n(sum.begin(), Rows, r);
@@ -500,6 +555,10 @@ MatX LoadedTangent::solve_checked(const MatX& b, int refinement_steps,
 }
 
 double LoadedTangent::determinant_sign() const {
+  if (!newton_factorised_)
+    throw UsageError(
+        "the loaded tangent's determinant sign was asked for before a Newton tangent was "
+        "factorised (LoadedTangent::evaluate with factorisation)");
   return newton_by_block_lu_ ? block_lu_.determinant_sign() : solver_->determinant_sign();
 }
 

@@ -19,8 +19,10 @@ namespace stiffmsa::detail {
 // (docs/theory.md §15.7, §15.10): the layout of its blocks, their tangents, and the
 // factorisations of the last tangent.
 // - With the automatic solver, a block LU (solver/block_lu.hpp) whose elimination order is
-//   kept per layout; every tangent is equilibrated and pivoted afresh, so a case's results
-//   depend on its pose alone. Where it meets a tiny pivot, the tangent goes to the sparse path.
+//   kept per layout; every Newton tangent is equilibrated and pivoted afresh, so a case's
+//   results depend on its pose alone. The unloaded tangent, whose determinant's sign alone is
+//   used, takes the last unloaded tangent's scaling (afresh where that does not factorise).
+//   Where a fresh scaling meets a tiny pivot, the tangent goes to the sparse path.
 // - The sparse path (a solver the options name, or the block LU's fallback: KLU where built
 //   in): the Newton tangents of a load case: the first after `begin` is the reference,
 //   equilibrated from scratch and pivoted afresh; later ones take its scaling as it is and keep
@@ -55,6 +57,9 @@ class LoadedTangent {
   // largest, ‖b − J·x‖∞ / (‖J‖∞·‖x‖∞ + ‖b‖∞).
   MatX solve_checked(const MatX& b, int refinement_steps, double& relative_residual) const;
 
+  // The sign of the determinant of the last Newton tangent factorised by `evaluate`. Throws
+  // UsageError where the last `evaluate` factorised none (or failed to), or none since `begin`
+  // or the unloaded tangent's.
   double determinant_sign() const;
   Index first_row(std::size_t block) const { return first_row_[block]; }
   // The factorisation of the last Newton tangent: "block_lu", or the sparse solver's name.
@@ -86,6 +91,13 @@ class LoadedTangent {
   std::vector<MatX> tangents_;  // per block, as LoadedBlock::evaluate writes it
   BlockLU block_lu_;
   bool newton_by_block_lu_ = false;  // whether the last Newton tangent was factorised by it
+  // Whether the last evaluate factorised its tangent (by either path): what determinant_sign
+  // and the solves read.
+  bool newton_factorised_ = false;
+  // The block LU's scaling of the last unloaded tangent scaled afresh, which the next
+  // unloaded tangents take (kept per layout).
+  BlockScaling unloaded_block_scaling_;
+  bool unloaded_reference_ = false;
   // The sparse path. Where each entry of every block's tangent (in the order of the blocks,
   // each column-major) goes in the compressed matrix's values; empty until the path is taken.
   std::vector<int> positions_;

@@ -50,8 +50,11 @@ inline void subtract_multiple(double* __restrict y, const double* __restrict x, 
 
 // One column of a front after its row swaps: L⁻¹ on its 12 pivot rows, then the Schur update
 // of the rows below, each entry updated by the multipliers in their order (as column by column
-// with subtract_multiple). The 12 pivot rows' triangle has compile-time bounds, unrolled.
+// with subtract_multiple). The 12 pivot rows' triangle has compile-time bounds, unrolled; so
+// have the rows below where the front's `Rows` are known at compile time (0: `m` at run time).
+template <int Rows = 0>
 inline void update_column(double* __restrict column, const double* __restrict l, Index m) {
+  if constexpr (Rows > 0) m = Rows;
   int nonzero[kBlockColumns];
   int count = 0;
 #pragma GCC unroll 12
@@ -70,10 +73,75 @@ inline void update_column(double* __restrict column, const double* __restrict l,
   }
 }
 
+// Gaussian elimination with partial pivoting of a front's first 12 columns (`m` rows, `width`
+// columns, column-major), then the other columns one by one: the row swaps, L⁻¹ and the Schur
+// update, in the order of a right-looking elimination of the whole front (every entry sees the
+// same operations in the same order). `Rows` > 0: m = Rows at compile time, the loops' bounds
+// constant (the pivot steps unrolled), the same operations. `pivots` gets the row swaps
+// (LAPACK style), `row_ids` is swapped alike, `sign` takes the pivots' signs and `smallest` the
+// smallest pivot size. False on a zero pivot.
+template <int Rows>
+bool eliminate_front(double* __restrict front, Index m, Index width, int* __restrict pivots,
+                     int* __restrict row_ids, double& sign, double& smallest) {
+  if constexpr (Rows > 0) m = Rows;
+#pragma GCC unroll 12
+  for (Index k = 0; k < kBlockColumns; ++k) {
+    double* const pivot_column = front + m * k;
+    Index p = k;
+    double size = std::abs(pivot_column[k]);
+    for (Index i = k + 1; i < m; ++i)
+      if (std::abs(pivot_column[i]) > size) {
+        size = std::abs(pivot_column[i]);
+        p = i;
+      }
+    if (!(size > 0)) return false;
+    smallest = std::min(smallest, size);
+    pivots[k] = static_cast<int>(p);
+    if (p != k) {
+      for (Index j = 0; j < kBlockColumns; ++j) std::swap(front[m * j + k], front[m * j + p]);
+      std::swap(row_ids[k], row_ids[p]);
+    }
+    const double pivot = pivot_column[k];
+    if (pivot < 0) sign = -sign;
+    for (Index i = k + 1; i < m; ++i) pivot_column[i] /= pivot;
+    for (Index j = k + 1; j < kBlockColumns; ++j)
+      subtract_multiple(front + m * j, pivot_column, k + 1, m);
+  }
+  for (Index j = kBlockColumns; j < width; ++j) {
+    double* const column = front + m * j;
+    for (Index k = 0; k < kBlockColumns; ++k)
+      if (const Index p = pivots[k]; p != k) std::swap(column[k], column[p]);
+    update_column<Rows>(column, front, m);
+  }
+  return true;
+}
+
+// z[0 … 12) = U⁻¹·z for the 12 × 12 upper triangle U of a front of `m` rows (`Rows` > 0: m at
+// compile time, the loops unrolled), column by column from the last, a zero skipping its column.
+template <int Rows>
+inline void back_substitute(double* __restrict z, const double* __restrict u, Index m) {
+  if constexpr (Rows > 0) m = Rows;
+#pragma GCC unroll 12
+  for (int k = kBlockColumns - 1; k >= 0; --k) {
+    const double v = z[k] / u[m * k + k];
+    z[k] = v;
+    if (v != 0)
+#pragma GCC unroll 12
+      for (int i = 0; i < k; ++i) z[i] -= v * u[m * k + i];
+  }
+}
+
 // target[i] = row_scale[i]·scaled[i] for i < rows.
 inline void scale_rows(double* __restrict target, const double* __restrict row_scale,
                        const double* __restrict scaled, int rows) {
   for (int i = 0; i < rows; ++i) target[i] = row_scale[i] * scaled[i];
+}
+
+// target[i] = row_scale[i]·(value[i]·column_scale) for i < rows: the two scalings in the order
+// the fresh path applies them.
+inline void scale_both(double* __restrict target, const double* __restrict row_scale,
+                       const double* __restrict value, double column_scale, int rows) {
+  for (int i = 0; i < rows; ++i) target[i] = row_scale[i] * (value[i] * column_scale);
 }
 
 // z[0 … 12) −= U·x for a 12 × 12 block U of leading dimension `stride`, each row's sum formed
@@ -188,8 +256,8 @@ void BlockLU::analyze(const BlockLayout& layout) {
   for (const Step& s : steps_)
     for (int c = 0; c < kBlockColumns; ++c) column_order.push_back(kBlockColumns * s.group + c);
   column_parity_ = structurally_singular_ ? 1 : permutation_parity(column_order);
-  row_scale_.resize(n_);
-  column_scale_.resize(n_);
+  scaling_.row.resize(n_);
+  scaling_.column.resize(n_);
   rhs_.assign(steps_.size(), MatX());
   column_scaled_.resize(layout.rows.size());
   for (std::size_t b = 0; b < layout.rows.size(); ++b)
@@ -201,16 +269,27 @@ void BlockLU::analyze(const BlockLayout& layout) {
   block_scratch_.resize(kBlockColumns * static_cast<Index>(widest));
 }
 
-BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values) {
+BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values, const BlockScaling* kept) {
   sign_ = 0;
   smallest_pivot_ = 0;
   if (structurally_singular_) return Outcome::singular;
-  if (!equilibrate(values)) return Outcome::singular;
+  if (kept && kept->row.size() == n_ && kept->column.size() == n_) {
+    // Zero, unless some entry is infinite or NaN (0·∞ is NaN): a NaN would pass the pivot
+    // tests, as it compares false.
+    double probe = 0;
+    for (const MatX& v : values)
+      probe += (Eigen::Map<const VecX>(v.data(), v.size()).array() * 0.0).sum();
+    if (!(probe == 0)) return Outcome::singular;
+    if (kept != &scaling_) scaling_ = *kept;
+  } else {
+    kept = nullptr;
+    if (!equilibrate(values)) return Outcome::singular;
+  }
   double sign = column_parity_;
   smallest_pivot_ = std::numeric_limits<double>::infinity();
   row_order_.clear();
   for (Step& s : steps_) {
-    assemble_front(s);
+    assemble_front(s, kept ? &values : nullptr);
     if (!eliminate(s, sign)) return Outcome::singular;
     row_order_.insert(row_order_.end(), s.row_ids.begin(), s.row_ids.begin() + kBlockColumns);
   }
@@ -244,7 +323,7 @@ void scale_columns(const double* values, Index rows, Index columns, const double
 // some entry is not finite (a NaN would pass the pivot tests, as it compares false).
 bool BlockLU::equilibrate(const std::vector<MatX>& values) {
   const std::size_t blocks = layout_.rows.size();
-  column_scale_.setZero();
+  scaling_.column.setZero();
   // Zero, unless some entry is infinite or NaN (0·∞ is NaN).
   double probe = 0;
   double* const block_columns = block_scratch_.data();
@@ -261,18 +340,18 @@ bool BlockLU::equilibrate(const std::vector<MatX>& values) {
     const double* largest = block_columns;
     for (int group : layout_.groups[b])
       for (int c = 0; c < kBlockColumns; ++c, ++largest) {
-        double& column = column_scale_[kBlockColumns * group + c];
+        double& column = scaling_.column[kBlockColumns * group + c];
         column = std::max(column, *largest);
       }
   }
   if (!(probe == 0)) return false;
-  for (Index j = 0; j < n_; ++j) column_scale_[j] = power_of_two_scale(column_scale_[j]);
+  for (Index j = 0; j < n_; ++j) scaling_.column[j] = power_of_two_scale(scaling_.column[j]);
   for (std::size_t b = 0; b < blocks; ++b) {
     const MatX& v = values[b];
     double* scale = block_columns;
     for (int group : layout_.groups[b])
-      scale = std::copy_n(column_scale_.data() + kBlockColumns * group, kBlockColumns, scale);
-    double* const row_largest = row_scale_.data() + first_row_[b];
+      scale = std::copy_n(scaling_.column.data() + kBlockColumns * group, kBlockColumns, scale);
+    double* const row_largest = scaling_.row.data() + first_row_[b];
     double* const scaled = column_scaled_[b].data();
     switch (v.rows()) {
       case 12:
@@ -291,88 +370,90 @@ bool BlockLU::equilibrate(const std::vector<MatX>& values) {
 }
 
 // The front of step `s` from the scaled original blocks and the rows earlier steps left; every
-// entry written once (the zeros where a part's rows meet none of its columns).
-void BlockLU::assemble_front(Step& s) {
+// entry written once (the zeros where a part's rows meet none of its columns). From `unscaled`,
+// an entry is (value·column scale)·row scale, as column_scaled_ and the row scales make it: the
+// same bits.
+void BlockLU::assemble_front(Step& s, const std::vector<MatX>* unscaled) {
+  // The usual parts: a block of 12 or 6 rows, or the 6 rows an earlier step left.
+  for (const Part& part : s.parts) switch (part.rows) {
+      case 6: assemble_part<6>(s, part, unscaled); break;
+      case 12: assemble_part<12>(s, part, unscaled); break;
+      default: assemble_part<0>(s, part, unscaled);
+    }
+}
+
+template <int PartRows>
+void BlockLU::assemble_part(Step& s, const Part& part, const std::vector<MatX>* unscaled) {
   const Index m = s.rows;
   double* const front = s.front.data();
-  for (const Part& part : s.parts) {
-    const int rows = part.rows;
-    for (int group : part.zero_groups) {
+  const int rows = PartRows > 0 ? PartRows : part.rows;
+  for (int group : part.zero_groups) {
+    double* target = front + m * kBlockColumns * group + part.first_row;
+    for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
+  }
+  if (part.source < 0 && unscaled) {
+    const std::size_t b = static_cast<std::size_t>(-part.source - 1);
+    const double* value = (*unscaled)[b].data();
+    const double* const row_scale = scaling_.row.data() + first_row_[b];
+    for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+      double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+      const double* const column_scale =
+          scaling_.column.data() + kBlockColumns * static_cast<Index>(layout_.groups[b][k]);
+      for (int c = 0; c < kBlockColumns; ++c, value += rows, target += m)
+        scale_both(target, row_scale, value, column_scale[c], rows);
+    }
+    for (int i = 0; i < rows; ++i)
+      s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
+  } else if (part.source < 0) {
+    const std::size_t b = static_cast<std::size_t>(-part.source - 1);
+    const double* scaled = column_scaled_[b].data();
+    const double* const row_scale = scaling_.row.data() + first_row_[b];
+    for (int group : part.column_groups) {
       double* target = front + m * kBlockColumns * group + part.first_row;
-      for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
+      for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
+        scale_rows(target, row_scale, scaled, rows);
     }
-    if (part.source < 0) {
-      const std::size_t b = static_cast<std::size_t>(-part.source - 1);
-      const double* scaled = column_scaled_[b].data();
-      const double* const row_scale = row_scale_.data() + first_row_[b];
-      for (int group : part.column_groups) {
-        double* target = front + m * kBlockColumns * group + part.first_row;
-        for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
-          scale_rows(target, row_scale, scaled, rows);
-      }
-      for (int i = 0; i < rows; ++i)
-        s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
-    } else {
-      const Step& earlier = steps_[static_cast<std::size_t>(part.source)];
-      const Index earlier_rows = earlier.rows;
-      for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
-        // The rows left below the earlier front's 12 pivot rows, in its group k + 1.
-        const double* left = earlier.front.data() +
-                             earlier_rows * kBlockColumns * static_cast<Index>(k + 1) +
-                             kBlockColumns;
-        double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
-        for (int c = 0; c < kBlockColumns; ++c, left += earlier_rows, target += m)
-          std::copy_n(left, rows, target);
-      }
-      for (int i = 0; i < rows; ++i)
-        s.row_ids[static_cast<std::size_t>(part.first_row + i)] =
-            earlier.row_ids[static_cast<std::size_t>(kBlockColumns + i)];
+    for (int i = 0; i < rows; ++i)
+      s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
+  } else {
+    const Step& earlier = steps_[static_cast<std::size_t>(part.source)];
+    const Index earlier_rows = earlier.rows;
+    for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+      // The rows left below the earlier front's 12 pivot rows, in its group k + 1.
+      const double* left = earlier.front.data() +
+                           earlier_rows * kBlockColumns * static_cast<Index>(k + 1) + kBlockColumns;
+      double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+      for (int c = 0; c < kBlockColumns; ++c, left += earlier_rows, target += m)
+        std::copy_n(left, rows, target);
     }
+    for (int i = 0; i < rows; ++i)
+      s.row_ids[static_cast<std::size_t>(part.first_row + i)] =
+          earlier.row_ids[static_cast<std::size_t>(kBlockColumns + i)];
   }
 }
 
-// Gaussian elimination with partial pivoting of the front's first 12 columns, then the other
-// columns one by one: the row swaps, L⁻¹ and the Schur update, in the order of a right-looking
-// elimination of the whole front (every entry sees the same operations in the same order). False
-// on a zero pivot.
+// The front's elimination (eliminate_front), with its rows fixed at compile time where they
+// are one of the usual counts.
 bool BlockLU::eliminate(Step& s, double& sign) {
   const Index m = s.rows, width = s.front.cols();
   double* const front = s.front.data();
-  for (Index k = 0; k < kBlockColumns; ++k) {
-    double* const pivot_column = front + m * k;
-    Index p = k;
-    double size = std::abs(pivot_column[k]);
-    for (Index i = k + 1; i < m; ++i)
-      if (std::abs(pivot_column[i]) > size) {
-        size = std::abs(pivot_column[i]);
-        p = i;
-      }
-    if (!(size > 0)) return false;
-    smallest_pivot_ = std::min(smallest_pivot_, size);
-    s.pivots[static_cast<std::size_t>(k)] = static_cast<int>(p);
-    if (p != k) {
-      for (Index j = 0; j < kBlockColumns; ++j) std::swap(front[m * j + k], front[m * j + p]);
-      std::swap(s.row_ids[static_cast<std::size_t>(k)], s.row_ids[static_cast<std::size_t>(p)]);
-    }
-    const double pivot = pivot_column[k];
-    if (pivot < 0) sign = -sign;
-    for (Index i = k + 1; i < m; ++i) pivot_column[i] /= pivot;
-    for (Index j = k + 1; j < kBlockColumns; ++j)
-      subtract_multiple(front + m * j, pivot_column, k + 1, m);
+  int* const pivots = s.pivots.data();
+  int* const row_ids = s.row_ids.data();
+  // The fronts of trees and of the robots' loops: a group's 12 or 18 rows (its link's or
+  // joint's block and the 6 rows left below), 24 or 30 or 36 where loops merge.
+  switch (m) {
+    case 12: return eliminate_front<12>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 18: return eliminate_front<18>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 24: return eliminate_front<24>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 30: return eliminate_front<30>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    case 36: return eliminate_front<36>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
+    default: return eliminate_front<0>(front, m, width, pivots, row_ids, sign, smallest_pivot_);
   }
-  for (Index j = kBlockColumns; j < width; ++j) {
-    double* const column = front + m * j;
-    for (Index k = 0; k < kBlockColumns; ++k)
-      if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
-        std::swap(column[k], column[p]);
-    update_column(column, front, m);
-  }
-  return true;
 }
 
 void BlockLU::solve(MatX& b) const {
   const Index columns = b.cols(), n = b.rows();
-  b.array().colwise() *= row_scale_.array();
+  b.array().colwise() *= scaling_.row.array();
   for (std::size_t index = 0; index < steps_.size(); ++index) {
     const Step& s = steps_[index];
     const Index m = s.rows;
@@ -391,7 +472,12 @@ void BlockLU::solve(MatX& b) const {
       for (Index k = 0; k < kBlockColumns; ++k)
         if (const Index p = s.pivots[static_cast<std::size_t>(k)]; p != k)
           std::swap(target[k], target[p]);
-      update_column(target, s.front.data(), m);
+      switch (m) {
+        case 12: update_column<12>(target, s.front.data(), m); break;
+        case 18: update_column<18>(target, s.front.data(), m); break;
+        case 24: update_column<24>(target, s.front.data(), m); break;
+        default: update_column(target, s.front.data(), m);
+      }
     }
   }
   for (std::size_t index = steps_.size(); index-- > 0;) {
@@ -403,16 +489,16 @@ void BlockLU::solve(MatX& b) const {
       for (std::size_t k = 1; k < s.groups.size(); ++k)
         subtract_group_product(z, u + m * kBlockColumns * static_cast<Index>(k), m,
                                b.data() + n * c + kBlockColumns * s.groups[k]);
-      for (Index k = kBlockColumns; k-- > 0;) {
-        const double v = z[k] / u[m * k + k];
-        z[k] = v;
-        if (v != 0)
-          for (Index i = 0; i < k; ++i) z[i] -= v * u[m * k + i];
+      switch (m) {
+        case 12: back_substitute<12>(z, u, m); break;
+        case 18: back_substitute<18>(z, u, m); break;
+        case 24: back_substitute<24>(z, u, m); break;
+        default: back_substitute<0>(z, u, m);
       }
       std::copy(z, z + kBlockColumns, b.data() + n * c + kBlockColumns * s.group);
     }
   }
-  b.array().colwise() *= column_scale_.array();
+  b.array().colwise() *= scaling_.column.array();
 }
 
 }  // namespace stiffmsa::detail

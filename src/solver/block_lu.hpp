@@ -40,6 +40,11 @@ struct BlockLayout {
   std::vector<std::vector<int>> groups;
 };
 
+// Power-of-two scales of a matrix's rows and columns (12·group_count each).
+struct BlockScaling {
+  VecX row, column;
+};
+
 class BlockLU {
  public:
   enum class Outcome {
@@ -56,9 +61,16 @@ class BlockLU {
   const BlockLayout& layout() const { return layout_; }
 
   // Factorises the matrix with the given blocks' values (layout().rows[b] ×
-  // 12·layout().groups[b].size() each). Rows and columns are scaled by powers of two first
-  // (the largest entry of each column, then of each row, near 1).
-  Outcome factorise(const std::vector<MatX>& values);
+  // 12·layout().groups[b].size() each), scaled by powers of two: by its own scaling (the
+  // largest entry of each column, then of each row, near 1), or by `kept`, another matrix's
+  // (`scaling()` of an earlier factorisation of this layout), for a matrix of the same family
+  // whose entries differ little from that one's. A power-of-two scaling rounds nothing: it
+  // decides which rows partial pivoting compares as larger and what a pivot's size is read
+  // against, so a stale one can only make a tiny pivot of a fair one (the caller then scales
+  // afresh) or pivot less well.
+  Outcome factorise(const std::vector<MatX>& values, const BlockScaling* kept = nullptr);
+  // The scaling of the last factorisation.
+  const BlockScaling& scaling() const { return scaling_; }
 
   // Solves the last factorised matrix for the columns of b, in place.
   void solve(MatX& b) const;
@@ -88,10 +100,15 @@ class BlockLU {
     std::vector<int> row_ids;  // the matrix's row of each front row, after the swaps
   };
 
-  // The two-pass scaling of `values` into row_scale_ and column_scale_, the column-scaled
+  // The two-pass scaling of `values` into scaling_, the column-scaled
   // values into column_scaled_; false where an entry is not finite.
   bool equilibrate(const std::vector<MatX>& values);
-  void assemble_front(Step& s);
+  // The front of step `s`: from column_scaled_ (`unscaled` null) or from the blocks' values
+  // `unscaled` times the kept column scales, then times the row scales.
+  void assemble_front(Step& s, const std::vector<MatX>* unscaled);
+  // One part of it (`PartRows` > 0: its rows, at compile time).
+  template <int PartRows>
+  void assemble_part(Step& s, const Part& part, const std::vector<MatX>* unscaled);
   // Factorises the front's first 12 columns and updates the rest; `sign` takes the pivots'
   // signs. False on a zero pivot.
   bool eliminate(Step& s, double& sign);
@@ -102,7 +119,7 @@ class BlockLU {
   std::vector<int> first_row_;  // per block
   std::vector<Step> steps_;
   int column_parity_ = 1;  // of the column order of the elimination
-  VecX row_scale_, column_scale_;
+  BlockScaling scaling_;
   std::vector<MatX> column_scaled_;  // per block, its values times the column scales
   VecX block_scratch_;               // one block's columns' sizes or scales
   double sign_ = 0;
