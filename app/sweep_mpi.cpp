@@ -1,6 +1,5 @@
 #include "sweep_mpi.hpp"
 
-#include <mpi.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -19,6 +18,8 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "module_loader.hpp"
+#include "mpi_module.hpp"
 #include "summary.hpp"
 
 namespace stiffmsa::cli {
@@ -26,6 +27,7 @@ namespace stiffmsa::cli {
 namespace {
 
 constexpr int kRoot = 0;
+constexpr int kAnyRank = -1;   // a probe's source: MPI_ANY_SOURCE
 constexpr int kTagAssign = 1;  // root -> rank: a block index, or kStop
 constexpr int kTagBlock = 2;   // rank -> root: a solved block
 constexpr std::uint64_t kStop = UINT64_MAX;
@@ -82,22 +84,26 @@ SweepBlock unpack(const std::string& bytes, const std::vector<SweepColumn>& colu
 
 // ---- MPI ------------------------------------------------------------------------------------
 
-void check(int code, const char* what) {
-  if (code != MPI_SUCCESS) throw Error(std::string("MPI failed: ") + what);
+void check(bool succeeded, const char* what) {
+  if (!succeeded) throw Error(std::string("MPI failed: ") + what);
+}
+
+// The MPI module, loaded at the first call (by a run that an MPI launcher started).
+const MpiModule& mpi() {
+  using Entry = const MpiModule* (*)();
+  static const MpiModule& module = *reinterpret_cast<Entry>(
+      module_entry(kMpiModuleFile, kMpiModuleEntry, "the MPI module (mpirun ... sweep)"))();
+  return module;
 }
 
 // MPI from the start of the command to its end; MPI_Finalize on every way out but an abort.
 class MpiSession {
  public:
   MpiSession() {
-    int provided = 0;
     // Only the main thread calls MPI; oneTBB's threads solve.
-    if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
-      throw Error("MPI could not start (MPI_Init_thread failed)");
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    if (!mpi().start(&rank_, &size_)) throw Error("MPI could not start (MPI_Init_thread failed)");
   }
-  ~MpiSession() { MPI_Finalize(); }
+  ~MpiSession() { mpi().finish(); }
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
   int rank() const { return rank_; }
@@ -130,8 +136,7 @@ bool dies_after_first_block(int rank) {
 }
 
 void send_assignment(int rank, std::uint64_t index) {
-  check(MPI_Send(&index, 1, MPI_UINT64_T, rank, kTagAssign, MPI_COMM_WORLD),
-        "sending a block to a rank");
+  check(mpi().send_index(index, rank, kTagAssign), "sending a block to a rank");
 }
 
 // A rank other than the root: solves the blocks it is given and sends them back.
@@ -139,24 +144,22 @@ void serve(const SweepPlan& plan, const BlockShape& shape, int rank) {
   std::deque<std::uint64_t> assigned;
   const auto receive = [&] {
     std::uint64_t index = 0;
-    check(MPI_Recv(&index, 1, MPI_UINT64_T, kRoot, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-          "receiving a block");
+    check(mpi().receive_index(&index, kRoot, kTagAssign), "receiving a block");
     if (index == kStop) return false;
     assigned.push_back(index);
     return true;
   };
   for (bool first = true;; first = false) {
     if (assigned.empty() && !receive()) return;
-    int waiting = 1;
+    bool waiting = true;
     while (waiting) {
-      check(MPI_Iprobe(kRoot, kTagAssign, MPI_COMM_WORLD, &waiting, MPI_STATUS_IGNORE), "probing");
+      check(mpi().probe(kRoot, kTagAssign, &waiting, nullptr, nullptr), "probing");
       if (waiting && !receive()) return;
     }
     const std::uint64_t index = assigned.front();
     assigned.pop_front();
     const std::string bytes = pack(solve_block(plan, shape, index));
-    check(MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, kRoot, kTagBlock,
-                   MPI_COMM_WORLD),
+    check(mpi().send_bytes(bytes.data(), static_cast<int>(bytes.size()), kRoot, kTagBlock),
           "sending a solved block");
     if (first && dies_after_first_block(rank)) raise(SIGKILL);
   }
@@ -274,20 +277,17 @@ RootRun lead(const SweepPlan& plan, SweepOutput& output, int ranks, bool quiet) 
   hand_out();
   while (next_to_write < blocks) {
     bool idle = true;
-    int flag = 0;
-    MPI_Status status;
-    check(MPI_Iprobe(MPI_ANY_SOURCE, kTagBlock, MPI_COMM_WORLD, &flag, &status), "probing");
+    bool waiting_block = false;
+    int source = 0, bytes = 0;
+    check(mpi().probe(kAnyRank, kTagBlock, &waiting_block, &source, &bytes), "probing");
     const double cpu_before = thread_cpu_seconds();
-    if (flag) {
-      int bytes = 0;
-      MPI_Get_count(&status, MPI_BYTE, &bytes);
+    if (waiting_block) {
       std::string buffer(static_cast<std::size_t>(bytes), '\0');
-      check(MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagBlock, MPI_COMM_WORLD,
-                     MPI_STATUS_IGNORE),
+      check(mpi().receive_bytes(buffer.data(), bytes, source, kTagBlock),
             "receiving a solved block");
       SweepBlock block = unpack(buffer, output.summary().columns());
       const std::uint64_t index = (block.rows.first_pose - plan.first) / plan.block;
-      arrived(status.MPI_SOURCE, index, std::move(block));
+      arrived(source, index, std::move(block));
       idle = false;
     }
     while (auto solved = local.take()) {
@@ -335,7 +335,7 @@ bool started_by_mpi_launcher() {
 }
 
 int run_sweep_over_ranks(const SweepCommand& command) {
-  MpiSession mpi;
+  MpiSession session;
   // Every rank checks the command and reads the model; if any fails, all stop before solving,
   // and the error is printed once (by the root, or else by the ranks that failed).
   std::unique_ptr<PreparedSweep> prepared;
@@ -349,7 +349,7 @@ int run_sweep_over_ranks(const SweepCommand& command) {
           "--view with MPI ranks: the map holds every pose's result in one process; run the sweep "
           "without mpirun for it");
     prepared = prepare_sweep(command);
-    if (mpi.rank() == kRoot) {
+    if (session.rank() == kRoot) {
       output = std::make_unique<SweepOutput>(prepared->description, prepared->files,
                                              prepared->plan.first,
                                              prepared->plan.end - prepared->plan.first);
@@ -364,39 +364,39 @@ int run_sweep_over_ranks(const SweepCommand& command) {
     code = exit_invalid_input;
   }
   int worst_code = code, root_code = code;
-  MPI_Allreduce(&code, &worst_code, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Bcast(&root_code, 1, MPI_INT, kRoot, MPI_COMM_WORLD);
+  mpi().largest_int(code, &worst_code);
+  mpi().broadcast_int(&root_code, kRoot);
   if (worst_code != exit_success) {
     // The message is out before any rank leaves: mpirun stops the job at the first rank that
     // exits non-zero, which could cut off the reporting rank mid-way.
     int reported = worst_code;
-    if (failure && (mpi.rank() == kRoot || root_code == exit_success)) {
+    if (failure && (session.rank() == kRoot || root_code == exit_success)) {
       try {
         std::rethrow_exception(failure);
       } catch (...) {
         reported = report_current_exception();
       }
     }
-    MPI_Barrier(MPI_COMM_WORLD);
+    mpi().barrier();
     return reported;
   }
 
   try {
-    if (mpi.rank() != kRoot) {
-      serve(prepared->plan, shape, mpi.rank());
+    if (session.rank() != kRoot) {
+      serve(prepared->plan, shape, session.rank());
       return exit_success;
     }
     const auto temporary = output->temporary_files();
     for (std::size_t k = 0; k < temporary.size() && k < std::size(temporary_files); ++k)
       std::snprintf(temporary_files[k], sizeof temporary_files[k], "%s", temporary[k].c_str());
     signal(SIGTERM, on_termination);
-    const RootRun run = lead(prepared->plan, *output, mpi.size(), command.quiet);
+    const RootRun run = lead(prepared->plan, *output, session.size(), command.quiet);
     auto extra = prepared->extra_summary.empty() ? nlohmann::json::object()
                                                  : nlohmann::json::parse(prepared->extra_summary);
-    extra["ranks"] = mpi.size();
+    extra["ranks"] = session.size();
     const auto files = output->finish(run.threads, run.seconds, extra.dump());
     print_sweep_summary(std::cout, prepared->description, output->summary(), run.threads,
-                        run.seconds, files, static_cast<std::size_t>(mpi.size()));
+                        run.seconds, files, static_cast<std::size_t>(session.size()));
     // What bounds the run on many ranks: every row passes through the root.
     const std::size_t poses = prepared->plan.end - prepared->plan.first;
     char line[160];
@@ -408,9 +408,9 @@ int run_sweep_over_ranks(const SweepCommand& command) {
     return exit_success;
   } catch (const std::exception& e) {
     // The other ranks wait for this one: only an abort ends them.
-    print_error(std::cerr, "rank " + std::to_string(mpi.rank()) + ": " + e.what());
+    print_error(std::cerr, "rank " + std::to_string(session.rank()) + ": " + e.what());
     output.reset();  // the root's unfinished files go; an abort runs no destructor
-    MPI_Abort(MPI_COMM_WORLD, exit_invalid_input);
+    mpi().abort(exit_invalid_input);
   }
   return exit_invalid_input;
 }

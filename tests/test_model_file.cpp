@@ -435,7 +435,7 @@ end_effectors:
   EXPECT_EQ(m.supports[0].at, "x-1");
   EXPECT_EQ(m.loads[0].wrench(2), -10.0);
   EXPECT_EQ(m.end_effectors[0].at, "A");
-  EXPECT_EQ(m.links[0].origin.key_locations.count("x-colour"), 0u);
+  EXPECT_EQ(m.links[0].origin.find("x-colour"), nullptr);
 }
 
 TEST(ModelFile, ReadsNumbersInEveryYamlSpelling) {

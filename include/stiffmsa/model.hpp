@@ -16,13 +16,25 @@
 
 namespace stiffmsa {
 
-// Where an entity and each of its keys came from in a model file (empty for API models).
+// Where one key of an entity sits in the entity's file.
+struct KeyLocation {
+  std::string key;  // e.g. "axis", "section.D", "links[1]"
+  int line = 0;     // 1-based
+  int column = 0;   // 1-based
+};
+
+// Where an entity and each of its keys came from in a model file (empty for API models). The
+// keys are in the file of `location`: one file name per entity, not one per key.
 struct Origin {
-  SourceLocation location;                              // the entity's own mapping
-  std::map<std::string, SourceLocation> key_locations;  // per key, e.g. "axis"
+  SourceLocation location;                 // the entity's own mapping
+  std::vector<KeyLocation> key_locations;  // in the order read; a later entry of a key wins
 
   // The location of `key` if recorded, else the entity's own location.
-  const SourceLocation& of(const std::string& key) const;
+  SourceLocation of(std::string_view key) const;
+  // The entry of `key`, or null.
+  const KeyLocation* find(std::string_view key) const;
+  // Records `key` at `at` (whose file is the entity's).
+  void record(std::string key, const SourceLocation& at);
 };
 
 struct Point {

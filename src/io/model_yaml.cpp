@@ -572,14 +572,15 @@ std::string Loader::path_of(PathId id) const {
 
 void Loader::record(Origin& origin, const std::vector<Entry>& entries,
                     const std::string& prefix) const {
-  for (const auto& e : entries) origin.key_locations[prefix + e.key] = located(e.key_at);
+  origin.key_locations.reserve(origin.key_locations.size() + entries.size());
+  for (const auto& e : entries)
+    origin.key_locations.push_back({prefix + e.key, e.key_at.line, e.key_at.column});
 }
 
 void Loader::record_items(Origin& origin, const std::string& key, const Value& list) const {
   if (!list.node->is_sequence()) return;
   for (std::size_t i = 0; i < list.node->size(); ++i)
-    origin.key_locations[key + "[" + std::to_string(i) + "]"] =
-        located(where(*list.node->items()[i]));
+    origin.record(key + "[" + std::to_string(i) + "]", located(where(*list.node->items()[i])));
 }
 
 // ---- scalars, vectors and matrices -------------------------------------------------------
@@ -1119,8 +1120,10 @@ T Loader::named_or_inline(const Entry& entry, const std::map<std::string, Defini
                           detail::suggestion(*name, names, plural + " are"));
     return T{};
   }
-  for (const auto& [key, at] : found->second.origin.key_locations)
-    link.origin.key_locations[entry.key + "." + key] = at;
+  const auto& definition = found->second.origin.key_locations;
+  link.origin.key_locations.reserve(link.origin.key_locations.size() + definition.size());
+  for (const auto& at : definition)
+    link.origin.key_locations.push_back({entry.key + "." + at.key, at.line, at.column});
   if (!found->second.bindings.empty()) {
     const auto bound = moved(found->second.bindings, plural + "." + *name, {path_of(entry.value)});
     bindings_.insert(bindings_.end(), bound.begin(), bound.end());
@@ -1188,7 +1191,7 @@ std::vector<std::string> Loader::read_site_links(const std::vector<Entry>& e, co
   if (links) return read_link_names(*links, origin);
   if (!link) return {};
   aliases_.emplace(path_of(v) + ".links[0]", path_of(link->value));
-  origin.key_locations["links[0]"] = located(link->key_at);
+  origin.record("links[0]", located(link->key_at));
   return {text(link->value).value_or("")};
 }
 
@@ -1757,14 +1760,14 @@ std::optional<detail::JointSpring> Loader::read_joint_spring(const Value& v) {
     const auto stiffness = number(k->value);
     if (!stiffness) return std::nullopt;
     spring.stiffness = *stiffness;
-    spring.origin.key_locations["stiffness"] = located(k->value.at);
+    spring.origin.record("stiffness", located(k->value.at));
     return spring;
   }
   const std::size_t first = bindings_.size();
   const auto compliance = square_matrix<6>(c->value);
   transformed_since(first);  // the model's spring is its inverse
   if (!compliance) return std::nullopt;
-  spring.origin.key_locations["stiffness"] = located(c->value.at);
+  spring.origin.record("stiffness", located(c->value.at));
   const double scale = compliance->cwiseAbs().maxCoeff();
   const bool symmetric = (*compliance - compliance->transpose()).cwiseAbs().maxCoeff() <=
                          kComplianceSymmetryTolerance * scale;

@@ -38,7 +38,10 @@ class ResultWriter {
     }
     const std::size_t start = text.size();
     append_shortest_text(text, value);
-    if (text.find_first_of(".e", start) == std::string::npos) text += ".0";
+    // A scan of the few characters written: find_first_of searches its set once per character.
+    if (std::none_of(text.begin() + static_cast<std::ptrdiff_t>(start), text.end(),
+                     [](char c) { return c == '.' || c == 'e'; }))
+      text += ".0";
   }
   void integer(long value) { text += std::to_string(value); }
   void boolean(bool value) { text += value ? "true" : "false"; }

@@ -74,9 +74,19 @@ NameError::NameError(std::string kind, std::string name, const std::vector<std::
       name_(std::move(name)),
       suggestion_(detail::nearest(name_, candidates)) {}
 
-const SourceLocation& Origin::of(const std::string& key) const {
-  auto it = key_locations.find(key);
-  return it != key_locations.end() ? it->second : location;
+const KeyLocation* Origin::find(std::string_view key) const {
+  for (auto it = key_locations.rbegin(); it != key_locations.rend(); ++it)
+    if (it->key == key) return &*it;
+  return nullptr;
+}
+
+SourceLocation Origin::of(std::string_view key) const {
+  const KeyLocation* found = find(key);
+  return found != nullptr ? SourceLocation{location.file, found->line, found->column} : location;
+}
+
+void Origin::record(std::string key, const SourceLocation& at) {
+  key_locations.push_back({std::move(key), at.line, at.column});
 }
 
 Kinematics Kinematics::rigid() { return {}; }

@@ -41,8 +41,8 @@ std::string end_name(const Model& model, const detail::LinkEndRef& end) {
 // "section"), else of the entity itself.
 SourceLocation locate(const Origin& origin, std::string key) {
   while (!key.empty()) {
-    if (auto it = origin.key_locations.find(key); it != origin.key_locations.end())
-      return it->second;
+    if (const KeyLocation* found = origin.find(key); found != nullptr)
+      return {origin.location.file, found->line, found->column};
     const auto cut = key.find_last_of(".[");
     if (cut == std::string::npos) break;
     key.erase(cut);
