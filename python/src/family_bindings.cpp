@@ -80,15 +80,7 @@ ModelFamily family_from_function(py::object function, std::vector<std::string> n
 std::vector<double> member_values(const ModelFamily& family,
                                   const std::map<std::string, double>& values) {
   std::vector<double> all = family.default_values();
-  for (const auto& [name, value] : values) {
-    const auto index = family.find_parameter(name);
-    if (!index) {
-      std::vector<std::string> names;
-      for (const auto& p : family.parameters()) names.push_back(p.name);
-      throw NameError("parameter", name, names);
-    }
-    all[*index] = value;
-  }
+  for (const auto& [name, value] : values) all[family.parameter_index(name)] = value;
   return all;
 }
 

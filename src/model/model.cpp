@@ -74,6 +74,13 @@ NameError::NameError(std::string kind, std::string name, const std::vector<std::
       name_(std::move(name)),
       suggestion_(detail::nearest(name_, candidates)) {}
 
+NameError::NameError(std::string kind, std::string name, const std::vector<std::string>& candidates,
+                     std::string message)
+    : UsageError(std::move(message)),
+      kind_(std::move(kind)),
+      name_(std::move(name)),
+      suggestion_(detail::nearest(name_, candidates)) {}
+
 const SourceLocation& Origin::of(const std::string& key) const {
   auto it = key_locations.find(key);
   return it != key_locations.end() ? it->second : location;
