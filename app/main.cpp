@@ -41,6 +41,7 @@ struct SolveCommand {
   std::vector<std::string> settings;  // parametric models: "name=value"
   std::string direction;              // "x,y,z": also the stiffness along it
   bool critical_load = false;         // --critical-load
+  bool no_critical_load = false;      // --no-critical-load
   LoadLimits limits;
   bool loaded = false;  // the loaded mode, whatever the model's `analysis:` says
 };
@@ -102,8 +103,9 @@ int run_solve(const SolveCommand& command) {
         load_model_family(command.model_file, command.limits, parse_settings(command.settings));
     return family.build(family.default_values());
   }());
-  // Without --critical-load, the result file's contract decides (SolveOptions::critical_load).
+  // Without either flag, the result file's contract decides (SolveOptions::critical_load).
   if (command.critical_load) options.critical_load = true;
+  if (command.no_critical_load) options.critical_load = false;
   const Result result = solve(model, options);
   // Written before the summary, so that a summary on screen means the file is there too.
   if (json_file) write_result_file(result, *json_file);
@@ -212,10 +214,16 @@ int run(int argc, char** argv) {
   solve_app->add_option(
       "--direction", solve_command.direction,
       "Also the stiffness along this direction, X,Y,Z in global axes (any length), e.g. 0,0,1");
-  solve_app->add_flag("--critical-load", solve_command.critical_load,
-                      "Also the critical load factor: the multiple of the loads at which the "
-                      "structure buckles (always given for load cases, loads along links, "
-                      "gravity and the loaded mode)");
+  CLI::Option* critical_load =
+      solve_app->add_flag("--critical-load", solve_command.critical_load,
+                          "Also the critical load factor: the multiple of the loads at which the "
+                          "structure buckles (always given for load cases, loads along links, "
+                          "gravity, settlements and the loaded mode)");
+  solve_app
+      ->add_flag("--no-critical-load", solve_command.no_critical_load,
+                 "Never the critical load factor, also where it is given unasked: saves its "
+                 "cost; every other number is the same")
+      ->excludes(critical_load);
   add_limit_options(*solve_app, solve_command.limits);
   solve_app->add_flag("--loaded", solve_command.loaded,
                       "The loaded mode: equilibrium in the deformed geometry and the tangent "

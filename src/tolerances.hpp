@@ -110,8 +110,9 @@ inline constexpr double kInverseIterationShift = 1e-14;
 inline constexpr double kQrSplit = std::numeric_limits<double>::epsilon();
 inline constexpr int kMostQrSweepsPerEigenvalue = 40;
 inline constexpr int kQrExceptionalShiftEvery = 10;
-// The exceptional shifts' sum, in units of the trailing subdiagonal's size (their product is
-// that size squared): a pair unlike any the iteration was cycling on.
+// The exceptional shifts, each less the trailing diagonal entry: their sum in units of the
+// trailing subdiagonal's size (their product is that size squared), a complex pair unlike any
+// the iteration was cycling on (LAPACK's dlahqr: 0.75·size ± 0.66i·size).
 inline constexpr double kQrExceptionalShiftSum = 1.5;
 // The parts of a buckling mode that a description names: those moving at least this fraction
 // of the most moving one.

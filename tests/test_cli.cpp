@@ -413,6 +413,36 @@ std::size_t line_count(const std::string& text) {
 
 }  // namespace
 
+// A model with load cases gets its critical load factors unasked; --no-critical-load drops them
+// from the summary and the result file and changes no other number; with --critical-load it is
+// a usage error.
+TEST_F(Cli, NoCriticalLoadDropsTheFactorGivenUnasked) {
+  const std::string model =
+      shell_quoted(std::string(STIFFMSA_SOURCE_DIR) + "/examples/portal-frame-load-cases.yaml");
+  const fs::path usual = folder_ / "usual.json", without = folder_ / "without.json";
+  const CliRun unasked = run("solve " + model + " --json " + shell_quoted(usual.string()));
+  ASSERT_EQ(unasked.exit_code, exit_success) << unasked.err;
+  EXPECT_TRUE(contains(unasked.out, "critical load factor")) << unasked.out;
+  const CliRun never =
+      run("solve " + model + " --no-critical-load --json " + shell_quoted(without.string()));
+  ASSERT_EQ(never.exit_code, exit_success) << never.err;
+  EXPECT_FALSE(contains(never.out, "ritical load factor")) << never.out;
+  const auto without_factor_lines = [](const std::string& text) {
+    std::istringstream in(text);
+    std::string line, kept;
+    while (std::getline(in, line))
+      if (!contains(line, "\"critical_load_")) kept += line + '\n';
+    return kept;
+  };
+  const std::string usual_text = read_file(usual), without_text = read_file(without);
+  EXPECT_TRUE(contains(usual_text, "\"critical_load_factor\""));
+  EXPECT_FALSE(contains(without_text, "\"critical_load_"));
+  EXPECT_EQ(without_text, without_factor_lines(usual_text));
+  const CliRun both = run("solve " + model + " --critical-load --no-critical-load");
+  EXPECT_EQ(both.exit_code, exit_invalid_input);
+  EXPECT_TRUE(contains(both.err, "excludes")) << both.err;
+}
+
 TEST_F(Cli, SweepWritesRowsSummaryAndMaps) {
   const fs::path csv = folder_ / "map.csv";
   const CliRun r = run("sweep " + example_path("planar-3rpr-parametric.yaml") +

@@ -625,7 +625,7 @@ void expect_same_spectrum(const MatX& a, double relative) {
     });
     return values;
   };
-  const auto ours = sorted(detail::eigenvalues_of(a));
+  const auto ours = sorted(detail::eigenvalues_of(a).values);
   const auto eigen = sorted(Eigen::EigenSolver<MatX>(a, false).eigenvalues());
   ASSERT_EQ(ours.size(), eigen.size());
   double radius = 0;
@@ -656,20 +656,75 @@ TEST(CriticalLoad, TheQrIterationFindsEigensEigenvalues) {
   }
   MatX rotation(2, 2);
   rotation << 0, -1, 1, 0;
-  const Eigen::VectorXcd pair = detail::eigenvalues_of(rotation);
+  const Eigen::VectorXcd pair = detail::eigenvalues_of(rotation).values;
   EXPECT_EQ(std::abs(pair(0).imag()), 1.0);
   EXPECT_EQ(pair(0).real(), 0.0);
   MatX triangular = MatX::Identity(6, 6) * 2.0;  // split everywhere from the start
   for (Eigen::Index i = 0; i + 1 < 6; ++i) triangular(i, i + 1) = 1e-3;
   expect_same_spectrum(triangular, kRounding);
-  EXPECT_EQ(detail::eigenvalues_of(MatX(0, 0)).size(), 0);
-  EXPECT_EQ(detail::eigenvalues_of(MatX::Constant(1, 1, -3.5))(0), std::complex<double>(-3.5));
-  EXPECT_TRUE(detail::eigenvalues_of(MatX::Zero(5, 5)).isZero(0));
+  EXPECT_EQ(detail::eigenvalues_of(MatX(0, 0)).values.size(), 0);
+  EXPECT_EQ(detail::eigenvalues_of(MatX::Constant(1, 1, -3.5)).values(0),
+            std::complex<double>(-3.5));
+  EXPECT_TRUE(detail::eigenvalues_of(MatX::Zero(5, 5)).values.isZero(0));
   MatX poisoned = MatX::Identity(4, 4);
   poisoned(2, 1) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(detail::eigenvalues_of(poisoned).size(), 0);
+  EXPECT_EQ(detail::eigenvalues_of(poisoned).values.size(), 0);
   poisoned(2, 1) = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(detail::eigenvalues_of(poisoned).size(), 0);
+  EXPECT_EQ(detail::eigenvalues_of(poisoned).values.size(), 0);
+}
+
+// The QR iteration's eigenvalues of `a` are `exact` (in any order, matched one to one), each
+// within `tolerance`, and Eigen's EigenSolver was not needed.
+void expect_spectrum_without_fallback(const MatX& a, const std::vector<std::complex<double>>& exact,
+                                      double tolerance, const std::string& label) {
+  const detail::Eigenvalues found = detail::eigenvalues_of(a);
+  EXPECT_FALSE(found.by_eigen_solver) << label;
+  ASSERT_EQ(found.values.size(), static_cast<Eigen::Index>(exact.size())) << label;
+  std::vector<std::complex<double>> left(found.values.data(),
+                                         found.values.data() + found.values.size());
+  for (const std::complex<double>& value : exact) {
+    const auto nearest = std::min_element(left.begin(), left.end(), [&](auto x, auto y) {
+      return std::abs(x - value) < std::abs(y - value);
+    });
+    EXPECT_LE(std::abs(*nearest - value), tolerance) << label << ": " << value;
+    left.erase(nearest);
+  }
+}
+
+// Matrices on which the double shifts of the trailing 2 × 2 block cycle, so that only the
+// exceptional shift moves the iteration, about 1000·I: the exceptional pair centred at the
+// trailing diagonal entry, as LAPACK's, converges without Eigen's EigenSolver. Day's 4 × 4
+// example of a cycle (two 2-cycles coupled by h; its eigenvalues ±√(1 − h²/4) ± i·h/2) ran out
+// of sweeps with the pair centred at 0, which barely moves a matrix near 1000·I; 1000·I plus a
+// cyclic permutation (1000 plus the n-th roots of unity) converged with it too, in more
+// sweeps. Each eigenvalue is within the backward error of the orthogonal similarity
+// transformations, a few ε of the spectral radius: both matrices are far from defective.
+TEST(CriticalLoad, TheExceptionalShiftFindsASpectrumFarFromZero) {
+  constexpr double kCentre = 1000;
+  constexpr double kBackwardError = 1e-14 * (kCentre + 1);  // of the spectral radius
+  for (double h : {1e-2, 1e-4, 1e-6}) {
+    MatX day = kCentre * MatX::Identity(4, 4);
+    day(0, 1) = day(1, 0) = day(2, 3) = day(3, 2) = 1;
+    day(1, 2) = -h;
+    day(2, 1) = h;
+    const double real = std::sqrt(1 - h * h / 4);
+    expect_spectrum_without_fallback(day,
+                                     {{kCentre + real, h / 2},
+                                      {kCentre + real, -h / 2},
+                                      {kCentre - real, h / 2},
+                                      {kCentre - real, -h / 2}},
+                                     kBackwardError, "Day's matrix, h = " + std::to_string(h));
+  }
+  for (Eigen::Index n = 3; n <= 16; ++n) {
+    MatX cyclic = kCentre * MatX::Identity(n, n);
+    for (Eigen::Index i = 0; i < n; ++i) cyclic((i + 1) % n, i) = 1;
+    std::vector<std::complex<double>> roots;
+    for (Eigen::Index k = 0; k < n; ++k)
+      roots.push_back(kCentre + std::polar(1.0, 2 * std::numbers::pi * static_cast<double>(k) /
+                                                    static_cast<double>(n)));
+    expect_spectrum_without_fallback(cyclic, roots, kBackwardError,
+                                     "cyclic, n = " + std::to_string(n));
+  }
 }
 
 // ---- kernels ---------------------------------------------------------------------------------

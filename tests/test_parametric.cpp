@@ -167,6 +167,28 @@ TEST(ParametricFile, FamilyListsParametersWithUnitsAndLocations) {
   EXPECT_EQ(family.name(), "parametric-cantilever");
 }
 
+// The throwing lookup that sweeps and the Python binding use: its NameError names the family,
+// the file it was read from (none for a family of a function), and the nearest parameter.
+TEST(ParametricFile, ParameterIndexNamesTheFamilyAndItsFile) {
+  const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
+  EXPECT_EQ(family.parameter_index("F"), 2u);
+  const auto misspelt = thrown<NameError>([&] { family.parameter_index("LL"); });
+  ASSERT_TRUE(misspelt) << "found a parameter 'LL'";
+  EXPECT_EQ(std::string(misspelt->what()),
+            "the model 'parametric-cantilever' (p.yaml) has no parameter 'LL'; did you mean 'L'?");
+  EXPECT_EQ(misspelt->kind(), "parameter");
+  EXPECT_EQ(misspelt->name(), "LL");
+  EXPECT_EQ(misspelt->suggestion(), "L");
+  const ModelFamily of_function(
+      "arm", {{"reach", 1, "m", {}}},
+      ModelFamily::MemberFunction([](std::span<const double>) { return Model{}; }));
+  const auto unknown = thrown<NameError>([&] { of_function.parameter_index("height"); });
+  ASSERT_TRUE(unknown) << "found a parameter 'height'";
+  EXPECT_EQ(std::string(unknown->what()),
+            "the model 'arm' has no parameter 'height'; its parameters are: reach");
+  EXPECT_EQ(unknown->suggestion(), std::nullopt);
+}
+
 TEST(ParametricFile, MembersFollowTheirValuesAndSolveToTheClosedForm) {
   const ModelFamily family = parse_model_family(kCantilever, "p.yaml");
   const Structure structure = family.structure();
@@ -214,8 +236,8 @@ TEST(ParametricFile, SettingsReplaceTheDefaultsTheFamilyIsCheckedAt) {
     parse_model_family(kCantilever, "p.yaml", {}, {{"LL", 1}});
   });
   ASSERT_TRUE(misspelt) << "accepted a setting of no parameter";
-  EXPECT_TRUE(contains(misspelt->what(), "no parameter 'LL'; did you mean 'L'"))
-      << misspelt->what();
+  EXPECT_EQ(std::string(misspelt->what()),
+            "the model 'parametric-cantilever' (p.yaml) has no parameter 'LL'; did you mean 'L'?");
   EXPECT_THROW(load_model_family(std::string(STIFFMSA_SOURCE_DIR) + "/examples/cantilever.yaml", {},
                                  {{"x", 1}}),
                UsageError);

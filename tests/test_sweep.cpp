@@ -289,7 +289,9 @@ TEST(Sweep, UnknownParameterIsANameError) {
     sweep(three_rpr(), grid_poses({{"xx", 0, 1, 2}}));
     FAIL() << "swept a parameter the model does not have";
   } catch (const NameError& e) {
-    EXPECT_TRUE(contains(e.what(), "the model 'planar-3rpr-parametric' has no parameter 'xx'"))
+    EXPECT_TRUE(contains(e.what(), "the model 'planar-3rpr-parametric' (" +
+                                       example("planar-3rpr-parametric.yaml") +
+                                       ") has no parameter 'xx'"))
         << e.what();
     EXPECT_TRUE(contains(e.what(), "did you mean 'x'")) << e.what();
     EXPECT_EQ(e.kind(), "parameter");

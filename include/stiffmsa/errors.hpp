@@ -102,6 +102,13 @@ class NameError : public UsageError {
   const std::string& name() const { return name_; }
   const std::optional<std::string>& suggestion() const { return suggestion_; }
 
+ protected:
+  // The same with `message` as what(), in place of the one made from the names: a message that
+  // also says where the name was looked up (a family's parameters). A copy as a NameError, a
+  // catch by value, keeps it.
+  NameError(std::string kind, std::string name, const std::vector<std::string>& candidates,
+            std::string message);
+
  private:
   std::string kind_;
   std::string name_;

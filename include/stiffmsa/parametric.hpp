@@ -52,7 +52,11 @@ class ModelFamily {
 
   const std::string& name() const { return name_; }
   const std::vector<Parameter>& parameters() const { return parameters_; }
+  // The index of the parameter of that name, if there is one.
   std::optional<std::size_t> find_parameter(const std::string& name) const;
+  // The index of the parameter of that name; NameError when there is none, whose message names
+  // the family, its file where it was read from one, and the nearest parameter.
+  std::size_t parameter_index(const std::string& name) const;
   std::vector<double> default_values() const;
   // The parameters at their defaults, as a result records them (Result::parameters).
   std::vector<ParameterValue> parameter_values() const;

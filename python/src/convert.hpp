@@ -38,11 +38,13 @@ py::object to_optional_array(const std::optional<T>& value) {
 
 // SolveOptions from the keyword arguments named as its members; "auto" is SolverKind::automatic.
 // Throws UsageError for an unknown or unavailable solver or a value out of range.
-// `mode`: None (the model's own), "linear", "loaded" or an AnalysisMode.
+// `mode`: None (the model's own), "linear", "loaded" or an AnalysisMode. `critical_load`: None
+// (unset: the result's contract decides), True (always) or False (never), as a bool or a numpy
+// bool; another type raises TypeError naming the argument.
 SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
                            double singular_rcond, double max_relative_residual,
                            int refinement_steps, double warn_condition, const py::object& mode,
-                           bool critical_load);
+                           const py::object& critical_load);
 
 void bind_errors(py::module_& m);
 void bind_model(py::module_& m);

@@ -80,15 +80,7 @@ ModelFamily family_from_function(py::object function, std::vector<std::string> n
 std::vector<double> member_values(const ModelFamily& family,
                                   const std::map<std::string, double>& values) {
   std::vector<double> all = family.default_values();
-  for (const auto& [name, value] : values) {
-    const auto index = family.find_parameter(name);
-    if (!index) {
-      std::vector<std::string> names;
-      for (const auto& p : family.parameters()) names.push_back(p.name);
-      throw NameError("parameter", name, names);
-    }
-    all[*index] = value;
-  }
+  for (const auto& [name, value] : values) all[family.parameter_index(name)] = value;
   return all;
 }
 
@@ -281,7 +273,7 @@ void bind_family(py::module_& m) {
            py::arg("max_relative_residual") = SolveOptions{}.max_relative_residual,
            py::arg("refinement_steps") = SolveOptions{}.refinement_steps,
            py::arg("warn_condition") = SolveOptions{}.warn_condition, py::kw_only(),
-           py::arg("mode") = py::none(), py::arg("critical_load") = false)
+           py::arg("mode") = py::none(), py::arg("critical_load") = py::none())
       .def_property_readonly("solver",
                              [](const SolveOptions& o) { return std::string(to_string(o.solver)); })
       .def_readonly("accept_idle_motions", &SolveOptions::accept_idle_motions)
@@ -291,8 +283,9 @@ void bind_family(py::module_& m) {
       .def_readonly("warn_condition", &SolveOptions::warn_condition)
       .def_readonly("mode", &SolveOptions::mode,
                     "The analysis mode (AnalysisMode), or None for the model's own.")
-      .def_property_readonly("critical_load",
-                             [](const SolveOptions& o) { return o.critical_load.value_or(false); });
+      .def_readonly("critical_load", &SolveOptions::critical_load,
+                    "Whether to find the critical load factor: None (where the result's "
+                    "contract has it), True (always) or False (never).");
 
   py::class_<Parameter>(m, "Parameter",
                         "A family's parameter: its name, default value and unit (may be '').")

@@ -42,6 +42,20 @@ py::object optional_text(const std::string& text) {
 }
 py::object optional_position(int value) { return value > 0 ? py::cast(value) : py::none(); }
 
+// An option of three states: None (unset), or a bool, Python's or numpy's. Anything else is a
+// TypeError naming the argument and the values it takes (`expected`): an int is refused too,
+// where 0 would be read as "never" by one caller and as "not asked" by another.
+std::optional<bool> optional_flag(const py::object& value, const std::string& argument,
+                                  const std::string& expected) {
+  if (value.is_none()) return std::nullopt;
+  if (py::isinstance<py::bool_>(value) ||
+      py::isinstance(value, py::module_::import("numpy").attr("bool_")))
+    return value.cast<bool>();
+  throw py::type_error(argument + ": expected " + expected + ", got " +
+                       py::repr(value).cast<std::string>() + " (" + Py_TYPE(value.ptr())->tp_name +
+                       ")");
+}
+
 }  // namespace
 
 VecX to_vector(py::handle value, const std::string& what, std::optional<long> size) {
@@ -106,7 +120,7 @@ py::array_t<double> to_array(const MatX& matrix) {
 SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
                            double singular_rcond, double max_relative_residual,
                            int refinement_steps, double warn_condition, const py::object& mode,
-                           bool critical_load) {
+                           const py::object& critical_load) {
   SolveOptions options;
   if (py::isinstance<AnalysisMode>(mode)) {
     options.mode = mode.cast<AnalysisMode>();
@@ -119,8 +133,9 @@ SolveOptions solve_options(const std::string& solver, bool accept_idle_motions,
                        ": expected \"linear\", \"loaded\" or None (the model's own)");
     options.mode = parsed;
   }
-  // False keeps the contract's default (SolveOptions::critical_load unset), as before.
-  if (critical_load) options.critical_load = true;
+  options.critical_load = optional_flag(critical_load, "critical_load",
+                                        "None (where the result's contract has it), True "
+                                        "(always) or False (never)");
   const auto kind = solver_kind_from_string(solver);
   if (!kind)
     throw UsageError("solver '" + solver + "': expected one of auto, sparse_lu, umfpack, klu");

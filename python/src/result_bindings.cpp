@@ -183,7 +183,8 @@ void bind_results(py::module_& m) {
                     "The load case these results are of ('' for the model's unnamed case).")
       .def_readonly("analysis", &Result::analysis)
       .def_readonly("critical_load", &Result::critical_load,
-                    "The CriticalLoad, where solve(critical_load=True) asked for it; else None.")
+                    "The CriticalLoad where the solve found it: critical_load=True, or None (the "
+                    "default) where the result's contract has it; else None.")
       .def_property_readonly(
           "load_cases",
           [](const Result& r) {

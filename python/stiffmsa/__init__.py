@@ -76,7 +76,7 @@ _DEFAULTS = SolveOptions()
 
 def _options(solver: str, accept_idle_motions: bool, singular_rcond: float, max_relative_residual: float,
              refinement_steps: int, warn_condition: float, mode: Union[None, str, AnalysisMode] = None,
-             critical_load: bool = False) -> SolveOptions:
+             critical_load: Optional[bool] = None) -> SolveOptions:
     return SolveOptions(solver=solver, accept_idle_motions=accept_idle_motions, singular_rcond=singular_rcond,
                         max_relative_residual=max_relative_residual, refinement_steps=refinement_steps,
                         warn_condition=warn_condition, mode=mode, critical_load=critical_load)
@@ -106,7 +106,7 @@ def solve(model: Model, solver: str = "auto", accept_idle_motions: bool = False,
           max_relative_residual: float = _DEFAULTS.max_relative_residual,
           refinement_steps: int = _DEFAULTS.refinement_steps,
           warn_condition: float = _DEFAULTS.warn_condition,
-          mode: Union[None, str, AnalysisMode] = None, critical_load: bool = False) -> Result:
+          mode: Union[None, str, AnalysisMode] = None, critical_load: Optional[bool] = None) -> Result:
     """Solve a model: the compliance, stiffness and deflection of every end effector, the link
     ends' deflections and wrenches, the joints' relative deflections and wrenches and the
     supports' reactions (a :class:`Result`, the content of ``stiffmsa solve --json``).
@@ -118,8 +118,11 @@ def solve(model: Model, solver: str = "auto", accept_idle_motions: bool = False,
     ``SolveOptions``': the reciprocal condition below which the system is singular, the largest
     relative residual accepted, the iterative refinement steps, and the condition above which a
     warning is given. ``mode``: ``"linear"`` or ``"loaded"`` (an :class:`AnalysisMode` too), or
-    ``None`` for the model's own (``Model.mode``); ``critical_load=True`` also finds every load
-    case's critical load factor (``Result.critical_load``).
+    ``None`` for the model's own (``Model.mode``). ``critical_load``: whether to find every load
+    case's critical load factor (``Result.critical_load``): ``None`` where the result's contract
+    has it (the loaded mode, load cases, loads along links, gravity or settlements), ``True``
+    always, ``False`` never (it saves the factor's cost; every other number is the same); another
+    type raises ``TypeError``.
 
     Raises :class:`InputError` for an invalid model, :class:`SingularModelError` for a
     mechanism (its ``details`` name the free motions) and, in the loaded mode,
@@ -172,7 +175,7 @@ def _family_solve(self: ModelFamily, values: Optional[Mapping[str, float]] = Non
                   max_relative_residual: float = _DEFAULTS.max_relative_residual,
                   refinement_steps: int = _DEFAULTS.refinement_steps,
                   warn_condition: float = _DEFAULTS.warn_condition, mode: Union[None, str, AnalysisMode] = None,
-                  critical_load: bool = False, **parameters: float) -> Result:
+                  critical_load: Optional[bool] = None, **parameters: float) -> Result:
     """Solve one member: ``family.solve(x=0.1, y=0.0)`` is ``solve(family.build(x=0.1, y=0.0))``.
 
     The options are :func:`solve`'s; a parameter named like an option is given in the mapping

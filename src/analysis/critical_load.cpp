@@ -556,7 +556,7 @@ std::optional<RightmostEigen> rightmost_of_low_rank(const MatX& a) {
     for (Index k = 0; k <= std::min(i, rank - 1); ++k) y(k, column) = m(k, i);
   }
   const MatX small = y * x;
-  const Eigen::VectorXcd values = eigenvalues_of(small);
+  const Eigen::VectorXcd values = eigenvalues_of(small).values;
   const std::optional<Index> best = rightmost_real(values);
   if (!best) return std::nullopt;
   const double value = values(*best).real();
@@ -684,14 +684,15 @@ void to_hessenberg(MatX& a, VecX& v, VecX& w) {
 
 }  // namespace
 
-Eigen::VectorXcd eigenvalues_of(MatX a) {
+Eigenvalues eigenvalues_of(MatX a) {
   const Index n = a.rows();
-  Eigen::VectorXcd values = Eigen::VectorXcd::Zero(n);
+  Eigenvalues found{Eigen::VectorXcd::Zero(n)};
+  Eigen::VectorXcd& values = found.values;
   // A NaN would slip past the largest-entry test below and cost every sweep: none are found
   // (no eigenvalue, so no factor), as where Eigen's own iteration fails.
-  if (!a.allFinite()) return Eigen::VectorXcd();
+  if (!a.allFinite()) return {};
   const double scale = n > 0 ? a.cwiseAbs().maxCoeff() : 0.0;
-  if (scale == 0) return values;
+  if (scale == 0) return found;
   a /= scale;
   const MatX original = a;
   VecX v, w;
@@ -727,22 +728,25 @@ Eigen::VectorXcd eigenvalues_of(MatX a) {
     }
     if (++sweeps > most_sweeps) {
       const Eigen::EigenSolver<MatX> fallback(original, false);
-      if (fallback.info() != Eigen::Success) return Eigen::VectorXcd();
-      return fallback.eigenvalues() * scale;
+      if (fallback.info() != Eigen::Success) return {Eigen::VectorXcd(), true};
+      return {fallback.eigenvalues() * scale, true};
     }
     // The shifts: the trailing 2×2 block's eigenvalues (their sum and product); every
-    // kQrExceptionalShiftEvery sweeps without a split, shifts of the subdiagonal's size instead,
-    // to leave a cycle.
+    // kQrExceptionalShiftEvery sweeps without a split, to leave a cycle, LAPACK's exceptional
+    // pair instead: d + x for the roots x of x² − kQrExceptionalShiftSum·size·x + size², d the
+    // trailing diagonal entry and size the trailing subdiagonal's. Centred at d, not at 0, they
+    // move a matrix whose spectrum is far from 0 (near 1000·I, say) as much as one near 0.
     double s = h(hi - 1, hi - 1) + h(hi, hi);
     double t = h(hi - 1, hi - 1) * h(hi, hi) - h(hi - 1, hi) * h(hi, hi - 1);
     if (++since_split % kQrExceptionalShiftEvery == 0) {
       const double size = std::abs(h(hi, hi - 1)) + std::abs(h(hi - 1, hi - 2));
-      s = kQrExceptionalShiftSum * size;
-      t = size * size;
+      const double d = h(hi, hi);
+      s = 2 * d + kQrExceptionalShiftSum * size;
+      t = d * (d + kQrExceptionalShiftSum * size) + size * size;
     }
     francis_sweep(h, lo, hi, s, t);
   }
-  return values;
+  return found;
 }
 
 std::vector<Vec6> loads_at_ends(const Model& model, const Topology& topology) {

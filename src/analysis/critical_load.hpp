@@ -65,7 +65,13 @@ void add_critical_loads(const Model& model, const Topology& topology,
 // Hessenberg form, then Francis's double-shift QR iteration on the part not yet split off only
 // (no Schur vectors, nothing above the window). Where it does not converge, Eigen's EigenSolver.
 // None (an empty vector) for a matrix with a non-finite entry or where Eigen's iteration fails too.
-Eigen::VectorXcd eigenvalues_of(MatX a);
+struct Eigenvalues {
+  Eigen::VectorXcd values;
+  // The QR iteration did not converge within kMostQrSweepsPerEigenvalue sweeps per eigenvalue:
+  // the values are Eigen's EigenSolver's (or none). The tests read it.
+  bool by_eigen_solver = false;
+};
+Eigenvalues eigenvalues_of(MatX a);
 
 // Makes the solves on `workspace` find no critical load factor, asked for or not: a sweep's
 // (sweep.hpp), whose PoseResult keeps none, so that the poses of a model whose results have the

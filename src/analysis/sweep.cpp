@@ -20,8 +20,6 @@
 
 #include "analysis/critical_load.hpp"
 #include "analysis/sweep_row.hpp"
-#include "model/name_errors.hpp"
-#include "model/suggest.hpp"
 #include "stiffmsa/number_text.hpp"
 #include "stiffmsa/validate.hpp"
 
@@ -286,15 +284,7 @@ struct PoseValues {
 
 PoseValues pose_values(const ModelFamily& family, const PoseTable& poses) {
   PoseValues values{family.default_values(), {}};
-  std::vector<std::string> names;
-  for (const auto& p : family.parameters()) names.push_back(p.name);
-  for (const auto& name : poses.parameters) {
-    const auto index = family.find_parameter(name);
-    if (!index)
-      throw detail::NameErrorInContext("parameter", name, names,
-                                       detail::no_parameter_message(family.name(), name, names));
-    values.swept.push_back(*index);
-  }
+  for (const auto& name : poses.parameters) values.swept.push_back(family.parameter_index(name));
   return values;
 }
 

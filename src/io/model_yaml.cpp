@@ -2306,7 +2306,7 @@ Structure read_structure(Loader& loader, const YamlNode& root, const std::string
   if (!unknown.empty())
     throw detail::NameErrorInContext(
         "parameter", unknown.front(), names,
-        detail::no_parameter_message(file_name, unknown.front(), names));
+        detail::no_parameter_message(at_defaults.name, file_name, unknown.front(), names));
   // The structure validates the model at the defaults; its defects join the loader's own.
   if (!loader.merge({}).empty()) throw InputError(loader.merge(find_defects(at_defaults)));
   try {

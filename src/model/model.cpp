@@ -74,6 +74,13 @@ NameError::NameError(std::string kind, std::string name, const std::vector<std::
       name_(std::move(name)),
       suggestion_(detail::nearest(name_, candidates)) {}
 
+NameError::NameError(std::string kind, std::string name, const std::vector<std::string>& candidates,
+                     std::string message)
+    : UsageError(std::move(message)),
+      kind_(std::move(kind)),
+      name_(std::move(name)),
+      suggestion_(detail::nearest(name_, candidates)) {}
+
 const KeyLocation* Origin::find(std::string_view key) const {
   for (auto it = key_locations.rbegin(); it != key_locations.rend(); ++it)
     if (it->key == key) return &*it;

@@ -1,5 +1,7 @@
 #include "stiffmsa/parametric.hpp"
 
+#include "model/name_errors.hpp"
+#include "model/suggest.hpp"
 #include "stiffmsa/number_text.hpp"
 #include "stiffmsa/validate.hpp"
 
@@ -19,6 +21,16 @@ std::optional<std::size_t> ModelFamily::find_parameter(const std::string& name) 
   for (std::size_t i = 0; i < parameters_.size(); ++i)
     if (parameters_[i].name == name) return i;
   return std::nullopt;
+}
+
+std::size_t ModelFamily::parameter_index(const std::string& name) const {
+  if (const auto index = find_parameter(name)) return *index;
+  std::vector<std::string> names;
+  names.reserve(parameters_.size());
+  for (const auto& p : parameters_) names.push_back(p.name);
+  const std::string file = structure_ ? structure_->model().source_file : std::string();
+  throw detail::NameErrorInContext("parameter", name, names,
+                                   detail::no_parameter_message(name_, file, name, names));
 }
 
 namespace {

@@ -64,11 +64,14 @@ inline std::string suggestion(std::string_view word, const std::vector<std::stri
   return "; " + std::string(what) + ": " + comma_list(candidates);
 }
 
-// A parameter a parametric model does not declare, asked for by a setting or a sweep: the
-// model, the name, and the nearest declared parameter or that it declares none.
-inline std::string no_parameter_message(const std::string& model, const std::string& name,
+// A parameter a parametric model does not declare, asked for by a setting, a sweep or a
+// member's values: the model's name and its file (each left out where empty), the name, and the
+// nearest declared parameter or that it declares none.
+inline std::string no_parameter_message(const std::string& model, const std::string& file,
+                                        const std::string& name,
                                         const std::vector<std::string>& parameters) {
-  return "the model '" + model + "' has no parameter '" + name + "'" +
+  return "the model" + (model.empty() ? std::string() : " '" + model + "'") +
+         (file.empty() ? std::string() : " (" + file + ")") + " has no parameter '" + name + "'" +
          (parameters.empty() ? std::string("; it declares no `parameters:`")
                              : suggestion(name, parameters, "its parameters are"));
 }

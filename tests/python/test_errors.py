@@ -155,14 +155,24 @@ def test_a_name_that_is_not_there_is_a_name_error_with_its_kind_name_and_suggest
         result.load_case_result("machining")
     assert (raised.value.kind, raised.value.name) == ("load case", "machining")
 
-    family = stiffmsa.load_family(EXAMPLES / "planar-3rpr-parametric.yaml")
+    # A family's parameter: the message names the family and its file, wherever it is looked up.
+    path = EXAMPLES / "planar-3rpr-parametric.yaml"
+    family = stiffmsa.load_family(path)
     for call in (lambda: family.build(phii=0.1), lambda: family.solve(phii=0.1),
-                 lambda: family.sweep(grid={"phii": (0.0, 0.1, 2)}),
-                 lambda: stiffmsa.load_family(EXAMPLES / "planar-3rpr-parametric.yaml", phii=0.1),
-                 lambda: stiffmsa.load_model(EXAMPLES / "planar-3rpr-parametric.yaml", phii=0.1)):
-        with pytest.raises(stiffmsa.NameError, match="no parameter 'phii'") as raised:
+                 lambda: family.with_defaults(phii=0.1), lambda: family.sweep(grid={"phii": (0.0, 0.1, 2)}),
+                 lambda: stiffmsa.load_family(path, phii=0.1), lambda: stiffmsa.load_model(path, phii=0.1)):
+        with pytest.raises(stiffmsa.NameError) as raised:
             call()
+        assert str(raised.value) == (f"the model 'planar-3rpr-parametric' ({path}) has no parameter 'phii'; "
+                                     "did you mean 'phi'?")
         assert (raised.value.kind, raised.value.name, raised.value.suggestion) == ("parameter", "phii", "phi")
     # Still the UsageError it was.
     with pytest.raises(stiffmsa.UsageError, match="no parameter 'z'"):
         family.build(z=1.0)
+    # A family of a function has no file.
+    of_function = stiffmsa.ModelFamily.from_function(lambda reach: two_link_mechanism(2e3), {"reach": 1.0},
+                                                     name="arm")
+    with pytest.raises(stiffmsa.NameError) as raised:
+        of_function.build(height=0.2)
+    assert str(raised.value) == "the model 'arm' has no parameter 'height'; its parameters are: reach"
+    assert raised.value.suggestion is None

@@ -144,11 +144,64 @@ def test_validation_reports_issue_22_defects():
 
 def test_solve_options_take_the_mode_and_the_critical_load():
     options = stiffmsa.SolveOptions(mode="loaded", critical_load=True)
-    assert options.mode == stiffmsa.AnalysisMode.loaded and options.critical_load
-    assert stiffmsa.SolveOptions().mode is None and not stiffmsa.SolveOptions().critical_load
+    assert options.mode == stiffmsa.AnalysisMode.loaded and options.critical_load is True
+    assert stiffmsa.SolveOptions().mode is None and stiffmsa.SolveOptions().critical_load is None
+    assert stiffmsa.SolveOptions(critical_load=False).critical_load is False
+    assert stiffmsa.SolveOptions(critical_load=np.bool_(False)).critical_load is False
     assert stiffmsa.SolveOptions(mode=stiffmsa.AnalysisMode.linear).mode == stiffmsa.AnalysisMode.linear
     with pytest.raises(stiffmsa.UsageError, match=re.escape("mode 'nonlinear': expected \"linear\", \"loaded\"")):
         stiffmsa.SolveOptions(mode="nonlinear")
+
+
+def without_critical_load_lines(result):
+    return [line for line in result.to_json().splitlines() if '"critical_load_' not in line]
+
+
+def every_case(result):
+    return [result, *result.load_cases.values(), *([result.linear] if result.linear else [])]
+
+
+def test_critical_load_none_is_the_contract_true_always_false_never(tmp_path):
+    """``critical_load``: None (the default) finds the factor where the result's contract has it
+    (here load cases, gravity and the loaded mode), as before; False never, every other number of
+    the result the same to the last bit; True always, also where the contract has none."""
+    path = tmp_path / "frame.yaml"
+    path.write_text(FRAME_FILE)
+    model = stiffmsa.load_model(path)
+    usual = stiffmsa.solve(model)
+    assert all(case.critical_load is not None for case in [usual, *usual.load_cases.values()])
+    assert stiffmsa.solve(model, critical_load=None).to_json() == usual.to_json()
+    assert stiffmsa.solve(model, critical_load=True).to_json() == usual.to_json()
+    for never in (stiffmsa.solve(model, critical_load=False), stiffmsa.solve(model, critical_load=np.bool_(False)),
+                  stiffmsa.load_family(path).solve(critical_load=False)):
+        assert all(case.critical_load is None for case in every_case(never))
+        assert '"critical_load_' not in never.to_json()
+        assert without_critical_load_lines(never) == without_critical_load_lines(usual)
+
+    # A column under a plain load in the linear mode: the contract has no factor.
+    column = stiffmsa.Model("column")
+    column.add_point("O", [0, 0, 0])
+    column.add_point("E", [0, 0, 1])
+    column.add_beam("L", "O", "E", stiffmsa.Material(2.1e11, 0.3), stiffmsa.Section.circle(0.05))
+    column.add_support("S", "O")
+    column.add_load("E", [0, 0, -1000, 0, 0, 0])
+    column.add_end_effector("tip", "E")
+    linear = stiffmsa.solve(column)
+    assert linear.critical_load is None
+    assert stiffmsa.solve(column, critical_load=False).to_json() == linear.to_json()
+    asked = stiffmsa.solve(column, critical_load=True)
+    assert asked.critical_load is not None and asked.critical_load.factor > 1
+    assert without_critical_load_lines(asked) == without_critical_load_lines(linear)
+
+
+@pytest.mark.parametrize("value", [1, 0, "never", 1.0, [False]], ids=repr)
+def test_critical_load_of_another_type_is_a_type_error_naming_it(value):
+    expected = re.escape("critical_load: expected None (where the result's contract has it), True (always) or "
+                         f"False (never), got {value!r} ({type(value).__name__})")
+    with pytest.raises(TypeError, match=expected):
+        stiffmsa.SolveOptions(critical_load=value)
+    with pytest.raises(TypeError, match="critical_load"):
+        stiffmsa.solve(stiffmsa.Model("empty"), critical_load=value)
 
 
 def test_a_linear_result_of_the_unnamed_case_has_the_new_fields():
