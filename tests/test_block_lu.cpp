@@ -162,6 +162,31 @@ void expect_as_dense(BlockLU& lu, const std::vector<MatX>& values, std::mt19937&
   EXPECT_EQ(lu.determinant_sign(), determinant > 0 ? 1.0 : -1.0) << what;
 }
 
+// One factorisation's solution of b and what it tells of its pivots: two factorisations of one
+// matrix are compared by these, bit for bit.
+struct Solved {
+  MatX x;
+  double sign = 0;
+  double smallest_pivot = 0;
+};
+
+Solved factorise_and_solve(BlockLU& lu, const std::vector<MatX>& values, const MatX& b,
+                           const BlockScaling* kept = nullptr) {
+  if (lu.factorise(values, kept) != BlockLU::Outcome::factorised) {
+    ADD_FAILURE() << "not factorised";
+    return {};
+  }
+  Solved solved{b, lu.determinant_sign(), lu.smallest_pivot()};
+  lu.solve(solved.x);
+  return solved;
+}
+
+void expect_same_bits(const Solved& actual, const Solved& expected) {
+  EXPECT_EQ(actual.x, expected.x);
+  EXPECT_EQ(actual.sign, expected.sign);
+  EXPECT_EQ(actual.smallest_pivot, expected.smallest_pivot);
+}
+
 TEST(BlockLU, RandomChainsAndLoopsAsDenseLU) {
   std::mt19937 random(20261126);
   for (const auto& [name, layout] : {std::pair{std::string("chain of 1"), chain(1)},
@@ -253,12 +278,9 @@ TEST(BlockLU, PowerOfTwoScalingsTakenOutExactly) {
     BlockLU lu;
     lu.analyze(layout);
     const std::vector<MatX> values = random_values(layout, random);
-    ASSERT_EQ(lu.factorise(values), BlockLU::Outcome::factorised);
     const Index n = 12 * layout.group_count;
     const MatX b = MatX::Random(n, 2);
-    MatX x = b;
-    lu.solve(x);
-    const double sign = lu.determinant_sign(), smallest = lu.smallest_pivot();
+    const Solved fresh = factorise_and_solve(lu, values, b);
 
     const double row_scale = std::ldexp(1.0, 100);
     VecX column_scale(n);
@@ -267,12 +289,9 @@ TEST(BlockLU, PowerOfTwoScalingsTakenOutExactly) {
     for (std::size_t k = 0; k < scaled.size(); ++k)
       for (Index j = 0; j < scaled[k].cols(); ++j)
         scaled[k].col(j) *= row_scale * column_scale(12 * layout.groups[k][j / 12] + j % 12);
-    ASSERT_EQ(lu.factorise(scaled), BlockLU::Outcome::factorised);
-    MatX scaled_x = row_scale * b;
-    lu.solve(scaled_x);
-    EXPECT_EQ(MatX((scaled_x.array().colwise() * column_scale.array()).matrix()), x);
-    EXPECT_EQ(lu.determinant_sign(), sign);
-    EXPECT_EQ(lu.smallest_pivot(), smallest);
+    Solved scaled_back = factorise_and_solve(lu, scaled, row_scale * b);
+    scaled_back.x = (scaled_back.x.array().colwise() * column_scale.array()).matrix();
+    expect_same_bits(scaled_back, fresh);
   }
 }
 
@@ -306,19 +325,11 @@ TEST(BlockLU, KeptScalingSolvesANeighbouringMatrix) {
     BlockLU lu;
     lu.analyze(layout);
     const std::vector<MatX> reference = random_values(layout, random);
-    ASSERT_EQ(lu.factorise(reference), BlockLU::Outcome::factorised);
     const Index n = 12 * layout.group_count;
     const MatX b = MatX::Random(n, 2);
-    MatX fresh_x = b;
-    lu.solve(fresh_x);
-    const double sign = lu.determinant_sign(), smallest = lu.smallest_pivot();
+    const Solved fresh = factorise_and_solve(lu, reference, b);
     const BlockScaling kept = lu.scaling();
-    ASSERT_EQ(lu.factorise(reference, &kept), BlockLU::Outcome::factorised);
-    MatX kept_x = b;
-    lu.solve(kept_x);
-    EXPECT_EQ(kept_x, fresh_x);
-    EXPECT_EQ(lu.determinant_sign(), sign);
-    EXPECT_EQ(lu.smallest_pivot(), smallest);
+    expect_same_bits(factorise_and_solve(lu, reference, b, &kept), fresh);
 
     for (int trial = 0; trial < 5; ++trial) {
       std::vector<MatX> neighbour = reference;
@@ -353,15 +364,10 @@ TEST(BlockLU, KeptScalingOfAnotherSizeOrStale) {
   lu.analyze(layout);
   const std::vector<MatX> values = random_values(layout, random);
   const MatX b = MatX::Random(12 * layout.group_count, 1);
-  ASSERT_EQ(lu.factorise(values), BlockLU::Outcome::factorised);
-  MatX fresh_x = b;
-  lu.solve(fresh_x);
+  const Solved fresh = factorise_and_solve(lu, values, b);
   const BlockScaling kept = lu.scaling();
   const BlockScaling other_size{VecX::Ones(12), VecX::Ones(12)};
-  ASSERT_EQ(lu.factorise(values, &other_size), BlockLU::Outcome::factorised);
-  MatX x = b;
-  lu.solve(x);
-  EXPECT_EQ(x, fresh_x);
+  expect_same_bits(factorise_and_solve(lu, values, b, &other_size), fresh);
 
   std::vector<MatX> not_finite = values;
   not_finite[2](3, 5) = std::numeric_limits<double>::quiet_NaN();
