@@ -1,7 +1,7 @@
 // The stiffmsa executable: answers `stiffmsa --version` itself and hands every other command line
 // to the command module (app/command_module.hpp), loaded from beside the executable (a build
 // folder) or from its install's library folder. Starting a process that maps the sparse
-// solvers, OpenBLAS, oneTBB, libfyaml and MPI costs milliseconds in relocations alone; the
+// solvers, OpenBLAS, oneTBB and libfyaml costs milliseconds in relocations alone; the
 // version needs none of them. Written against the C library only (no C++ library, no
 // exceptions), so that this program's own start is the C library's.
 #include <dlfcn.h>
@@ -66,8 +66,8 @@ void* load_command_module() {
 #endif
     // Lazy, as the dynamic loader binds an executable's libraries: RTLD_NOW would bind every
     // function the libraries it brings could call (10 000 more symbol lookups for a solve).
-    // Global: the plot and HDF5 modules the command module loads in turn take their library
-    // functions from it, and MPI's components take MPI's from the libraries it brings.
+    // Global: the plot, HDF5 and MPI modules the command module loads in turn take their
+    // library functions from it.
     if (void* module = dlopen(candidate, RTLD_LAZY | RTLD_GLOBAL)) return module;
     fprintf(stderr, "stiffmsa: error: cannot load the command module (%s): %s\n", candidate,
             dlerror());

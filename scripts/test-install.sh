@@ -54,6 +54,12 @@ if [[ -x "$installed" ]]; then
     if [[ -e "$build/stiffmsa_hdf5.so" ]]; then
       "${sweep[@]}" --hdf5 "$out/rows.h5" >/dev/null
     fi
+    # The MPI module (a build with STIFFMSA_WITH_MPI): two ranks write the rows one process does.
+    if [[ -e "$build/stiffmsa_mpi.so" ]]; then
+      OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+        mpirun --oversubscribe -n 2 "${sweep[@]}" --csv "$out/ranks.csv" >/dev/null
+      cmp "$out/ranks.csv" "$out/rows.csv"
+    fi
   done
   for file in 6axis.json expanded.yaml rows.csv merged.csv; do
     cmp "$work/installed-run/$file" "$work/built-run/$file"

@@ -485,6 +485,36 @@ TEST(BlockLU, UnloadedDeterminantSignAsKlu) {
   EXPECT_GE(checked, 10);
 }
 
+// The unloaded tangent of a second pose on the first pose's kept scaling (a sweep's next pose:
+// the same layout, the ends moved): its sign is a fresh tangent's and KLU's, on every example
+// and test model.
+TEST(BlockLU, UnloadedSignOnAKeptScalingAsAFreshOneAndKlu) {
+  if (!solver_available(SolverKind::klu)) GTEST_SKIP() << "built without KLU";
+  std::mt19937 random(29);
+  std::uniform_real_distribution<double> shift(-1e-3, 1e-3);
+  int checked = 0;
+  for (const auto& [file, model] : loadable_models()) {
+    const Topology topology = build_topology(model);
+    const auto blocks = make_loaded_blocks(
+        model, topology, std::vector<std::vector<LoadAlongLink>>(model.links.size()));
+    const std::vector<EndState> first_pose = unloaded_ends(model, topology);
+    std::vector<EndState> second_pose = first_pose;
+    for (EndState& end : second_pose)
+      for (int i = 0; i < 3; ++i) end.position(i) += shift(random);
+    const std::vector<Vec6> none(first_pose.size(), Vec6::Zero());
+    LoadedTangent kept(SolverKind::automatic), fresh(SolverKind::automatic), klu(SolverKind::klu);
+    for (LoadedTangent* tangent : {&kept, &fresh, &klu})
+      tangent->begin(blocks, topology.unknowns());
+    if (kept.unloaded_determinant_sign(LoadedInputs{first_pose, none, 0.0}) == 0) continue;
+    const double sign = kept.unloaded_determinant_sign(LoadedInputs{second_pose, none, 0.0});
+    EXPECT_EQ(sign, fresh.unloaded_determinant_sign(LoadedInputs{second_pose, none, 0.0})) << file;
+    EXPECT_EQ(sign, klu.unloaded_determinant_sign(LoadedInputs{second_pose, none, 0.0})) << file;
+    for (LoadedTangent* tangent : {&kept, &fresh, &klu}) tangent->end();
+    if (sign != 0) ++checked;
+  }
+  EXPECT_GE(checked, 10);
+}
+
 // The loaded tangent's determinant sign is the last Newton tangent's: asked for before one is
 // factorised (after `begin`, or after the unloaded tangent's, whose factors it does not keep),
 // it is a usage error, not a read of factors that are not there.

@@ -394,8 +394,10 @@ double LoadedTangent::unloaded_determinant_sign(const LoadedInputs& in) {
   newton_factorised_ = false;
   if (uses_block_lu()) {
     // The sign does not depend on the scaling (nor on the pivots): the last pose's unloaded
-    // scaling serves, afresh where it does not factorise, so that the tangent goes to the
-    // sparse path only as it would have.
+    // scaling serves, afresh where it does not factorise. Only a tangent whose smallest pivot
+    // is near kBlockLuTinyPivot may then take the other path than a fresh scaling would send
+    // it to (as the sparse path's kept pivots already made its outcome there depend on the
+    // last pose): theory §15.10.
     using Outcome = BlockLU::Outcome;
     Outcome outcome = Outcome::singular;
     if (unloaded_reference_) outcome = block_lu_.factorise(tangents_, &unloaded_block_scaling_);

@@ -57,9 +57,9 @@ class LoadedTangent {
   // largest, ‖b − J·x‖∞ / (‖J‖∞·‖x‖∞ + ‖b‖∞).
   MatX solve_checked(const MatX& b, int refinement_steps, double& relative_residual) const;
 
-  // The sign of the determinant of the last Newton tangent factorised by `evaluate`. Throws
-  // UsageError where the last `evaluate` factorised none (or failed to), or none since `begin`
-  // or the unloaded tangent's.
+  // The sign of the determinant of the last Newton tangent factorised by `evaluate` (an
+  // `evaluate` without factorising leaves it as it was). Throws UsageError where none has been
+  // since `begin` or the unloaded tangent's, or the last one asked failed.
   double determinant_sign() const;
   Index first_row(std::size_t block) const { return first_row_[block]; }
   // The factorisation of the last Newton tangent: "block_lu", or the sparse solver's name.
@@ -91,8 +91,8 @@ class LoadedTangent {
   std::vector<MatX> tangents_;  // per block, as LoadedBlock::evaluate writes it
   BlockLU block_lu_;
   bool newton_by_block_lu_ = false;  // whether the last Newton tangent was factorised by it
-  // Whether the last evaluate factorised its tangent (by either path): what determinant_sign
-  // and the solves read.
+  // Whether the last evaluate that was asked to factorise its tangent did (by either path):
+  // what determinant_sign reads.
   bool newton_factorised_ = false;
   // The block LU's scaling of the last unloaded tangent scaled afresh, which the next
   // unloaded tangents take (kept per layout).

@@ -66,8 +66,9 @@ class BlockLU {
   // (`scaling()` of an earlier factorisation of this layout), for a matrix of the same family
   // whose entries differ little from that one's. A power-of-two scaling rounds nothing: it
   // decides which rows partial pivoting compares as larger and what a pivot's size is read
-  // against, so a stale one can only make a tiny pivot of a fair one (the caller then scales
-  // afresh) or pivot less well.
+  // against. A stale one may pivot less well, read a fair pivot as tiny (the caller then scales
+  // afresh) or, where a column shrank since, a pivot that a fresh scaling would call tiny as
+  // fair: the outcome near the threshold then depends on the kept scaling's matrix.
   Outcome factorise(const std::vector<MatX>& values, const BlockScaling* kept = nullptr);
   // The scaling of the last factorisation.
   const BlockScaling& scaling() const { return scaling_; }
