@@ -16,9 +16,13 @@ bool start(int* rank, int* size) {
       library.dli_fname != nullptr)
     dlopen(library.dli_fname, RTLD_NOW | RTLD_GLOBAL | RTLD_NOLOAD);
   int provided = 0;
-  return succeeded(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided)) &&
-         succeeded(MPI_Comm_rank(MPI_COMM_WORLD, rank)) &&
-         succeeded(MPI_Comm_size(MPI_COMM_WORLD, size));
+  if (!succeeded(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided))) return false;
+  if (succeeded(MPI_Comm_rank(MPI_COMM_WORLD, rank)) &&
+      succeeded(MPI_Comm_size(MPI_COMM_WORLD, size)))
+    return true;
+  // Started but unable to say which rank this is: ended here, as no session will end it.
+  MPI_Finalize();
+  return false;
 }
 
 bool probe(int rank, int tag, bool* waiting, int* source, int* bytes) {

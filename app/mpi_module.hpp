@@ -12,7 +12,8 @@ inline constexpr const char* kMpiModuleEntry = "stiffmsa_mpi_module";
 
 // Each call returns whether MPI succeeded; ranks and tags are MPI's, on MPI_COMM_WORLD.
 struct MpiModule {
-  // MPI_Init_thread (only the main thread calls MPI), then this process's rank and the size.
+  // MPI_Init_thread (only the main thread calls MPI), then this process's rank and the size;
+  // false where any of them fails (MPI finalised again where it had started).
   bool (*start)(int* rank, int* size) = nullptr;
   void (*finish)() = nullptr;  // MPI_Finalize
   void (*abort)(int code) = nullptr;

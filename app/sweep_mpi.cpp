@@ -101,7 +101,8 @@ class MpiSession {
  public:
   MpiSession() {
     // Only the main thread calls MPI; oneTBB's threads solve.
-    if (!mpi().start(&rank_, &size_)) throw Error("MPI could not start (MPI_Init_thread failed)");
+    if (!mpi().start(&rank_, &size_))
+      throw Error("MPI could not start (MPI_Init_thread, MPI_Comm_rank or MPI_Comm_size failed)");
   }
   ~MpiSession() { mpi().finish(); }
   MpiSession(const MpiSession&) = delete;

@@ -274,12 +274,9 @@ BlockLU::Outcome BlockLU::factorise(const std::vector<MatX>& values, const Block
   smallest_pivot_ = 0;
   if (structurally_singular_) return Outcome::singular;
   if (kept && kept->row.size() == n_ && kept->column.size() == n_) {
-    // Zero, unless some entry is infinite or NaN (0·∞ is NaN): a NaN would pass the pivot
-    // tests, as it compares false.
-    double probe = 0;
+    // A NaN would pass the pivot tests, as it compares false (equilibrate checks the same).
     for (const MatX& v : values)
-      probe += (Eigen::Map<const VecX>(v.data(), v.size()).array() * 0.0).sum();
-    if (!(probe == 0)) return Outcome::singular;
+      if (!v.allFinite()) return Outcome::singular;
     if (kept != &scaling_) scaling_ = *kept;
   } else {
     kept = nullptr;
@@ -391,27 +388,25 @@ void BlockLU::assemble_part(Step& s, const Part& part, const std::vector<MatX>* 
     double* target = front + m * kBlockColumns * group + part.first_row;
     for (int c = 0; c < kBlockColumns; ++c, target += m) std::fill_n(target, rows, 0.0);
   }
-  if (part.source < 0 && unscaled) {
+  if (part.source < 0) {
     const std::size_t b = static_cast<std::size_t>(-part.source - 1);
-    const double* value = (*unscaled)[b].data();
     const double* const row_scale = scaling_.row.data() + first_row_[b];
-    for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
-      double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
-      const double* const column_scale =
-          scaling_.column.data() + kBlockColumns * static_cast<Index>(layout_.groups[b][k]);
-      for (int c = 0; c < kBlockColumns; ++c, value += rows, target += m)
-        scale_both(target, row_scale, value, column_scale[c], rows);
-    }
-    for (int i = 0; i < rows; ++i)
-      s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
-  } else if (part.source < 0) {
-    const std::size_t b = static_cast<std::size_t>(-part.source - 1);
-    const double* scaled = column_scaled_[b].data();
-    const double* const row_scale = scaling_.row.data() + first_row_[b];
-    for (int group : part.column_groups) {
-      double* target = front + m * kBlockColumns * group + part.first_row;
-      for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
-        scale_rows(target, row_scale, scaled, rows);
+    if (unscaled) {
+      const double* value = (*unscaled)[b].data();
+      for (std::size_t k = 0; k < part.column_groups.size(); ++k) {
+        double* target = front + m * kBlockColumns * part.column_groups[k] + part.first_row;
+        const double* const column_scale =
+            scaling_.column.data() + kBlockColumns * static_cast<Index>(layout_.groups[b][k]);
+        for (int c = 0; c < kBlockColumns; ++c, value += rows, target += m)
+          scale_both(target, row_scale, value, column_scale[c], rows);
+      }
+    } else {
+      const double* scaled = column_scaled_[b].data();
+      for (int group : part.column_groups) {
+        double* target = front + m * kBlockColumns * group + part.first_row;
+        for (int c = 0; c < kBlockColumns; ++c, scaled += rows, target += m)
+          scale_rows(target, row_scale, scaled, rows);
+      }
     }
     for (int i = 0; i < rows; ++i)
       s.row_ids[static_cast<std::size_t>(part.first_row + i)] = first_row_[b] + i;
